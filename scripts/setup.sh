@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages lieflow builds with, if any is missing.
+# Re-running it is fast: it asks dpkg first and calls apt-get only when needed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build ccache      # toolchain
+  libeigen3-dev                                 # liegroup/ and everything (required)
+  libboost-dev                                  # Boost.Math: Jacobi elliptic functions (exact flows)
+  nlohmann-json3-dev                            # scene files (app/)
+  libceres-dev                                  # calibration/ and ceres::Jet tests
+  libbenchmark-dev                              # bench/
+  libgtest-dev libgmock-dev                     # tests/
+  python3-matplotlib                            # plots of studies and papers/
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "lieflow setup: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
