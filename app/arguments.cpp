@@ -1,0 +1,107 @@
+#include "app/arguments.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "app/cli.hpp"
+
+namespace lieflow {
+namespace app {
+
+Arguments::Arguments(int argc, char** argv, const std::set<std::string>& value_flags,
+                     const std::set<std::string>& switches) {
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      help_ = true;
+    } else if (arg.rfind("--", 0) == 0) {
+      std::string flag = arg, value;
+      const auto eq = arg.find('=');
+      const bool inline_value = eq != std::string::npos;
+      if (inline_value) {
+        flag = arg.substr(0, eq);
+        value = arg.substr(eq + 1);
+      }
+      if (switches.count(flag)) {
+        if (inline_value) throw UsageError(flag + " takes no value");
+        switches_set_.insert(flag);
+      } else if (value_flags.count(flag)) {
+        if (!inline_value) {
+          if (i + 1 >= argc) throw UsageError(flag + ": missing value");
+          value = argv[++i];
+        }
+        if (values_.count(flag)) throw UsageError(flag + " given twice");
+        values_[flag] = value;
+      } else {
+        throw UsageError("unknown option '" + flag + "'");
+      }
+    } else {
+      positional_.push_back(arg);
+    }
+  }
+}
+
+bool Arguments::has(const std::string& flag) const {
+  return values_.count(flag) > 0 || switches_set_.count(flag) > 0;
+}
+
+std::string Arguments::value(const std::string& flag, const std::string& fallback) const {
+  const auto it = values_.find(flag);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double parsePositiveNumber(const std::string& what, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
+    throw UsageError(what + ": expected a positive number, got '" + text + "'");
+  return v;
+}
+
+double Arguments::positiveNumber(const std::string& flag, double fallback) const {
+  if (!values_.count(flag)) return fallback;
+  return parsePositiveNumber(flag, values_.at(flag));
+}
+
+int Arguments::positiveInt(const std::string& flag, int fallback) const {
+  if (!values_.count(flag)) return fallback;
+  const std::string& text = values_.at(flag);
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < 1 || v > 1000000000)
+    throw UsageError(flag + ": expected a positive integer, got '" + text + "'");
+  return static_cast<int>(v);
+}
+
+long Arguments::nonNegativeLong(const std::string& flag, long fallback) const {
+  if (!values_.count(flag)) return fallback;
+  const std::string& text = values_.at(flag);
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < 0)
+    throw UsageError(flag + ": expected a non-negative integer, got '" + text + "'");
+  return v;
+}
+
+std::vector<std::string> Arguments::list(const std::string& flag) const {
+  std::vector<std::string> out;
+  if (!values_.count(flag)) return out;
+  std::stringstream s(values_.at(flag));
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    if (item.empty()) throw UsageError(flag + ": empty entry in '" + values_.at(flag) + "'");
+    out.push_back(item);
+  }
+  if (out.empty()) throw UsageError(flag + ": expected a comma-separated list");
+  return out;
+}
+
+std::vector<double> Arguments::positiveNumbers(const std::string& flag) const {
+  std::vector<double> out;
+  for (const std::string& item : list(flag)) out.push_back(parsePositiveNumber(flag, item));
+  return out;
+}
+
+}  // namespace app
+}  // namespace lieflow

@@ -1,0 +1,44 @@
+/// \file
+/// A strict command-line reader: positional arguments plus `--flag value` and
+/// `--switch` options from a declared set; anything else is a usage error
+/// (exit status 2) that names the option.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace lieflow {
+namespace app {
+
+class Arguments {
+ public:
+  /// `value_flags` take a value, `switches` do not. "--help"/"-h" is always known.
+  Arguments(int argc, char** argv, const std::set<std::string>& value_flags,
+            const std::set<std::string>& switches);
+
+  bool help() const { return help_; }
+  const std::vector<std::string>& positional() const { return positional_; }
+  bool has(const std::string& flag) const;
+  std::string value(const std::string& flag, const std::string& fallback) const;
+
+  /// Typed values; a malformed value is a UsageError naming the flag.
+  double positiveNumber(const std::string& flag, double fallback) const;
+  int positiveInt(const std::string& flag, int fallback) const;
+  long nonNegativeLong(const std::string& flag, long fallback) const;
+  std::vector<std::string> list(const std::string& flag) const;
+  std::vector<double> positiveNumbers(const std::string& flag) const;
+
+ private:
+  bool help_ = false;
+  std::vector<std::string> positional_;
+  std::map<std::string, std::string> values_;
+  std::set<std::string> switches_set_;
+};
+
+/// Parses a decimal number; a UsageError naming `what` if malformed.
+double parsePositiveNumber(const std::string& what, const std::string& text);
+
+}  // namespace app
+}  // namespace lieflow

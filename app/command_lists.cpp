@@ -1,0 +1,57 @@
+/// \file
+/// `lieflow integrators` and `lieflow scenes`: what the command knows.
+#include <iomanip>
+#include <sstream>
+#include <iostream>
+
+#include "app/arguments.hpp"
+#include "app/cli.hpp"
+#include "app/commands.hpp"
+#include "integrators/registry.hpp"
+#include "joints/scene.hpp"
+
+namespace lieflow {
+namespace app {
+
+int runIntegrators(int argc, char** argv) {
+  const Arguments args(argc, argv, {}, {});
+  if (args.help()) {
+    std::cout << "usage: lieflow integrators\n\nLists the integrators with their order and properties.\n";
+    return kSuccess;
+  }
+  if (!args.positional().empty()) throw UsageError("integrators takes no arguments");
+  std::cout << std::left << std::setw(11) << "name" << std::setw(7) << "order" << std::setw(10)
+            << "implicit" << std::setw(12) << "symplectic" << std::setw(10) << "momentum"
+            << std::setw(10) << "adaptive" << "options / description\n";
+  for (const IntegratorInfo& i : integratorRegistry()) {
+    std::string opts;
+    for (const auto& o : i.options) {
+      std::ostringstream v;
+      v << o.second;
+      opts += (opts.empty() ? "" : ", ") + o.first + "=" + v.str();
+    }
+    std::cout << std::setw(11) << i.name << std::setw(7) << (i.order == 0 ? "exact" : std::to_string(i.order))
+              << std::setw(10) << (i.is_implicit ? "yes" : "no") << std::setw(12)
+              << (i.is_symplectic ? "yes" : "no") << std::setw(10) << (i.preserves_momentum ? "yes" : "no")
+              << std::setw(10) << (i.is_adaptive ? "yes" : "no") << i.description
+              << (opts.empty() ? "" : " [options: " + opts + "]") << "\n";
+  }
+  return kSuccess;
+}
+
+int runScenes(int argc, char** argv) {
+  const Arguments args(argc, argv, {}, {});
+  if (args.help()) {
+    std::cout << "usage: lieflow scenes\n\nLists the built-in scenes (their JSON is in scenes/).\n";
+    return kSuccess;
+  }
+  if (!args.positional().empty()) throw UsageError("scenes takes no arguments");
+  for (const BuiltinScene& s : builtinScenes()) {
+    const SceneDescription scene = parseScene(s.json, "built-in scene '" + s.name + "'");
+    std::cout << std::left << std::setw(20) << s.name << scene.description << "\n";
+  }
+  return kSuccess;
+}
+
+}  // namespace app
+}  // namespace lieflow

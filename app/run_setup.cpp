@@ -1,0 +1,48 @@
+#include "app/run_setup.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "app/cli.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace app {
+
+std::map<std::string, double> parseOptionList(const std::vector<std::string>& items) {
+  std::map<std::string, double> out;
+  for (const std::string& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw UsageError("--options: expected KEY=VALUE, got '" + item + "'");
+    const std::string key = item.substr(0, eq);
+    char* end = nullptr;
+    const std::string text = item.substr(eq + 1);
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw UsageError("--options: " + key + " needs a finite number, got '" + text + "'");
+    out[key] = v;
+  }
+  return out;
+}
+
+SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args) {
+  SimulationOptions o;
+  o.integrator = args.value("--integrator", scene.has_integrator ? scene.integrator.name : "");
+  if (o.integrator.empty())
+    throw InvalidInput(scene.source + ": integrator",
+                       "missing (give --integrator or an \"integrator\" object in the scene)");
+  if (scene.has_integrator && scene.integrator.name == o.integrator)
+    o.integrator_options = scene.integrator.options;
+  for (const auto& kv : parseOptionList(args.list("--options"))) o.integrator_options[kv.first] = kv.second;
+  o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
+  if (!(o.dt > 0.0))
+    throw InvalidInput(scene.source + ": integrator.dt", "missing (give --dt or integrator.dt in the scene)");
+  o.t_end = args.positiveNumber("--t-end", scene.has_t_end ? scene.t_end : 0.0);
+  if (!(o.t_end > 0.0))
+    throw InvalidInput(scene.source + ": t_end", "missing (give --t-end or t_end in the scene)");
+  return o;
+}
+
+}  // namespace app
+}  // namespace lieflow

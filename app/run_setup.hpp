@@ -1,0 +1,29 @@
+/// \file
+/// Resolution of the run settings of a command from its flags and the scene:
+/// a flag wins over the scene's value; a setting that neither gives is an
+/// error naming both places.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "app/arguments.hpp"
+#include "joints/simulation.hpp"
+
+namespace lieflow {
+namespace app {
+
+/// Integrator, dt, t_end and options for `scene` given --integrator, --dt,
+/// --t-end and --options. The scene's integrator options apply only when the
+/// integrator is the scene's own.
+SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args);
+
+/// The `--stats` JSON object of a run (keys of ../shared/DESIGN.md; null
+/// where a figure does not apply: momentum_drift when the scene does not
+/// conserve momentum, newton_iterations_mean for explicit methods).
+nlohmann::ordered_json statsJson(const SimulationResult& result);
+
+/// Parses "k=v,k=v" into a map; UsageError naming --options if malformed.
+std::map<std::string, double> parseOptionList(const std::vector<std::string>& items);
+
+}  // namespace app
+}  // namespace lieflow

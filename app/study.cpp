@@ -1,0 +1,261 @@
+#include "app/study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "integrators/integrate.hpp"
+#include "integrators/registry.hpp"
+#include "liegroup/invalid_input.hpp"
+
+#ifndef LIEFLOW_SOURCE_DIR
+#define LIEFLOW_SOURCE_DIR "."
+#endif
+
+namespace lieflow {
+namespace app {
+namespace {
+
+/// Tolerances of the converged reference run, and of the looser run that
+/// estimates its error by tolerance proportionality.
+constexpr double kReferenceRtol = 1e-13;
+constexpr double kReferenceAtol = 1e-15;
+constexpr double kCheckRtol = 1e-11;
+constexpr double kCheckAtol = 1e-13;
+/// Drift curves keep about this many samples per integrator.
+constexpr int kDriftSamples = 400;
+
+double omegaError(const std::vector<double>& a, const std::vector<double>& ref) {
+  const Eigen::Vector3d w(a[5], a[6], a[7]);
+  const Eigen::Vector3d w_ref(ref[5], ref[6], ref[7]);
+  return (w - w_ref).norm() / std::max(w_ref.norm(), 1e-300);
+}
+
+std::vector<double> referenceRow(const Simulation& sim, double t_end, const std::string& integrator,
+                                 double rtol, double atol, double dt) {
+  SimulationOptions o;
+  o.integrator = integrator;
+  o.dt = dt;
+  o.t_end = t_end;
+  o.diagnostics = false;
+  if (integrator == "rkmk45") o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
+  const SimulationResult r = sim.run(o);
+  if (r.failed) throw std::runtime_error("the reference run (" + integrator + ") failed: " + r.failure);
+  return r.final_row;
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "nan";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+std::string csvNumber(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+}  // namespace
+
+StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& options) {
+  StudyResult result;
+  result.scene = sim.scene().name;
+  result.t_end = t_end;
+
+  std::vector<double> dts = options.dts;
+  if (dts.empty()) {
+    const double dt = sim.scene().has_integrator ? sim.scene().integrator.dt : t_end / 1000.0;
+    dts = {4 * dt, 2 * dt, dt, dt / 2, dt / 4};
+  }
+  std::sort(dts.rbegin(), dts.rend());
+
+  // The reference.
+  std::vector<double> ref;
+  std::string why;
+  const bool exact_reference = sim.supports("exact", &why);
+  if (exact_reference) {
+    ref = referenceRow(sim, t_end, "exact", 0, 0, t_end);
+    result.reference = "exact flow (Jacobi elliptic functions)";
+    result.reference_error = 0.0;
+  } else {
+    if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
+    ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end);
+    const std::vector<double> check = referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end);
+    result.reference_error = orientationErrorBetweenRows(ref, check) * (kReferenceRtol / kCheckRtol);
+    std::ostringstream s;
+    s << "converged rkmk45 run (Dormand-Prince 5(4) on the group, rtol " << kReferenceRtol
+      << ", atol " << kReferenceAtol << "); its orientation error is estimated at "
+      << number(result.reference_error) << " rad from a run at rtol " << kCheckRtol;
+    result.reference = s.str();
+  }
+
+  std::vector<std::string> integrators = options.integrators;
+  if (integrators.empty())
+    for (const IntegratorInfo& info : integratorRegistry())
+      if (info.name != "exact" && sim.supports(info.name, nullptr)) integrators.push_back(info.name);
+  for (const std::string& name : integrators)
+    if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+
+  const std::vector<std::string> columns = sim.columns();
+  const auto column = [&](const std::string& c) {
+    return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), c) - columns.begin());
+  };
+  const std::size_t energy_col = column("energy");
+  const std::size_t lx_col = column("Lx");
+  const double drift_dt = std::find(dts.begin(), dts.end(), sim.scene().integrator.dt) != dts.end()
+                              ? sim.scene().integrator.dt
+                              : dts[dts.size() / 2];
+
+  int done = 0;
+  const int total = static_cast<int>(integrators.size() * dts.size());
+  for (const std::string& name : integrators) {
+    for (const double dt : dts) {
+      ++done;
+      if (options.progress)
+        *options.progress << "study: [" << done << "/" << total << "] " << name << " dt=" << dt << "\n";
+      SimulationOptions o;
+      o.integrator = name;
+      o.dt = dt;
+      o.t_end = t_end;
+      if (sim.scene().has_integrator && sim.scene().integrator.name == name)
+        o.integrator_options = sim.scene().integrator.options;
+
+      // Diagnostics run: drift figures, failure, Newton iterations; drift
+      // curves for the chosen step.
+      StudyRow row;
+      row.integrator = name;
+      row.dt = dt;
+      const long steps = stepCount(0.0, t_end, dt);
+      const bool record_drift = dt == drift_dt;
+      o.every = static_cast<int>(std::max(1L, steps / kDriftSamples));
+      std::vector<double> first;
+      const SimulationResult diag = sim.run(o, [&](const std::vector<double>& r) {
+        if (!record_drift) return;
+        if (first.empty()) first = r;
+        DriftSample s;
+        s.integrator = name;
+        s.dt = dt;
+        s.t = r[0];
+        const double e0 = first[energy_col];
+        s.energy_error = (r[energy_col] - e0) / std::max(std::abs(e0), 1e-300);
+        const Eigen::Vector3d L0(first[lx_col], first[lx_col + 1], first[lx_col + 2]);
+        const Eigen::Vector3d L(r[lx_col], r[lx_col + 1], r[lx_col + 2]);
+        s.momentum_error = (L - L0).norm() / std::max(L0.norm(), 1e-300);
+        result.drift.push_back(s);
+      });
+      row.steps = diag.steps;
+      row.energy_drift = diag.energy_drift;
+      row.momentum_conserved = diag.momentum_conserved;
+      row.momentum_drift = diag.momentum_drift;
+      row.implicit = diag.implicit;
+      row.newton_iterations_mean = diag.newton_iterations_mean;
+      row.failed = diag.failed;
+      row.failure = diag.failure;
+      result.momentum_conserved = diag.momentum_conserved;
+      if (diag.failed) {
+        row.orientation_error = row.omega_error = std::numeric_limits<double>::quiet_NaN();
+        row.wall_seconds = diag.wall_seconds;
+        result.rows.push_back(row);
+        continue;
+      }
+      row.orientation_error = orientationErrorBetweenRows(diag.final_row, ref);
+      row.omega_error = omegaError(diag.final_row, ref);
+
+      // Timing runs: diagnostics off, repeated; the median is reported.
+      o.diagnostics = false;
+      std::vector<double> times;
+      double spent = 0.0;
+      while (static_cast<int>(times.size()) < options.max_repeats &&
+             (static_cast<int>(times.size()) < options.min_repeats || spent < options.min_timing_seconds)) {
+        const SimulationResult timed = sim.run(o);
+        times.push_back(timed.wall_seconds);
+        spent += timed.wall_seconds;
+      }
+      std::sort(times.begin(), times.end());
+      row.repeats = static_cast<int>(times.size());
+      row.wall_seconds = times[times.size() / 2];
+      row.ns_per_step = row.steps > 0 ? 1e9 * row.wall_seconds / static_cast<double>(row.steps) : 0.0;
+      result.rows.push_back(row);
+    }
+  }
+  return result;
+}
+
+void writeStudyFiles(const StudyResult& result, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const std::string study_path = dir + "/study.csv";
+  std::ofstream study(study_path);
+  if (!study) throw InvalidInput(study_path, "cannot open for writing");
+  study << "scene,integrator,dt,steps,repeats,wall_seconds,ns_per_step,orientation_error,omega_error,"
+           "energy_drift,momentum_drift,newton_iterations_mean,failed,failure,reference\n";
+  for (const StudyRow& r : result.rows) {
+    std::string failure = r.failure;
+    std::replace(failure.begin(), failure.end(), '"', '\'');
+    study << result.scene << "," << r.integrator << "," << csvNumber(r.dt) << "," << r.steps << ","
+          << r.repeats << "," << csvNumber(r.wall_seconds) << "," << csvNumber(r.ns_per_step) << ","
+          << csvNumber(r.orientation_error) << "," << csvNumber(r.omega_error) << ","
+          << csvNumber(r.energy_drift) << "," << (r.momentum_conserved ? csvNumber(r.momentum_drift) : "")
+          << "," << (r.implicit ? csvNumber(r.newton_iterations_mean) : "") << ","
+          << (r.failed ? "true" : "false") << ",\"" << failure << "\",\"" << result.reference << "\"\n";
+  }
+  const std::string drift_path = dir + "/drift.csv";
+  std::ofstream drift(drift_path);
+  if (!drift) throw InvalidInput(drift_path, "cannot open for writing");
+  drift << "integrator,dt,t,energy_error,momentum_error\n";
+  for (const DriftSample& s : result.drift)
+    drift << s.integrator << "," << csvNumber(s.dt) << "," << csvNumber(s.t) << ","
+          << csvNumber(s.energy_error) << ","
+          << (result.momentum_conserved ? csvNumber(s.momentum_error) : "") << "\n";
+}
+
+bool plotStudy(const std::string& dir, std::string* why) {
+  const char* env_script = std::getenv("LIEFLOW_PLOT_SCRIPT");
+  const std::string script =
+      env_script ? env_script : std::string(LIEFLOW_SOURCE_DIR) + "/scripts/plot_study.py";
+  if (!std::filesystem::exists(script)) {
+    *why = "plot script " + script + " not found";
+    return false;
+  }
+  // Debian's python3 has python3-matplotlib; a user's own python3 may not.
+  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  if (std::system((python + " -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) {
+    *why = "matplotlib is not installed (apt-get install python3-matplotlib)";
+    return false;
+  }
+  const std::string command = python + " '" + script + "' '" + dir + "'";
+  if (std::system(command.c_str()) != 0) {
+    *why = "the plot script failed: " + command;
+    return false;
+  }
+  return true;
+}
+
+void printStudyTable(std::ostream& out, const StudyResult& result) {
+  out << "scene " << result.scene << ", t_end = " << result.t_end << " s; errors at t_end against the "
+      << result.reference << "\n\n";
+  out << "| integrator | dt | steps | time [ms] | ns/step | orientation error [rad] | omega error (rel) | "
+         "energy drift | momentum drift | Newton its |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const StudyRow& r : result.rows) {
+    out << "| " << r.integrator << " | " << number(r.dt) << " | " << r.steps << " | "
+        << number(1e3 * r.wall_seconds) << " | " << number(r.ns_per_step) << " | ";
+    if (r.failed) {
+      out << "failed: " << r.failure << " | | | | |\n";
+      continue;
+    }
+    out << number(r.orientation_error) << " | " << number(r.omega_error) << " | "
+        << number(r.energy_drift) << " | " << (r.momentum_conserved ? number(r.momentum_drift) : "n/a")
+        << " | " << (r.implicit ? number(r.newton_iterations_mean) : "-") << " |\n";
+  }
+}
+
+}  // namespace app
+}  // namespace lieflow

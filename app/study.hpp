@@ -1,0 +1,87 @@
+/// \file
+/// Work-precision studies: every integrator over a range of steps, with the
+/// run time (median of repeated runs) and the error at t_end against a
+/// reference — the exact flow where the scene has one, else a converged
+/// adaptive run whose own error is estimated and reported — plus energy and
+/// momentum drift over time; written as CSV and drawn with matplotlib.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "joints/simulation.hpp"
+
+namespace lieflow {
+namespace app {
+
+struct StudyOptions {
+  /// Empty: every integrator that can run the scene (the reference excluded).
+  std::vector<std::string> integrators;
+  /// Empty: the scene's dt × {4, 2, 1, 1/2, 1/4}.
+  std::vector<double> dts;
+  std::string out_dir = "study";
+  /// Each run is repeated until this much time was spent (at least
+  /// min_repeats runs, at most max_repeats); the median time is reported.
+  double min_timing_seconds = 0.2;
+  int min_repeats = 3;
+  int max_repeats = 50;
+  bool plots = true;
+  /// Where progress goes (nullptr: silent).
+  std::ostream* progress = nullptr;
+};
+
+struct StudyRow {
+  std::string integrator;
+  double dt = 0.0;
+  long steps = 0;
+  int repeats = 0;
+  double wall_seconds = 0.0;  ///< median over the repeats, diagnostics off
+  double ns_per_step = 0.0;
+  double orientation_error = 0.0;  ///< angle of R_ref(T)⁻¹ R(T), radians
+  double omega_error = 0.0;        ///< ‖ω(T) − ω_ref(T)‖ / ‖ω_ref(T)‖
+  double energy_drift = 0.0;
+  bool momentum_conserved = false;
+  double momentum_drift = 0.0;
+  bool implicit = false;
+  double newton_iterations_mean = 0.0;
+  bool failed = false;
+  std::string failure;
+};
+
+struct DriftSample {
+  std::string integrator;
+  double dt = 0.0;
+  double t = 0.0;
+  double energy_error = 0.0;    ///< (E − E₀)/|E₀|
+  double momentum_error = 0.0;  ///< ‖L − L₀‖/‖L₀‖ (when conserved)
+};
+
+struct StudyResult {
+  std::string scene;
+  double t_end = 0.0;
+  /// What the errors are measured against, in words, and the reference's
+  /// own estimated orientation error.
+  std::string reference;
+  double reference_error = 0.0;
+  std::vector<StudyRow> rows;
+  std::vector<DriftSample> drift;
+  bool momentum_conserved = false;
+};
+
+/// Runs the study (throws InvalidInput for unknown integrators or steps).
+StudyResult runStudy(const Simulation& simulation, double t_end, const StudyOptions& options);
+
+/// study.csv and drift.csv in `dir` (created if needed).
+void writeStudyFiles(const StudyResult& result, const std::string& dir);
+
+/// Draws DIR/work_precision.png, energy_drift.png, momentum_drift.png with
+/// scripts/plot_study.py under Debian's python3 + matplotlib. Returns false
+/// and says why in `why` when plotting is not possible.
+bool plotStudy(const std::string& dir, std::string* why);
+
+/// A readable table of the rows (markdown).
+void printStudyTable(std::ostream& out, const StudyResult& result);
+
+}  // namespace app
+}  // namespace lieflow

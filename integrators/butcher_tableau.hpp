@@ -1,0 +1,130 @@
+/// \file
+/// Explicit Butcher tableaux (Hairer, Nørsett, Wanner, "Solving ODEs I",
+/// §II.1 and §II.4) for the Runge–Kutta–Munthe-Kaas stepper, with the order
+/// each one has and, for embedded pairs, the order of the error estimate.
+#pragma once
+
+#include <array>
+#include <string>
+
+namespace lieflow {
+
+/// An explicit s-stage tableau (s ≤ kMaxStages): c, A strictly lower
+/// triangular, weights b and, for an embedded pair, the weights b̂ of the
+/// companion solution.
+struct ButcherTableau {
+  static constexpr int kMaxStages = 7;
+  std::string name;
+  int stages = 0;
+  int order = 0;
+  /// Order of the embedded solution (0: no embedded pair).
+  int embedded_order = 0;
+  /// The solution advanced is the higher-order one (local extrapolation).
+  std::array<double, kMaxStages> c{};
+  std::array<std::array<double, kMaxStages>, kMaxStages> a{};
+  std::array<double, kMaxStages> b{};
+  std::array<double, kMaxStages> b_embedded{};
+  /// First-same-as-last: the last stage is f at the new point.
+  bool fsal = false;
+
+  bool hasEmbedded() const { return embedded_order > 0; }
+
+  /// Forward Euler, order 1.
+  static ButcherTableau euler();
+  /// Heun's method (explicit trapezoid), order 2.
+  static ButcherTableau heun();
+  /// Kutta's third-order method.
+  static ButcherTableau kutta3();
+  /// The classical fourth-order Runge–Kutta method.
+  static ButcherTableau rk4();
+  /// Bogacki–Shampine 3(2), FSAL.
+  static ButcherTableau bogackiShampine32();
+  /// Dormand–Prince 5(4), FSAL (the pair of ode45).
+  static ButcherTableau dormandPrince54();
+};
+
+inline ButcherTableau ButcherTableau::euler() {
+  ButcherTableau t;
+  t.name = "euler";
+  t.stages = 1;
+  t.order = 1;
+  t.b[0] = 1.0;
+  return t;
+}
+
+inline ButcherTableau ButcherTableau::heun() {
+  ButcherTableau t;
+  t.name = "heun";
+  t.stages = 2;
+  t.order = 2;
+  t.c = {0.0, 1.0};
+  t.a[1][0] = 1.0;
+  t.b = {0.5, 0.5};
+  return t;
+}
+
+inline ButcherTableau ButcherTableau::kutta3() {
+  ButcherTableau t;
+  t.name = "kutta3";
+  t.stages = 3;
+  t.order = 3;
+  t.c = {0.0, 0.5, 1.0};
+  t.a[1][0] = 0.5;
+  t.a[2][0] = -1.0;
+  t.a[2][1] = 2.0;
+  t.b = {1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0};
+  return t;
+}
+
+inline ButcherTableau ButcherTableau::rk4() {
+  ButcherTableau t;
+  t.name = "rk4";
+  t.stages = 4;
+  t.order = 4;
+  t.c = {0.0, 0.5, 0.5, 1.0};
+  t.a[1][0] = 0.5;
+  t.a[2][1] = 0.5;
+  t.a[3][2] = 1.0;
+  t.b = {1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0};
+  return t;
+}
+
+inline ButcherTableau ButcherTableau::bogackiShampine32() {
+  ButcherTableau t;
+  t.name = "bogacki-shampine-3(2)";
+  t.stages = 4;
+  t.order = 3;
+  t.embedded_order = 2;
+  t.fsal = true;
+  t.c = {0.0, 0.5, 0.75, 1.0};
+  t.a[1][0] = 0.5;
+  t.a[2][1] = 0.75;
+  t.a[3][0] = 2.0 / 9.0;
+  t.a[3][1] = 1.0 / 3.0;
+  t.a[3][2] = 4.0 / 9.0;
+  t.b = {2.0 / 9.0, 1.0 / 3.0, 4.0 / 9.0, 0.0};
+  t.b_embedded = {7.0 / 24.0, 1.0 / 4.0, 1.0 / 3.0, 1.0 / 8.0};
+  return t;
+}
+
+inline ButcherTableau ButcherTableau::dormandPrince54() {
+  ButcherTableau t;
+  t.name = "dormand-prince-5(4)";
+  t.stages = 7;
+  t.order = 5;
+  t.embedded_order = 4;
+  t.fsal = true;
+  t.c = {0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0};
+  t.a[1] = {1.0 / 5.0};
+  t.a[2] = {3.0 / 40.0, 9.0 / 40.0};
+  t.a[3] = {44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0};
+  t.a[4] = {19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0};
+  t.a[5] = {9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0};
+  t.a[6] = {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0};
+  t.b = {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0};
+  t.b_embedded = {5179.0 / 57600.0, 0.0,          7571.0 / 16695.0, 393.0 / 640.0,
+                  -92097.0 / 339200.0, 187.0 / 2100.0, 1.0 / 40.0};
+  return t;
+}
+
+}  // namespace lieflow

@@ -1,0 +1,25 @@
+/// \file
+/// What a stepper reports about one step: implicit methods count Newton
+/// iterations and say when they failed to converge (never silently).
+#pragma once
+
+namespace lieflow {
+
+struct StepReport {
+  /// Newton (or fixed-point) iterations used; 0 for explicit methods.
+  int newton_iterations = 0;
+  /// False when an implicit solve did not converge; `failure` says why.
+  bool converged = true;
+  /// Static text naming the failure (no allocation on the step path).
+  const char* failure = "";
+  /// Final residual norm of the implicit solve (0 for explicit methods).
+  double residual = 0.0;
+
+  void fail(const char* why, double final_residual) {
+    converged = false;
+    failure = why;
+    residual = final_residual;
+  }
+};
+
+}  // namespace lieflow

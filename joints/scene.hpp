@@ -1,0 +1,88 @@
+/// \file
+/// The description of a scene as read from a JSON scene file (format in
+/// README "Scene file"; contract in ../shared/DESIGN.md): bodies, joints,
+/// gravity, the integrator and the end time. It is plain data, validated on
+/// reading; `assemble*` functions turn it into systems that integrators step.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace lieflow {
+
+/// One rigid body. Inertia is about the centre of mass in body axes.
+struct BodyDescription {
+  std::string name;
+  double mass = 0.0;
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();
+  /// A rotation-only body has no translational state (its centre of mass
+  /// stays where it is, or turns about a pivot).
+  bool rotation_only = false;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< body frame
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< world frame
+  bool has_position = false;
+  bool has_velocity = false;
+};
+
+/// One joint. `main`/`secondary` are body names; "ground" is the world.
+/// Anchors are in the frame of the body they belong to.
+struct JointDescription {
+  std::string name;
+  std::string type;
+  std::string main;
+  std::string secondary;
+  Eigen::Vector3d anchor_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d anchor_secondary = Eigen::Vector3d::Zero();
+};
+
+/// The integrator a scene asks for: a name of `lieflow integrators`, a step
+/// and named numeric options (e.g. rho_inf for genalpha).
+struct IntegratorDescription {
+  std::string name;
+  double dt = 0.0;
+  std::map<std::string, double> options;
+};
+
+struct SceneDescription {
+  std::string name;
+  /// Where it came from ("path/to/file.json" or "built-in scene 'NAME'"),
+  /// used to prefix error messages.
+  std::string source;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  std::vector<BodyDescription> bodies;
+  std::vector<JointDescription> joints;
+  bool has_integrator = false;
+  IntegratorDescription integrator;
+  bool has_t_end = false;
+  double t_end = 0.0;
+  /// One line on what the scene shows (built-in scenes).
+  std::string description;
+
+  /// Index of the body with this name, or -1.
+  int bodyIndex(const std::string& body_name) const;
+};
+
+/// Parses and validates a scene from JSON text. Throws InvalidInput whose
+/// field is "SOURCE: FIELD" (e.g. "top.json: bodies[0].inertia") and whose
+/// reason says what is wrong.
+SceneDescription parseScene(const std::string& json_text, const std::string& source);
+
+/// Reads SCENE: a JSON file if such a file exists, else a built-in scene of
+/// that name. Throws InvalidInput naming the file (or name) and the reason.
+SceneDescription loadScene(const std::string& file_or_name);
+
+/// The built-in scenes: name, one-line description and JSON text.
+struct BuiltinScene {
+  std::string name;
+  std::string description;
+  std::string json;
+};
+const std::vector<BuiltinScene>& builtinScenes();
+
+}  // namespace lieflow

@@ -1,0 +1,313 @@
+/// \file
+/// Strict reading of scene files: every field is checked for presence, type,
+/// finiteness and physical sense, unknown fields are errors, and every error
+/// names the file, the field and the reason.
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "joints/scene.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace {
+
+using json = nlohmann::json;
+
+/// Relative tolerance of the inertia checks (symmetry, triangle inequality).
+constexpr double kInertiaTolerance = 1e-9;
+
+std::string typeName(const json& v) {
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_array()) return "an array";
+  if (v.is_object()) return "an object";
+  return "null";
+}
+
+/// A JSON object whose fields are read one by one; `finish()` rejects the
+/// fields nobody asked for.
+class ObjectReader {
+ public:
+  ObjectReader(const json& object, std::string path, std::string source)
+      : object_(object), path_(std::move(path)), source_(std::move(source)) {
+    if (!object_.is_object()) fail("", "expected an object, got " + typeName(object_));
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& reason) const {
+    std::string field = path_;
+    if (!key.empty()) field += (field.empty() ? "" : ".") + key;
+    throw InvalidInput(source_ + ": " + (field.empty() ? "(top level)" : field), reason);
+  }
+
+  std::string fieldPath(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
+
+  bool has(const std::string& key) const { return object_.contains(key); }
+
+  const json& get(const std::string& key) {
+    if (!object_.contains(key)) fail(key, "missing (required)");
+    known_.insert(key);
+    return object_.at(key);
+  }
+
+  double number(const std::string& key) {
+    const json& v = get(key);
+    return checkedNumber(v, key);
+  }
+
+  double positiveNumber(const std::string& key) {
+    const double v = number(key);
+    if (!(v > 0.0)) fail(key, "must be positive, got " + formatNumber(v));
+    return v;
+  }
+
+  std::string string(const std::string& key) {
+    const json& v = get(key);
+    if (!v.is_string()) fail(key, "expected a string, got " + typeName(v));
+    const std::string s = v.get<std::string>();
+    if (s.empty()) fail(key, "must not be empty");
+    return s;
+  }
+
+  bool boolean(const std::string& key) {
+    const json& v = get(key);
+    if (!v.is_boolean()) fail(key, "expected true or false, got " + typeName(v));
+    return v.get<bool>();
+  }
+
+  Eigen::VectorXd numbers(const std::string& key, int expected_size) {
+    const json& v = get(key);
+    if (!v.is_array()) fail(key, "expected an array of " + std::to_string(expected_size) + " numbers, got " + typeName(v));
+    if (static_cast<int>(v.size()) != expected_size)
+      fail(key, "expected " + std::to_string(expected_size) + " numbers, got " + std::to_string(v.size()));
+    Eigen::VectorXd out(expected_size);
+    for (int i = 0; i < expected_size; ++i) out[i] = checkedNumber(v[i], key + "[" + std::to_string(i) + "]");
+    return out;
+  }
+
+  Eigen::Vector3d vector3(const std::string& key) { return numbers(key, 3); }
+
+  const json& array(const std::string& key) {
+    const json& v = get(key);
+    if (!v.is_array()) fail(key, "expected an array, got " + typeName(v));
+    return v;
+  }
+
+  /// Rejects fields that were not read.
+  void finish() const {
+    for (auto it = object_.begin(); it != object_.end(); ++it) {
+      if (known_.count(it.key())) continue;
+      fail(it.key(), "unknown field");
+    }
+  }
+
+  void accept(const std::string& key) { known_.insert(key); }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  double checkedNumber(const json& v, const std::string& key) const {
+    if (!v.is_number()) fail(key, "expected a number, got " + typeName(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(key, "must be finite");
+    return x;
+  }
+
+  static std::string formatNumber(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+
+  const json& object_;
+  std::string path_;
+  std::string source_;
+  std::set<std::string> known_;
+};
+
+/// Inertia: 3 principal moments, or a 3×3 symmetric matrix (array of 3 rows
+/// or 9 numbers). Must be symmetric positive definite and satisfy the
+/// triangle inequality of principal moments (a physical mass distribution).
+Eigen::Matrix3d readInertia(ObjectReader& body) {
+  const json& v = body.get("inertia");
+  Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+  auto element = [&](const json& x, const std::string& where) {
+    if (!x.is_number()) body.fail("inertia", where + " expected a number, got " + typeName(x));
+    const double d = x.get<double>();
+    if (!std::isfinite(d)) body.fail("inertia", where + " must be finite");
+    return d;
+  };
+  if (v.is_array() && v.size() == 3 && v[0].is_number()) {
+    for (int i = 0; i < 3; ++i) J(i, i) = element(v[i], "entry " + std::to_string(i));
+  } else if (v.is_array() && v.size() == 3 && v[0].is_array()) {
+    for (int i = 0; i < 3; ++i) {
+      if (!v[i].is_array() || v[i].size() != 3) body.fail("inertia", "a 3×3 matrix needs 3 rows of 3 numbers");
+      for (int j = 0; j < 3; ++j)
+        J(i, j) = element(v[i][j], "entry (" + std::to_string(i) + "," + std::to_string(j) + ")");
+    }
+  } else if (v.is_array() && v.size() == 9) {
+    for (int k = 0; k < 9; ++k) J(k / 3, k % 3) = element(v[k], "entry " + std::to_string(k));
+  } else {
+    body.fail("inertia", "expected 3 principal moments or a 3×3 symmetric matrix");
+  }
+  const double scale = J.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0)) body.fail("inertia", "is zero (a body needs rotary inertia)");
+  if ((J - J.transpose()).cwiseAbs().maxCoeff() > kInertiaTolerance * scale)
+    body.fail("inertia", "matrix is not symmetric");
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(J).eigenvalues();
+  if (!(moments.minCoeff() > 0.0)) {
+    std::ostringstream reason;
+    reason << "is not positive definite (principal moments " << moments.transpose() << ")";
+    body.fail("inertia", reason.str());
+  }
+  // Principal moments of a real body: I_a + I_b ≥ I_c for every permutation.
+  if (moments[0] + moments[1] < moments[2] * (1.0 - kInertiaTolerance)) {
+    std::ostringstream reason;
+    reason << "principal moments " << moments.transpose()
+           << " violate the triangle inequality I1 + I2 >= I3 (no mass distribution has them)";
+    body.fail("inertia", reason.str());
+  }
+  return J;
+}
+
+BodyDescription readBody(const json& v, int index, const std::string& source) {
+  ObjectReader r(v, "bodies[" + std::to_string(index) + "]", source);
+  BodyDescription b;
+  b.name = r.string("name");
+  if (b.name == "ground") r.fail("name", "'ground' is the fixed world frame, not a body name");
+  b.mass = r.positiveNumber("mass");
+  b.inertia = readInertia(r);
+  if (r.has("rotation_only")) b.rotation_only = r.boolean("rotation_only");
+  if (r.has("orientation")) {
+    const Eigen::VectorXd q = r.numbers("orientation", 4);
+    b.orientation = SO3d::fromQuaternionChecked(Eigen::Quaterniond(q[0], q[1], q[2], q[3]),
+                                                source + ": " + r.fieldPath("orientation"))
+                        .quaternion();
+  }
+  if (r.has("position")) {
+    b.position = r.vector3("position");
+    b.has_position = true;
+  }
+  if (r.has("angular_velocity")) b.angular_velocity = r.vector3("angular_velocity");
+  if (r.has("velocity")) {
+    b.velocity = r.vector3("velocity");
+    b.has_velocity = true;
+  }
+  r.finish();
+  return b;
+}
+
+JointDescription readJoint(const json& v, int index, const std::string& source) {
+  ObjectReader r(v, "joints[" + std::to_string(index) + "]", source);
+  JointDescription j;
+  j.name = r.string("name");
+  j.type = r.string("type");
+  static const std::set<std::string> kTypes = {"spherical", "revolute", "universal",
+                                               "gear",      "rack_pinion", "differential"};
+  if (!kTypes.count(j.type))
+    r.fail("type", "unknown joint type '" + j.type +
+                       "' (known: spherical, revolute, universal, gear, rack_pinion, differential)");
+  j.main = r.string("main");
+  j.secondary = r.string("secondary");
+  if (j.type == "spherical") {
+    j.anchor_main = r.vector3("anchor_main");
+    j.anchor_secondary = r.vector3("anchor_secondary");
+  } else {
+    r.fail("type", "'" + j.type +
+                       "' joints are not supported by this version of lieflow (only 'spherical')");
+  }
+  r.finish();
+  return j;
+}
+
+}  // namespace
+
+int SceneDescription::bodyIndex(const std::string& body_name) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].name == body_name) return static_cast<int>(i);
+  return -1;
+}
+
+SceneDescription parseScene(const std::string& json_text, const std::string& source) {
+  json root;
+  try {
+    root = json::parse(json_text);
+  } catch (const json::exception& e) {
+    throw InvalidInput(source, std::string("not valid JSON: ") + e.what());
+  }
+  ObjectReader r(root, "", source);
+  SceneDescription scene;
+  scene.source = source;
+  scene.name = r.string("name");
+  if (r.has("description")) scene.description = r.string("description");
+  if (r.has("gravity")) scene.gravity = r.vector3("gravity");
+
+  const json& bodies = r.array("bodies");
+  if (bodies.empty()) r.fail("bodies", "a scene needs at least one body");
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    scene.bodies.push_back(readBody(bodies[i], static_cast<int>(i), source));
+    for (std::size_t k = 0; k < i; ++k)
+      if (scene.bodies[k].name == scene.bodies[i].name)
+        throw InvalidInput(source + ": bodies[" + std::to_string(i) + "].name",
+                           "duplicate body name '" + scene.bodies[i].name + "'");
+  }
+
+  if (r.has("joints")) {
+    const json& joints = r.array("joints");
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      JointDescription j = readJoint(joints[i], static_cast<int>(i), source);
+      const std::string field = source + ": joints[" + std::to_string(i) + "]";
+      for (const std::string* body : {&j.main, &j.secondary})
+        if (*body != "ground" && scene.bodyIndex(*body) < 0)
+          throw InvalidInput(field + (body == &j.main ? ".main" : ".secondary"),
+                             "unknown body '" + *body + "'");
+      if (j.main == j.secondary)
+        throw InvalidInput(field + ".secondary", "joint connects body '" + j.main + "' to itself");
+      scene.joints.push_back(j);
+    }
+  }
+
+  if (r.has("integrator")) {
+    ObjectReader ir(r.get("integrator"), "integrator", source);
+    scene.has_integrator = true;
+    scene.integrator.name = ir.string("name");
+    scene.integrator.dt = ir.positiveNumber("dt");
+    const json& obj = r.get("integrator");
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      if (it.key() == "name" || it.key() == "dt") continue;
+      scene.integrator.options[it.key()] = ir.number(it.key());
+    }
+    ir.finish();
+  }
+  if (r.has("t_end")) {
+    scene.t_end = r.positiveNumber("t_end");
+    scene.has_t_end = true;
+  }
+  r.finish();
+  return scene;
+}
+
+SceneDescription loadScene(const std::string& file_or_name) {
+  std::ifstream file(file_or_name);
+  if (file) {
+    std::ostringstream text;
+    text << file.rdbuf();
+    return parseScene(text.str(), file_or_name);
+  }
+  for (const BuiltinScene& s : builtinScenes())
+    if (s.name == file_or_name) return parseScene(s.json, "built-in scene '" + s.name + "'");
+  std::string names;
+  for (const BuiltinScene& s : builtinScenes()) names += (names.empty() ? "" : ", ") + s.name;
+  throw InvalidInput(file_or_name, "no such scene file, and no built-in scene of that name (built-in: " +
+                                       names + ")");
+}
+
+}  // namespace lieflow

@@ -1,0 +1,361 @@
+/// \file
+/// Scene assembly and the integrator factory of the `lieflow` command.
+#include "joints/simulation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "integrators/adaptive.hpp"
+#include "integrators/commutator_free.hpp"
+#include "integrators/exact_free_body.hpp"
+#include "integrators/integrate.hpp"
+#include "integrators/registry.hpp"
+#include "integrators/rigid_body_system.hpp"
+#include "integrators/rkmk.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+
+/// Relative tolerance of the consistency checks of given positions and
+/// velocities against a joint.
+constexpr double kConsistencyTolerance = 1e-6;
+
+struct Simulation::Model {
+  /// Rotation-only dynamics (free rotor or about a pivot) vs full free body.
+  bool rotor = true;
+  /// The body's CSV rows include position and velocity columns.
+  bool translational_output = false;
+  RigidBodyParameters<double> params;
+  RotorState<double> rotor0;
+  FreeBodyState<double> free0;
+  /// A free rotor's centre of mass stays here.
+  Eigen::Vector3d fixed_position = Eigen::Vector3d::Zero();
+};
+
+namespace {
+
+std::string fmt(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
+  auto model = std::make_unique<Simulation::Model>();
+  if (scene.bodies.size() != 1)
+    throw InvalidInput(scene.source + ": bodies",
+                       "this version of lieflow simulates scenes of one body (got " +
+                           std::to_string(scene.bodies.size()) + ")");
+  const BodyDescription& body = scene.bodies[0];
+  RigidBodyParameters<double>& p = model->params;
+  p.mass = body.mass;
+  p.inertia = body.inertia;
+  p.gravity = scene.gravity;
+  const SO3d R0(body.orientation);
+
+  if (scene.joints.size() > 1)
+    throw InvalidInput(scene.source + ": joints",
+                       "one body can have at most one spherical joint to ground in this version");
+  if (scene.joints.size() == 1) {
+    const JointDescription& j = scene.joints[0];
+    const std::string field = scene.source + ": joints[0]";
+    if (j.main != "ground" && j.secondary != "ground")
+      throw InvalidInput(field, "a spherical joint of a single body must connect it to 'ground'");
+    // Anchor on the body (body frame, from the centre of mass) and on ground (world).
+    const bool body_is_secondary = j.secondary == body.name;
+    const Eigen::Vector3d anchor_body = body_is_secondary ? j.anchor_secondary : j.anchor_main;
+    const Eigen::Vector3d anchor_world = body_is_secondary ? j.anchor_main : j.anchor_secondary;
+    p.has_pivot = true;
+    p.pivot_world = anchor_world;
+    p.com_from_pivot = -anchor_body;
+    const Eigen::Vector3d com = anchor_world + R0 * p.com_from_pivot;
+    const double length = std::max(1.0, p.com_from_pivot.norm());
+    if (body.has_position && (body.position - com).norm() > kConsistencyTolerance * length)
+      throw InvalidInput(scene.source + ": bodies[0].position",
+                         "inconsistent with joint '" + j.name + "': the pivot puts the centre of mass at " +
+                             fmt(com) + ", the file says " + fmt(body.position));
+    const Eigen::Vector3d v_com = R0 * body.angular_velocity.cross(p.com_from_pivot);
+    const double speed = std::max(1.0, v_com.norm());
+    if (body.has_velocity && (body.velocity - v_com).norm() > kConsistencyTolerance * speed)
+      throw InvalidInput(scene.source + ": bodies[0].velocity",
+                         "inconsistent with joint '" + j.name + "': the pivot gives " + fmt(v_com) +
+                             ", the file says " + fmt(body.velocity));
+    model->rotor = true;
+    model->translational_output = !body.rotation_only;
+  } else if (body.rotation_only) {
+    if (body.has_velocity && body.velocity.norm() > 0.0)
+      throw InvalidInput(scene.source + ": bodies[0].velocity",
+                         "a rotation-only body has no translational state; velocity must be zero or absent");
+    model->rotor = true;
+    model->translational_output = false;
+    model->fixed_position = body.position;
+  } else {
+    model->rotor = false;
+    model->translational_output = true;
+  }
+  model->rotor0.R = R0;
+  model->rotor0.omega = body.angular_velocity;
+  model->free0.R = R0;
+  model->free0.omega = body.angular_velocity;
+  model->free0.p = body.position;
+  model->free0.v = body.velocity;
+  return model;
+}
+
+/// Appends the body columns of a rotor/free-body state to a row.
+void appendBody(const Simulation::Model& m, const SO3d& R, const Eigen::Vector3d& omega,
+                const Eigen::Vector3d& p, const Eigen::Vector3d& v, std::vector<double>* row) {
+  const Eigen::Quaterniond& q = R.quaternion();
+  row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), omega.x(), omega.y(), omega.z()});
+  if (m.translational_output) row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
+}
+
+struct RowBuilder {
+  const Simulation::Model& model;
+
+  void operator()(const RotorSystem<double>& sys, double t, const RotorState<double>& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    Eigen::Vector3d p = model.fixed_position, v = Eigen::Vector3d::Zero();
+    if (model.params.has_pivot) {
+      p = model.params.pivot_world + y.R * model.params.com_from_pivot;
+      v = y.R * y.omega.cross(model.params.com_from_pivot);
+    }
+    appendBody(model, y.R, y.omega, p, v, row);
+    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+  }
+
+  void operator()(const FreeBodySystem<double>& sys, double t, const FreeBodyState<double>& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    appendBody(model, y.R, y.omega, y.p, y.v, row);
+    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+  }
+};
+
+/// Tracks energy and momentum drift over the observed states.
+struct DriftTracker {
+  bool momentum_conserved = false;
+  double e0 = 0.0;
+  Eigen::Vector3d L0 = Eigen::Vector3d::Zero();
+  double energy_drift = 0.0;
+  double momentum_drift = 0.0;
+
+  template <typename System, typename State>
+  void observe(const System& sys, long k, double t, const State& y) {
+    const double e = sys.energy(t, y);
+    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
+    if (k == 0) {
+      e0 = e;
+      L0 = L;
+      return;
+    }
+    energy_drift = std::max(energy_drift, std::abs(e - e0) / std::max(std::abs(e0), 1e-300));
+    if (momentum_conserved)
+      momentum_drift = std::max(momentum_drift, (L - L0).norm() / std::max(L0.norm(), 1e-300));
+  }
+};
+
+double option(const SimulationOptions& o, const std::string& key, double fallback) {
+  const auto it = o.integrator_options.find(key);
+  return it == o.integrator_options.end() ? fallback : it->second;
+}
+
+/// Runs `advance(observer)` with an observer that records rows and drift.
+template <typename System, typename Advance>
+SimulationResult observeRun(const Simulation::Model& model, const System& system,
+                            const SimulationOptions& options, long n_outputs,
+                            const std::function<void(const std::vector<double>&)>& row_sink,
+                            Advance&& advance) {
+  SimulationResult result;
+  DriftTracker drift;
+  drift.momentum_conserved = system.conservesAngularMomentum();
+  RowBuilder rows{model};
+  std::vector<double> row;
+  typename System::State last;
+  double t_last = 0.0;
+  auto observer = [&](long k, double t, const typename System::State& y) {
+    if (options.diagnostics) {
+      drift.observe(system, k, t, y);
+      if (row_sink && (k % options.every == 0 || k == n_outputs)) {
+        rows(system, t, y, &row);
+        row_sink(row);
+      }
+    }
+    last = y;
+    t_last = t;
+    return true;
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const RunSummary summary = advance(observer);
+  const auto stop = std::chrono::steady_clock::now();
+  result.wall_seconds = std::chrono::duration<double>(stop - start).count();
+  result.steps = summary.steps;
+  result.rejected_steps = summary.rejected_steps;
+  result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
+  result.newton_iterations_mean = summary.newtonIterationsMean();
+  result.failed = summary.failed;
+  result.failure = summary.failure;
+  result.energy_drift = drift.energy_drift;
+  result.momentum_conserved = drift.momentum_conserved;
+  result.momentum_drift = drift.momentum_drift;
+  rows(system, t_last, last, &result.final_row);
+  // The last row is always written, whatever `every` is (also after a failure).
+  if (options.diagnostics && row_sink && summary.failed && !result.final_row.empty()) row_sink(result.final_row);
+  return result;
+}
+
+template <typename System>
+SimulationResult runSystem(const Simulation::Model& model, const System& system,
+                           const typename System::State& y0, const SimulationOptions& o,
+                           const std::function<void(const std::vector<double>&)>& row) {
+  using State = typename System::State;
+  const std::string& name = o.integrator;
+  const long n = stepCount(0.0, o.t_end, o.dt);
+  auto fixed = [&](auto stepper) {
+    return observeRun(model, system, o, n, row, [&](auto& observer) {
+      return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
+    });
+  };
+  if (name == "rkmk-euler") return fixed(RkmkStepper<State>(ButcherTableau::euler()));
+  if (name == "rkmk-heun") return fixed(RkmkStepper<State>(ButcherTableau::heun()));
+  if (name == "rkmk3") return fixed(RkmkStepper<State>(ButcherTableau::kutta3()));
+  if (name == "rkmk4") return fixed(RkmkStepper<State>(ButcherTableau::rk4()));
+  if (name == "cg3") return fixed(CrouchGrossman3Stepper<State>());
+  if (name == "cf4") return fixed(CommutatorFree4Stepper<State>());
+  if (name == "rkmk45") {
+    AdaptiveOptions a;
+    a.rtol = option(o, "rtol", a.rtol);
+    a.atol = option(o, "atol", a.atol);
+    const RkmkStepper<State> stepper(ButcherTableau::dormandPrince54());
+    return observeRun(model, system, o, n, row, [&](auto& observer) {
+      return integrateAdaptive(stepper, system, y0, 0.0, o.t_end, o.dt, a, observer);
+    });
+  }
+  throw InvalidInput("integrator", "'" + name + "' is not available for this scene");
+}
+
+/// The exact flow sampled on the output grid (a "step" is one evaluation).
+struct ExactStepper {
+  const ExactFreeRigidBody* flow;
+  double t0;
+  template <typename System, typename State>
+  State step(const System& system, double t, const State& y, double h, StepReport*) const {
+    State next = y;
+    Eigen::Quaterniond q;
+    flow->evaluate(t + h - t0, &q, &next.omega);
+    next.R = SO3d(q);
+    advanceTranslation(system, t, h, &next);
+    return next;
+  }
+  static void advanceTranslation(const RotorSystem<double>&, double, double, RotorState<double>*) {}
+  static void advanceTranslation(const FreeBodySystem<double>& sys, double t, double h,
+                                 FreeBodyState<double>* y) {
+    // Constant force (gravity): exact parabola.
+    const Eigen::Vector3d a = sys.force(t) / sys.mass();
+    y->p += h * y->v + 0.5 * h * h * a;
+    y->v += h * a;
+  }
+};
+
+}  // namespace
+
+Simulation::Simulation(SceneDescription scene)
+    : scene_(std::move(scene)), model_(assemble(scene_)) {}
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+std::vector<std::string> Simulation::columns() const {
+  std::vector<std::string> cols = {"t"};
+  const std::string& b = scene_.bodies[0].name;
+  for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz"}) cols.push_back(b + "." + c);
+  if (model_->translational_output)
+    for (const char* c : {"x", "y", "z", "vx", "vy", "vz"}) cols.push_back(b + "." + c);
+  for (const char* c : {"energy", "Lx", "Ly", "Lz", "constraint_error"}) cols.push_back(c);
+  return cols;
+}
+
+bool Simulation::supports(const std::string& integrator, std::string* why) const {
+  if (!findIntegrator(integrator)) {
+    if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
+    return false;
+  }
+  if (integrator == "exact") {
+    const bool torque_free = !model_->params.has_pivot;
+    if (!torque_free) {
+      if (why) *why = "'exact' is the torque-free flow: this scene has a pivot under gravity";
+      return false;
+    }
+  }
+  return true;
+}
+
+SimulationResult Simulation::run(const SimulationOptions& options,
+                                 const std::function<void(const std::vector<double>&)>& row) const {
+  const IntegratorInfo* info = findIntegrator(options.integrator);
+  if (!info)
+    throw InvalidInput("--integrator", "unknown integrator '" + options.integrator +
+                                           "' (see lieflow integrators)");
+  std::string why;
+  if (!supports(options.integrator, &why)) throw InvalidInput("--integrator", why);
+  if (!(options.dt > 0.0) || !std::isfinite(options.dt))
+    throw InvalidInput("--dt", "the step must be a positive number");
+  if (!(options.t_end > 0.0) || !std::isfinite(options.t_end))
+    throw InvalidInput("--t-end", "the end time must be a positive number");
+  if (options.every < 1) throw InvalidInput("--every", "must be a positive integer");
+  for (const auto& kv : options.integrator_options) {
+    bool known = false;
+    for (const auto& opt : info->options) known = known || opt.first == kv.first;
+    if (!known)
+      throw InvalidInput(scene_.source + ": integrator." + kv.first,
+                         "unknown option for integrator '" + info->name + "'");
+  }
+
+  SimulationResult result;
+  const Model& m = *model_;
+  if (m.rotor) {
+    const RotorSystem<double> system(m.params);
+    if (options.integrator == "exact") {
+      const ExactFreeRigidBody flow(system.inertia(), m.rotor0.R.quaternion(), m.rotor0.omega);
+      ExactStepper stepper{&flow, 0.0};
+      const long n = stepCount(0.0, options.t_end, options.dt);
+      result = observeRun(m, system, options, n, row, [&](auto& observer) {
+        return integrateFixedStep(stepper, system, m.rotor0, 0.0, options.t_end, options.dt, observer);
+      });
+    } else {
+      result = runSystem(m, system, m.rotor0, options, row);
+    }
+  } else {
+    const FreeBodySystem<double> system(m.params);
+    if (options.integrator == "exact") {
+      const ExactFreeRigidBody flow(system.inertia(), m.free0.R.quaternion(), m.free0.omega);
+      ExactStepper stepper{&flow, 0.0};
+      const long n = stepCount(0.0, options.t_end, options.dt);
+      result = observeRun(m, system, options, n, row, [&](auto& observer) {
+        return integrateFixedStep(stepper, system, m.free0, 0.0, options.t_end, options.dt, observer);
+      });
+    } else {
+      result = runSystem(m, system, m.free0, options, row);
+    }
+  }
+  result.integrator = options.integrator;
+  result.dt = options.dt;
+  result.implicit = info->is_implicit;
+  return result;
+}
+
+double orientationErrorBetweenRows(const std::vector<double>& a, const std::vector<double>& b) {
+  const Eigen::Quaterniond qa(a[1], a[2], a[3], a[4]);
+  const Eigen::Quaterniond qb(b[1], b[2], b[3], b[4]);
+  return (SO3d(qa.normalized()).inverse() * SO3d(qb.normalized())).log().norm();
+}
+
+}  // namespace lieflow

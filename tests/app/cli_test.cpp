@@ -1,0 +1,120 @@
+/// \file
+/// The `lieflow` command as users and scripts see it: exit statuses, the
+/// CSV contract (header, first row t = 0, last row t_end whatever --every
+/// is, 17 significant digits) and the --stats JSON keys.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+const std::string kLieflow = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow";
+
+struct Outcome {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+Outcome run(const std::string& args) {
+  const std::string out_file = testing::TempDir() + "lieflow_cli_out.txt";
+  const std::string err_file = testing::TempDir() + "lieflow_cli_err.txt";
+  const std::string cmd = kLieflow + " " + args + " >" + out_file + " 2>" + err_file;
+  const int raw = std::system(cmd.c_str());
+  auto slurp = [](const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out_file), slurp(err_file)};
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream s(text);
+  std::string line;
+  while (std::getline(s, line)) out.push_back(line);
+  return out;
+}
+
+TEST(Cli, HelpAndListsSucceed) {
+  for (const char* args : {"--help", "simulate --help", "study --help", "integrators", "scenes", "integrators --help"}) {
+    const Outcome o = run(args);
+    EXPECT_EQ(o.status, 0) << args << ": " << o.err;
+    EXPECT_FALSE(o.out.empty()) << args;
+  }
+  const Outcome list = run("integrators");
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi",
+                           "splitting", "genalpha", "exact"})
+    EXPECT_NE(list.out.find(name), std::string::npos) << name;
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(run("frobnicate").status, 2);
+  EXPECT_EQ(run("simulate").status, 2);
+  EXPECT_EQ(run("simulate heavy-top --dt -1").status, 2);
+  EXPECT_EQ(run("simulate heavy-top --bogus 1").status, 2);
+  const Outcome o = run("simulate heavy-top --integrator nope");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("nope"), std::string::npos) << o.err;
+  const Outcome bad_scene = run("simulate /nonexistent/scene.json");
+  EXPECT_EQ(bad_scene.status, 2);
+  EXPECT_NE(bad_scene.err.find("/nonexistent/scene.json"), std::string::npos) << bad_scene.err;
+}
+
+TEST(Cli, BadSceneFileNamesFileFieldAndReason) {
+  const std::string path = testing::TempDir() + "bad_scene.json";
+  std::ofstream(path) << R"({"name": "x", "bodies": [{"name": "b", "mass": 1, "inertia": [1, 1, 5]}]})";
+  const Outcome o = run("simulate " + path + " --integrator rkmk4 --dt 0.01 --t-end 1");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find(path), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("bodies[0].inertia"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("triangle"), std::string::npos) << o.err;
+}
+
+TEST(Cli, CsvHasFirstAndLastRowsWhateverEvery) {
+  const std::string csv = testing::TempDir() + "traj.csv";
+  const Outcome o = run("simulate abaqus-force-free --integrator rkmk4 --dt 0.01 --every 7 --out " + csv);
+  ASSERT_EQ(o.status, 0) << o.err;
+  std::ifstream f(csv);
+  std::stringstream s;
+  s << f.rdbuf();
+  const std::vector<std::string> rows = lines(s.str());
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(rows[0],
+            "t,body.qw,body.qx,body.qy,body.qz,body.wx,body.wy,body.wz,energy,Lx,Ly,Lz,constraint_error");
+  EXPECT_EQ(rows[1].substr(0, 2), "0,");
+  EXPECT_EQ(rows.back().substr(0, 2), "2,");
+  EXPECT_EQ(rows.size(), 1u + 1u + 200u / 7u + 1u);  // header, t = 0, every 7th, t = 2
+  // 17 significant digits: ω₃ = 2π prints as 6.2831853071795862.
+  EXPECT_NE(rows[1].find("6.2831853071795862"), std::string::npos) << rows[1];
+}
+
+TEST(Cli, StatsJsonHasTheContractKeys) {
+  const Outcome o = run("simulate heavy-top --integrator cf4 --stats");
+  ASSERT_EQ(o.status, 0) << o.err;
+  for (const char* key : {"\"integrator\"", "\"dt\"", "\"steps\":2000", "\"wall_seconds\"", "\"ns_per_step\"",
+                          "\"energy_drift\"", "\"momentum_drift\"", "\"constraint_error\"",
+                          "\"newton_iterations_mean\"", "\"failed\":false", "\"failure\""})
+    EXPECT_NE(o.out.find(key), std::string::npos) << key << " in " << o.out;
+}
+
+TEST(Cli, BlowUpExitsOneWithMessageAndNoNaN) {
+  const std::string csv = testing::TempDir() + "blowup.csv";
+  const Outcome o = run("simulate heavy-top --integrator rkmk-euler --dt 0.001 --stats --out " + csv);
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.err.find("blow-up"), std::string::npos) << o.err;
+  EXPECT_NE(o.out.find("\"failed\":true"), std::string::npos) << o.out;
+  std::ifstream f(csv);
+  std::stringstream s;
+  s << f.rdbuf();
+  EXPECT_EQ(s.str().find("nan"), std::string::npos);
+}
+
+}  // namespace
