@@ -12,6 +12,7 @@ int runMainJob(int argc, char** argv);
 int runIntegrators(int argc, char** argv);
 int runScenes(int argc, char** argv);
 int runLiegroup(int argc, char** argv);
+int runStabilityCommand(int argc, char** argv);
 
 }  // namespace app
 }  // namespace lieflow

@@ -21,6 +21,7 @@ constexpr const char* kUsage =
     "commands (each takes --help):\n"
     "  simulate SCENE   run a scene, write its trajectory CSV and/or --stats JSON\n"
     "  study SCENE      work-precision study: error against run time, drift plots\n"
+    "  stability [SCENE...]  largest bounded h*omega per integrator (stiff spring, fast top)\n"
     "  integrators      list the integrators with their order and properties\n"
     "  scenes           list the built-in scenes\n"
     "  liegroup         precision and speed tables of the SO(3)/SE(3) library\n"
@@ -39,6 +40,7 @@ int dispatch(int argc, char** argv) {
   }
   if (command == "simulate") return runSimulate(rest_argc, rest_argv);
   if (command == "study") return runStudy(rest_argc, rest_argv);
+  if (command == "stability") return runStabilityCommand(rest_argc, rest_argv);
   if (command == "integrators") return runIntegrators(rest_argc, rest_argv);
   if (command == "scenes") return runScenes(rest_argc, rest_argv);
   if (command == "liegroup") return runLiegroup(rest_argc, rest_argv);

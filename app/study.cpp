@@ -3,20 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 
+#include "app/plotting.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
-
-#ifndef LIEFLOW_SOURCE_DIR
-#define LIEFLOW_SOURCE_DIR "."
-#endif
 
 namespace lieflow {
 namespace app {
@@ -217,25 +213,7 @@ void writeStudyFiles(const StudyResult& result, const std::string& dir) {
 }
 
 bool plotStudy(const std::string& dir, std::string* why) {
-  const char* env_script = std::getenv("LIEFLOW_PLOT_SCRIPT");
-  const std::string script =
-      env_script ? env_script : std::string(LIEFLOW_SOURCE_DIR) + "/scripts/plot_study.py";
-  if (!std::filesystem::exists(script)) {
-    *why = "plot script " + script + " not found";
-    return false;
-  }
-  // Debian's python3 has python3-matplotlib; a user's own python3 may not.
-  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  if (std::system((python + " -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) {
-    *why = "matplotlib is not installed (apt-get install python3-matplotlib)";
-    return false;
-  }
-  const std::string command = python + " '" + script + "' '" + dir + "'";
-  if (std::system(command.c_str()) != 0) {
-    *why = "the plot script failed: " + command;
-    return false;
-  }
-  return true;
+  return runPlotScript("plot_study.py", dir, why);
 }
 
 void printStudyTable(std::ostream& out, const StudyResult& result) {

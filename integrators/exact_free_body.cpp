@@ -181,8 +181,9 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   // (e3, −e2, e1) so that the same formulas hold with J = (I3, I2, I1).
   // Near the separatrix L² − 2E I2 carries the conditioning of the whole problem (k'²
   // and the period depend on it): evaluate it in extended precision, so that the data
-  // are taken as given. The separatrix is the case where it vanishes; just off it, the
-  // elliptic solution with k' ≳ 1e-10 (AGM in terms of k') is accurate and continuous.
+  // are taken as given. The separatrix is the case where it vanishes exactly; just off
+  // it (k'² down to ~1e-19), the elliptic solution, with the AGM and Π in terms of k'²,
+  // is accurate and tends to the hyperbolic one.
   using Long = long double;
   const Long spin3 = Long(I3) * d32 * w(2) * w(2), spin1 = Long(I1) * d21 * w(0) * w(0);
   const bool separatrix = spin3 == spin1;
@@ -248,9 +249,13 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   //   ψ(t) = |L| t/J3 + |L| d31/(J1 J3 |λ|) [Π(τ) − Π(τ0)],  Π(τ) = ∫₀^τ dv/(1 − n sn² v),
   // Π being the incomplete integral of the third kind Π(n; am τ, k). The azimuth of
   // (u1, u2) is γ = β − π/2, so Φ = ψ − (γ − γ0).
+  // When λ ≪ |ω| (nearly axisymmetric bodies) the factor 1/|λ| would turn the rounding
+  // of Π(τ0) ~ ulp·τ0 into a large angle, so Π(τ) = τ/(1 − n) + Q(τ) is split into its
+  // secular part, integrated exactly in t, and a bounded remainder Q (see phase()):
+  //   ψ(t) = [|L|/J3 + rate_pi λ/(1 − n)] t + rate_pi [Q(τ) − Q(τ0)].
   n_ = -J3 * e21 / (J1 * e32);
-  rate_linear_ = M / J3;
   rate_pi_ = M * e31 / (J1 * J3 * abs_lambda);
+  rate_linear_ = M / J3 + rate_pi_ * lambda_ / (1.0 - n_);
 
   if (separatrix) {
     regime_ = Regime::kSeparatrix;
@@ -261,8 +266,13 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   } else {
     regime_ = Regime::kElliptic;
     const double D = double(Long(J3) * e32 * om(2) * om(2) - Long(J1) * e21 * om(0) * om(0));
-    k_ = std::sqrt(e21 * G / (e32 * H));
+    // k² and k'² from cancellation-free products; the smaller one is the accurate one,
+    // the other is taken as its complement so that the pair is consistent (the AGM and
+    // dn = √(k'² + k² cn²) rely on k² + k'² = 1).
+    const double k2_direct = e21 * G / (e32 * H);
     kp2_ = e31 * D / (e32 * H);
+    k_ = std::sqrt(kp2_ < 0.5 ? 1.0 - kp2_ : k2_direct);
+    if (kp2_ >= 0.5) kp2_ = 1.0 - k2_direct;
     // AGM (A&S 16.4.1–2) with c_{n+1} = c_n²/(4 a_{n+1}) (no cancellation), from k'
     // itself so that the modulus stays accurate near the separatrix; K = π/(2 a_N).
     double a = 1.0, b = std::sqrt(kp2_), c = k_;
@@ -279,25 +289,26 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
     agm_scale_ = std::ldexp(a, agm_steps_);
     K_ = kPi / (2.0 * a);
     // Π for n < 0 through the characteristic N = (k² − n)/(1 − n) ∈ (k², 1)
-    // (A&S 17.7.15, as rearranged in Boost.Math's ellint_3), with F(am r) = r:
-    //   Π(n; am r) = (a + b) r + a (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²)
-    //                + e atan(A s c / Δ),                    (s, c, Δ) = (sn, cn, dn) r,
-    //   a = −n k'²/((1 − n)(k² − n)), b = k²/(k² − n), e = √(−n/((k² − n)(1 − n))),
-    //   A = √(−n N), 1 − N = k'²/(1 − n),
-    // using Π(N; φ) = F + (N/3) s³ R_J(...) (DLMF 19.25.14). All terms have the sign of
-    // s: no cancellation even for n ≪ −1 (nearly axisymmetric bodies), unlike Carlson's
-    // form for Π(n; φ) itself; and the modulus enters only through the accurate k'².
+    // (A&S 17.7.15, as rearranged in Boost.Math's ellint_3), with F(am r) = r and
+    // Π(N; φ) = F + (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) (DLMF 19.25.14):
+    //   Π(n; am r) = r/(1 − n) + Q(r),                       (s, c, Δ) = (sn, cn, dn) r,
+    //   Q(r) = a (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) + e atan(A s c / Δ),
+    //   a = −n k'²/((1 − n)(k² − n)), e = √(−n/((k² − n)(1 − n))), A = √(−n N),
+    //   1 − N = k'²/(1 − n).
+    // All terms have the sign of s: no cancellation even for n ≪ −1 (nearly
+    // axisymmetric bodies), unlike Carlson's form for Π(n; φ) itself; and the modulus
+    // enters only through the accurate k'². Q(K) = a (N/3) R_J(0, k'², 1, 1 − N).
+    // The steep part r/(1 − n) is exact in r; Q is flat where F is steep:
+    // dQ/dφ = −n c²/((1 − n s²)(1 − n) Δ) ≤ 1/k, so the AGM's absolute error in am r
+    // stays an absolute error in Q even near the saddle (Δ ≪ 1, k' ≪ 1).
     const double k2 = k_ * k_;
     pi_N_ = (k2 - n_) / (1.0 - n_);
     pi_Nm1_ = kp2_ / (1.0 - n_);
     pi_a_ = -n_ * kp2_ / ((1.0 - n_) * (k2 - n_));
-    pi_b_ = k2 / (k2 - n_);
     pi_e_ = std::sqrt(-n_ / ((k2 - n_) * (1.0 - n_)));
     pi_A_ = std::sqrt(-n_ * pi_N_);
-    pi_complete_ =
-        (pi_a_ + pi_b_) * K_ +
+    q_complete_ =
         pi_a_ * pi_N_ / 3.0 * boost::math::ellint_rj(0.0, kp2_, 1.0, pi_Nm1_, DoublePolicy());
-    dn_split_ = std::pow(kp2_, 0.125);
     // Phase: τ0 = F(φ0, k), (sin φ0, cos φ0, Δ(φ0)) = (ω2/A2, ω1/A1, ω3/A3). Carlson's
     // form F(φ) = sin φ R_F(cos² φ, Δ², 1) for |φ| ≤ π/2 (DLMF 19.25.5) uses the three
     // ratios directly (relative condition ≤ ½), and F(±π ∓ φ) = ±2K − F(φ) beyond.
@@ -311,7 +322,7 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   lambda_ = std::ldexp(lambda_, omega_exp);
   rate_linear_ = std::ldexp(rate_linear_, omega_exp);
   const Phase p0 = phase(tau0_);
-  pi0_ = p0.pi;
+  q0_phase_ = p0.q;
   gamma0_ = p0.gamma;
   const Eigen::Vector3d omega_w(amplitude_(0) * p0.cn, amplitude_(1) * p0.sn,
                                 amplitude_(2) * p0.dn);
@@ -323,49 +334,25 @@ ExactFreeRigidBody::Phase ExactFreeRigidBody::phase(double tau) const {
   const double J1A1 = moments_(0) * amplitude_(0), J2A2 = moments_(1) * amplitude_(1);
   if (regime_ == Regime::kSeparatrix) {
     // k = 1: sn = tanh, cn = dn = sech; with m = −n ≥ 0,
-    //   ∫₀^τ dv/(1 + m tanh² v) = [τ + √m atan(√m tanh τ)] / (1 + m).
+    //   Π(τ) = ∫₀^τ dv/(1 + m tanh² v) = [τ + √m atan(√m tanh τ)] / (1 + m).
     const double sech = 1.0 / std::cosh(tau), th = std::tanh(tau), root_m = std::sqrt(-n_);
     p.sn = th;
     p.cn = p.dn = sech;
-    p.pi = (tau + root_m * std::atan(root_m * th)) / (1.0 - n_);
+    p.q = root_m * std::atan(root_m * th) / (1.0 - n_);
     p.gamma = std::atan2(J2A2 * th, J1A1 * sech);
     return p;
   }
-  // Reduce τ = 2K j + r, |r| ≤ K: sn, cn change sign with j, dn and am(τ) − jπ do not.
+  // Reduce τ = 2K j + r, |r| ≤ K: sn, cn change sign with j, dn and am(τ) − jπ do not,
+  // and Q grows by 2 Q(K) per half period.
   const double j = std::nearbyint(tau / (2.0 * K_));
   const double r = std::fma(-2.0 * K_, j, tau);
-  double sn_r, cn_r, dn_r, pi_r;
+  double sn_r, cn_r, dn_r;
   jacobi(r, &sn_r, &cn_r, &dn_r);
-  if (dn_r >= dn_split_) {
-    pi_r = ellipticPi(r, sn_r, cn_r, dn_r);
-  } else {
-    // Near r = ±K (the body near the saddle when k' ≪ 1) am r barely moves while r
-    // runs: the absolute error of the AGM's amplitude becomes ~ulp/dn in r, and would
-    // spoil Π and the precession. There use y = K − |r| (DLMF 22.4.iii, 22.6.i):
-    //   sn r = ± cn y / dn y,  cn r = k' sn y / dn y,  dn r = k' / dn y,
-    //   Π(n; am r) = ± (Π(n, k) − [(k²/N) y + a' Π(N; am y)] / (1 − n)),
-    // from 1/(1 − n cd² y) = dn² y / ((1 − n)(1 − N sn² y)), with
-    // a' = −n k'²/((1 − n) N). With the split at dn r = k'^{1/4} both forms amplify the
-    // amplitude's error by at most k'^{−1/4}.
-    const double y = K_ - std::abs(r), sgn = r < 0.0 ? -1.0 : 1.0;
-    double sn_y, cn_y, dn_y;
-    jacobi(y, &sn_y, &cn_y, &dn_y);
-    const double kp = std::sqrt(kp2_), c2 = cn_y * cn_y;
-    sn_r = sgn * cn_y / dn_y;
-    cn_r = kp * sn_y / dn_y;
-    dn_r = kp / dn_y;
-    const double pi_N_y =
-        y + pi_N_ / 3.0 * sn_y * sn_y * sn_y *
-                boost::math::ellint_rj(c2, dn_y * dn_y, 1.0, c2 + pi_Nm1_ * sn_y * sn_y,
-                                       DoublePolicy());
-    const double a_prime = -n_ * kp2_ / ((1.0 - n_) * pi_N_);
-    pi_r = sgn * (pi_complete_ - (k_ * k_ / pi_N_ * y + a_prime * pi_N_y) / (1.0 - n_));
-  }
   const double sign = std::fmod(j, 2.0) == 0.0 ? 1.0 : -1.0;
   p.sn = sign * sn_r;
   p.cn = sign * cn_r;
   p.dn = dn_r;
-  p.pi = 2.0 * j * pi_complete_ + pi_r;
+  p.q = 2.0 * j * q_complete_ + ellipticPiRemainder(sn_r, cn_r, dn_r);
   p.gamma = j * kPi + std::atan2(J2A2 * sn_r, J1A1 * cn_r);  // cn_r ≥ 0: no jump
   return p;
 }
@@ -385,11 +372,10 @@ void ExactFreeRigidBody::jacobi(double u, double* sn, double* cn, double* dn) co
   *dn = std::sqrt(kp2_ + k_ * k_ * *cn * *cn);  // dn² = k'² + k² cn², no cancellation
 }
 
-double ExactFreeRigidBody::ellipticPi(double r, double s, double c, double delta) const {
+double ExactFreeRigidBody::ellipticPiRemainder(double s, double c, double delta) const {
   if (s == 0.0) return 0.0;
   const double c2 = c * c;
-  return (pi_a_ + pi_b_) * r +
-         pi_a_ * pi_N_ / 3.0 * s * s * s *
+  return pi_a_ * pi_N_ / 3.0 * s * s * s *
              boost::math::ellint_rj(c2, delta * delta, 1.0, c2 + pi_Nm1_ * s * s, DoublePolicy()) +
          pi_e_ * std::atan(pi_A_ * s * c / delta);
 }
@@ -405,7 +391,7 @@ void ExactFreeRigidBody::evaluate(double t, Eigen::Quaterniond* q,
   const Eigen::Vector3d omega_w(amplitude_(0) * p.cn, amplitude_(1) * p.sn,
                                 amplitude_(2) * p.dn);  // in units of omega_unit_
   if (q) {
-    const double psi = rate_linear_ * t + rate_pi_ * (p.pi - pi0_);
+    const double psi = rate_linear_ * t + rate_pi_ * (p.q - q0_phase_);
     const double Phi = psi - (p.gamma - gamma0_);
     const Eigen::Vector3d u = moments_.cwiseProduct(omega_w).normalized();
     *q = (left_ * rotz(Phi) * swing(u) * basis_q_.conjugate()).normalized();

@@ -34,10 +34,14 @@ namespace lieflow {
 /// Exact torque-free motion of a rigid body, any inertia, any initial condition.
 ///
 /// The returned quaternion is a continuous function of t (no sign flips), equal to q0
-/// (same sign) at t = 0. Accuracy: a few ulps times (1 + |ω| |t|) for well-conditioned
-/// data; near the separatrix the problem itself is ill-conditioned and the error grows
-/// with the amplification of the flow. Any units: the computation is scaled internally
-/// (only energy() and spatialAngularMomentum() must fit in a double).
+/// (same sign) at t = 0. Accuracy, measured against an independent long-double Taylor
+/// integrator: ≲ 1e-15 per radian turned (≤ 7e-14 at |ω| t ≈ 100); E and L are
+/// conserved to ~1e-15. The evaluation is backward stable: near the separatrix, where
+/// the problem itself amplifies changes of the data by up to ~1e6 over t = 100, the
+/// result is the exact motion for data within a few ulps. A non-diagonal inertia with
+/// nearly equal moments has ill-conditioned principal axes (~ulp/gap) whatever the
+/// method. Any units: the computation is scaled internally (only energy() and
+/// spatialAngularMomentum() must fit in a double).
 class ExactFreeRigidBody {
  public:
   /// inertia_body: symmetric positive-definite 3x3 inertia about the centre of mass in
@@ -75,12 +79,12 @@ class ExactFreeRigidBody {
   /// Jacobi elliptic functions and the derived angles at the argument τ.
   struct Phase {
     double sn, cn, dn;
-    double pi;     ///< ∫₀^τ dv / (1 − n sn² v) (continuous, odd in τ)
+    double q;      ///< Q(τ) = ∫₀^τ dv / (1 − n sn² v) − τ/(1 − n) (continuous, odd)
     double gamma;  ///< continuous azimuth of (J1 ω1, J2 ω2) in the working frame
   };
   Phase phase(double tau) const;
-  /// Π(n; am r, k) for |r| ≤ K from (s, c, Δ) = (sn r, cn r, dn r).
-  double ellipticPi(double r, double s, double c, double delta) const;
+  /// Q(r) = Π(n; am r, k) − r/(1 − n) for |r| ≤ K from (s, c, Δ) = (sn r, cn r, dn r).
+  double ellipticPiRemainder(double s, double c, double delta) const;
   /// sn, cn, dn of u with the precomputed AGM of the modulus.
   void jacobi(double u, double* sn, double* cn, double* dn) const;
   /// Swing(u) as a quaternion: the smallest rotation taking the unit vector u (u_z > 0)
@@ -109,14 +113,13 @@ class ExactFreeRigidBody {
   double k_ = 0.0;    ///< modulus
   double kp2_ = 1.0;  ///< complementary parameter k'² = 1 − k² (computed directly)
   double n_ = 0.0;    ///< characteristic of Π (≤ 0)
-  // Π(n) = pi_a Π(N) + pi_b F + pi_e atan(pi_A s c/Δ) with N = (k² − n)/(1 − n) ∈ (k², 1).
-  double pi_N_ = 0.0, pi_Nm1_ = 1.0, pi_a_ = 0.0, pi_b_ = 1.0, pi_e_ = 0.0, pi_A_ = 0.0;
-  double dn_split_ = 0.0;   ///< below this dn, Π is computed from K − |r| (k'^{1/4})
-  double K_ = 0.0;          ///< complete integral of the first kind K(k)
-  double pi_complete_ = 0;  ///< complete integral of the third kind Π(n, k)
-  /// Precession ψ(t) = rate_linear t + rate_pi (Π(τ) − Π(τ0)); Φ = ψ − (γ − γ0).
+  // Π(n) = pi_a Π(N) + b F + pi_e atan(pi_A s c/Δ) with N = (k² − n)/(1 − n) ∈ (k², 1).
+  double pi_N_ = 0.0, pi_Nm1_ = 1.0, pi_a_ = 0.0, pi_e_ = 0.0, pi_A_ = 0.0;
+  double K_ = 0.0;           ///< complete integral of the first kind K(k)
+  double q_complete_ = 0.0;  ///< Q(K) = Π(n, k) − K/(1 − n)
+  /// Precession ψ(t) = rate_linear t + rate_pi (Q(τ) − Q(τ0)); Φ = ψ − (γ − γ0).
   double rate_linear_ = 0.0, rate_pi_ = 0.0;
-  double pi0_ = 0.0, gamma0_ = 0.0;  ///< phase(τ0).pi, phase(τ0).gamma
+  double q0_phase_ = 0.0, gamma0_ = 0.0;  ///< phase(τ0).q, phase(τ0).gamma
   // Arithmetic–geometric mean for sn, cn (Abramowitz & Stegun 16.4), precomputed.
   static constexpr int kMaxAgmSteps = 32;
   int agm_steps_ = 0;

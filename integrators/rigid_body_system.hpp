@@ -41,6 +41,11 @@ struct RigidBodyParameters {
   bool has_pivot = false;
   Vector3<T> pivot_world = Vector3<T>::Zero();
   Vector3<T> com_from_pivot = Vector3<T>::Zero();
+  /// Isotropic torsional spring to ground (RotorSystem only): the potential
+  /// U = ½ k ‖log(R_rest⁻¹ R)‖² pulls the body back to R_rest with the body
+  /// torque τ = −k log(R_rest⁻¹ R) (since Jr⁻ᵀ(w) w = w). k = 0: none.
+  T spring_stiffness = T(0);
+  SO3<T> spring_rest;
   /// Optional applied torque (body frame) and force at the centre of mass
   /// (world frame) as functions of time. Empty: none.
   std::function<Vector3<T>(const T&)> torque_body;
@@ -69,12 +74,15 @@ class RotorSystem {
   const Matrix3<T>& inertia() const { return J_; }
   const Matrix3<T>& inertiaInverse() const { return J_inv_; }
   bool hasExternalTorque() const {
-    return params_.has_pivot || static_cast<bool>(params_.torque_body);
+    return params_.has_pivot || static_cast<bool>(params_.torque_body) || hasSpring();
   }
+  bool hasSpring() const { return params_.spring_stiffness != T(0); }
 
-  /// τ(t, R), body frame: applied torque plus, about a pivot, c × Rᵀ(m g + f).
+  /// τ(t, R), body frame: applied torque, spring torque −k log(R_rest⁻¹R)
+  /// and, about a pivot, c × Rᵀ(m g + f).
   Vector3<T> externalTorque(const T& t, const SO3<T>& R) const {
     Vector3<T> tau = params_.torque_body ? params_.torque_body(t) : Vector3<T>(Vector3<T>::Zero());
+    if (hasSpring()) tau -= params_.spring_stiffness * (params_.spring_rest.inverse() * R).log();
     if (params_.has_pivot) {
       Vector3<T> f = params_.mass * params_.gravity;
       if (params_.force_world) f += params_.force_world(t);
@@ -84,13 +92,16 @@ class RotorSystem {
   }
 
   /// ∂τ/∂δθ for R exp(δθ): with b = Rᵀ f, (R exp(δθ))ᵀ f ≈ b + b × δθ, so
-  /// τ(R exp(δθ)) ≈ τ + c × (b × δθ) = τ + c^ b^ δθ.
+  /// τ(R exp(δθ)) ≈ τ + c × (b × δθ) = τ + c^ b^ δθ; the spring adds
+  /// −k Jr⁻¹(w), w = log(R_rest⁻¹R) (d log(X exp δ)/dδ = Jr⁻¹).
   Matrix3<T> torqueJacobian(const T& t, const SO3<T>& R) const {
-    if (!params_.has_pivot) return Matrix3<T>::Zero();
+    Matrix3<T> K = Matrix3<T>::Zero();
+    if (hasSpring()) K -= params_.spring_stiffness * SO3<T>::JrInv((params_.spring_rest.inverse() * R).log());
+    if (!params_.has_pivot) return K;
     Vector3<T> f = params_.mass * params_.gravity;
     if (params_.force_world) f += params_.force_world(t);
     const Vector3<T> b = R.inverse() * f;
-    return SO3<T>::hat(params_.com_from_pivot) * SO3<T>::hat(b);
+    return K + SO3<T>::hat(params_.com_from_pivot) * SO3<T>::hat(b);
   }
 
   /// ω̇ = J⁻¹((J ω) × ω + τ).
@@ -104,9 +115,12 @@ class RotorSystem {
     f->template tail<3>() = angularAcceleration(t, y.R, y.omega);
   }
 
-  /// ½ ωᵀ J ω, minus m gᵀ(R c) about a pivot (potential zero at the pivot).
+  /// ½ ωᵀ J ω + ½ k ‖log(R_rest⁻¹R)‖², minus m gᵀ(R c) about a pivot
+  /// (potential zero at the pivot).
   T energy(const T& /*t*/, const State& y) const {
     T e = T(0.5) * y.omega.dot(J_ * y.omega);
+    if (hasSpring())
+      e += T(0.5) * params_.spring_stiffness * (params_.spring_rest.inverse() * y.R).log().squaredNorm();
     if (params_.has_pivot)
       e -= params_.mass * params_.gravity.dot(y.R * params_.com_from_pivot);
     return e;

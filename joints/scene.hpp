@@ -28,6 +28,11 @@ struct BodyDescription {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< world frame
   bool has_position = false;
   bool has_velocity = false;
+  /// Optional isotropic torsional spring to ground ("torsional_spring":
+  /// {"stiffness": k, "rest_orientation": [w, x, y, z]}): body torque
+  /// −k log(R_rest⁻¹ R). Rotation-only bodies and bodies on a pivot only.
+  double spring_stiffness = 0.0;
+  Eigen::Quaterniond spring_rest = Eigen::Quaterniond::Identity();
 };
 
 /// One joint. `main`/`secondary` are body names; "ground" is the world.

@@ -201,6 +201,17 @@ BodyDescription readBody(const json& v, int index, const std::string& source) {
     b.velocity = r.vector3("velocity");
     b.has_velocity = true;
   }
+  if (r.has("torsional_spring")) {
+    ObjectReader spring(r.get("torsional_spring"), r.fieldPath("torsional_spring"), source);
+    b.spring_stiffness = spring.positiveNumber("stiffness");
+    if (spring.has("rest_orientation")) {
+      const Eigen::VectorXd q = spring.numbers("rest_orientation", 4);
+      b.spring_rest = SO3d::fromQuaternionChecked(Eigen::Quaterniond(q[0], q[1], q[2], q[3]),
+                                                  source + ": " + spring.fieldPath("rest_orientation"))
+                          .quaternion();
+    }
+    spring.finish();
+  }
   r.finish();
   return b;
 }

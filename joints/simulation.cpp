@@ -10,6 +10,9 @@
 #include "integrators/adaptive.hpp"
 #include "integrators/commutator_free.hpp"
 #include "integrators/exact_free_body.hpp"
+#include "integrators/generalized_alpha.hpp"
+#include "integrators/lgvi.hpp"
+#include "integrators/splitting.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "integrators/rigid_body_system.hpp"
@@ -95,6 +98,13 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   } else {
     model->rotor = false;
     model->translational_output = true;
+  }
+  if (body.spring_stiffness > 0.0) {
+    if (!model->rotor)
+      throw InvalidInput(scene.source + ": bodies[0].torsional_spring",
+                         "a torsional spring to ground needs a rotation-only body or a pivot");
+    p.spring_stiffness = body.spring_stiffness;
+    p.spring_rest = SO3d(body.spring_rest);
   }
   model->rotor0.R = R0;
   model->rotor0.omega = body.angular_velocity;
@@ -230,6 +240,22 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
   if (name == "rkmk4") return fixed(RkmkStepper<State>(ButcherTableau::rk4()));
   if (name == "cg3") return fixed(CrouchGrossman3Stepper<State>());
   if (name == "cf4") return fixed(CommutatorFree4Stepper<State>());
+  if (name == "lgvi") {
+    LgviOptions l;
+    l.tolerance = option(o, "tolerance", l.tolerance);
+    l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
+    if (!(l.tolerance >= 0.0)) throw InvalidInput("tolerance", "must be non-negative");
+    if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
+    return fixed(LgviStepper<State>(l));
+  }
+  if (name == "splitting") return fixed(SplittingStepper<State>(system.inertia()));
+  if (name == "genalpha") {
+    GeneralizedAlphaOptions g;
+    g.rho_inf = option(o, "rho_inf", g.rho_inf);
+    g.tolerance = option(o, "tolerance", g.tolerance);
+    g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
+    return fixed(GeneralizedAlphaStepper<State>(g));
+  }
   if (name == "rkmk45") {
     AdaptiveOptions a;
     a.rtol = option(o, "rtol", a.rtol);
@@ -239,7 +265,7 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
       return integrateAdaptive(stepper, system, y0, 0.0, o.t_end, o.dt, a, observer);
     });
   }
-  throw InvalidInput("integrator", "'" + name + "' is not available for this scene");
+  throw InvalidInput("--integrator", "'" + name + "' is not available for this scene");
 }
 
 /// The exact flow sampled on the output grid (a "step" is one evaluation).
@@ -321,6 +347,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
 
   SimulationResult result;
   const Model& m = *model_;
+  try {
   if (m.rotor) {
     const RotorSystem<double> system(m.params);
     if (options.integrator == "exact") {
@@ -345,6 +372,11 @@ SimulationResult Simulation::run(const SimulationOptions& options,
     } else {
       result = runSystem(m, system, m.free0, options, row);
     }
+  }
+  } catch (const InvalidInput& e) {
+    // Option errors raised by a stepper's constructor name the bare option.
+    if (e.field().find(':') != std::string::npos || e.field().rfind("--", 0) == 0) throw;
+    throw InvalidInput(scene_.source + ": integrator." + e.field(), e.reason());
   }
   result.integrator = options.integrator;
   result.dt = options.dt;

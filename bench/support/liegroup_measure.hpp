@@ -94,8 +94,8 @@ struct SpeedRow {
   /// Median over repetitions of (lieflow time / baseline time), each pair of
   /// timings taken back to back (so slow drifts of the clock rate cancel).
   double ratio = 0.0;
-  double ratio_min = 0.0;  ///< smallest and largest paired ratio: the noise
-  double ratio_max = 0.0;
+  double ratio_q1 = 0.0;  ///< 25th and 75th percentiles of the paired ratios:
+  double ratio_q3 = 0.0;  ///< the spread of the measurement (noise)
   int repetitions = 0;
   double max_ratio = 0.0;  ///< the target; NaN: none
   std::string others;      ///< other libraries' ratios, for context
@@ -105,13 +105,15 @@ struct SpeedRow {
 };
 
 /// Times every pair of speedTargets(): each operation and its baseline get
-/// about `seconds_per_op` seconds each, split into interleaved repetitions
-/// (op, baseline, op, baseline, ...). Inputs cycle through pre-generated
-/// arrays of random elements; every result is added into a sink.
+/// about `seconds_per_op` seconds each (at least 9 repetitions), split into
+/// interleaved 200 µs batches (op, baseline, baseline, op, ...), so that the
+/// medians shrug off the batches a loaded machine interrupts. Inputs cycle
+/// through pre-generated arrays of random elements; every result is added
+/// into a sink. Takes about 2 × 11 × seconds_per_op seconds.
 std::vector<SpeedRow> measureSpeed(double seconds_per_op);
 
-/// One line per pair: ns/op of both, ratio (median, min–max), target, PASS /
-/// MISS (markdown table).
+/// One line per pair: ns/op of both, ratio (median, interquartile range),
+/// target, PASS / MISS (markdown table).
 void printSpeedTable(std::ostream& out, const std::vector<SpeedRow>& rows);
 
 /// "g++ 12.2.0, -O3 -DNDEBUG" style description of how lieflow_measure was

@@ -8,9 +8,9 @@
 /// same for an operation and its baseline of the same result type, and a
 /// floating-point sum cannot be reordered, so no loop is vectorized across
 /// iterations). Each timed loop is its own non-inlined function. The
-/// operation and its baseline are timed in kRepetitions interleaved pairs
-/// (alternating which goes first); the ratio is the median of the paired
-/// ratios, the ns/op the medians of each side.
+/// operation and its baseline are timed in many short interleaved pairs of
+/// batches (kBatchSeconds each, alternating which goes first); the ratio is
+/// the median of the paired ratios, the ns/op the medians of each side.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -39,9 +39,14 @@ namespace {
 
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
-/// Interleaved (operation, baseline) timing pairs per operation; odd, so the
-/// median is one of them.
-constexpr int kRepetitions = 9;
+/// Length of one timed batch. Short, so that on a loaded machine most batches
+/// run without being descheduled, and many, so that the median ignores those
+/// that were: at 200 µs a batch spans a small part of a scheduler time slice.
+constexpr double kBatchSeconds = 2e-4;
+
+/// Bounds on the number of interleaved (operation, baseline) pairs.
+constexpr int kMinRepetitions = 9;
+constexpr int kMaxRepetitions = 2001;
 
 /// Seed of the speed inputs (fixed: every run times the same elements).
 constexpr std::uint64_t kSpeedSeed = 0x5eed'11ef'f10eULL;
@@ -102,20 +107,24 @@ template <typename Case>
 std::size_t calibrate(const SpeedInputs& in, double seconds) {
   std::size_t iterations = SpeedInputs::kSize;
   double ns = timeBatch<Case>(in, iterations);
-  // Grow until one batch takes ≥ 1 ms (or the wanted time), then scale.
-  while (ns * static_cast<double>(iterations) < std::min(1e6, seconds * 1e9) &&
-         iterations < (std::size_t{1} << 34)) {
-    iterations *= 4;
+  for (int warm = 0; warm < 20 && ns * static_cast<double>(iterations) < seconds * 1e9; ++warm) {
+    iterations *= 2;
     ns = timeBatch<Case>(in, iterations);
   }
+  // Best of a few batches: the estimate of an undisturbed batch.
+  for (int k = 0; k < 3; ++k) ns = std::min(ns, timeBatch<Case>(in, iterations));
   const double wanted = seconds * 1e9 / std::max(ns, 1e-3);
   return std::max<std::size_t>(SpeedInputs::kSize, static_cast<std::size_t>(wanted));
 }
 
-double median(std::vector<double> v) {
+/// The q-quantile (0 ≤ q ≤ 1) of v, nearest rank.
+double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+  const std::size_t i = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
 }
+
+double median(const std::vector<double>& v) { return quantile(v, 0.5); }
 
 std::string formatFixed(double x, int digits) {
   std::ostringstream s;
@@ -147,15 +156,17 @@ bool SpeedRow::pass() const { return !hasTarget() || ratio <= max_ratio; }
 
 std::vector<SpeedRow> measureSpeed(double seconds_per_op) {
   const SpeedInputs in(kSpeedSeed);
-  const double batch_seconds = std::max(seconds_per_op, 1e-4) / kRepetitions;
+  const double wanted = std::max(seconds_per_op, 0.0) / kBatchSeconds;
+  int repetitions = static_cast<int>(std::min<double>(wanted, kMaxRepetitions));
+  repetitions = std::max(repetitions, kMinRepetitions) | 1;  // odd: the median is a sample
   std::vector<SpeedRow> rows;
   forEachSpeedPair([&](auto op, auto base, const SpeedTarget& target) {
     using Op = decltype(op);
     using Base = decltype(base);
-    const std::size_t n_op = calibrate<Op>(in, batch_seconds);
-    const std::size_t n_base = calibrate<Base>(in, batch_seconds);
+    const std::size_t n_op = calibrate<Op>(in, kBatchSeconds);
+    const std::size_t n_base = calibrate<Base>(in, kBatchSeconds);
     std::vector<double> t_op, t_base, ratios;
-    for (int r = 0; r < kRepetitions; ++r) {
+    for (int r = 0; r < repetitions; ++r) {
       double a, b;
       if (r % 2 == 0) {
         a = timeBatch<Op>(in, n_op);
@@ -174,9 +185,9 @@ std::vector<SpeedRow> measureSpeed(double seconds_per_op) {
     row.ns_per_op = median(t_op);
     row.baseline_ns_per_op = median(t_base);
     row.ratio = median(ratios);
-    row.ratio_min = *std::min_element(ratios.begin(), ratios.end());
-    row.ratio_max = *std::max_element(ratios.begin(), ratios.end());
-    row.repetitions = kRepetitions;
+    row.ratio_q1 = quantile(ratios, 0.25);
+    row.ratio_q3 = quantile(ratios, 0.75);
+    row.repetitions = repetitions;
     row.max_ratio = target.max_ratio;
     row.others = target.others;
     rows.push_back(row);
@@ -186,22 +197,23 @@ std::vector<SpeedRow> measureSpeed(double seconds_per_op) {
 
 void printSpeedTable(std::ostream& out, const std::vector<SpeedRow>& rows) {
   const std::vector<std::string> header = {
-      "operation", "ns/op", "Eigen baseline", "ns/op", "ratio", "ratio min-max",
+      "operation", "ns/op", "Eigen baseline", "ns/op", "ratio", "ratio IQR",
       "target", "result", "Sophus / manif / smooth"};
   std::vector<std::vector<std::string>> cells;
   for (const SpeedRow& r : rows) {
     cells.push_back({r.operation, formatFixed(r.ns_per_op, 2), r.baseline,
                      formatFixed(r.baseline_ns_per_op, 2), formatFixed(r.ratio, 2),
-                     formatFixed(r.ratio_min, 2) + "-" + formatFixed(r.ratio_max, 2),
+                     formatFixed(r.ratio_q1, 2) + "-" + formatFixed(r.ratio_q3, 2),
                      r.hasTarget() ? "<= " + formatFixed(r.max_ratio, 2) : "-",
                      r.hasTarget() ? (r.pass() ? "PASS" : "MISS") : "-",
                      r.others.empty() ? "-" : r.others});
   }
   detail::printMarkdownTable(out, header, cells, {1, 3, 4, 5});
   if (!rows.empty()) {
-    out << "\nratio = lieflow time / Eigen time, median of " << rows.front().repetitions
-        << " back-to-back pairs in this run; ns/op = median per side; Sophus / manif / smooth:"
-           " their ratios to the same baselines, measured elsewhere (context). "
+    out << "\nratio = lieflow time / Eigen time, median over " << rows.front().repetitions
+        << " back-to-back pairs of batches in this run (IQR: 25th-75th percentile of the"
+           " pairs); ns/op = median per side; Sophus / manif / smooth: their ratios to the"
+           " same baselines, measured elsewhere (context). "
         << buildDescription() << ".\n";
   }
 }

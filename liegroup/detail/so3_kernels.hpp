@@ -50,7 +50,7 @@ inline T thetaMinusSinCoefficient(const T& theta_sq, const T& h, const T& k) {
 
 /// (1 − (θ/2) cot(θ/2))/θ² = (1 − h/(2k))/θ², the W² coefficient of Jr⁻¹ and
 /// V⁻¹. It is exact near π (h → 0, no `(1 + cos θ)/(θ sin θ)` form) and uses
-/// its Bernoulli series for θ < 0.5. Precondition: θ < 2π (k ≠ 0).
+/// its Bernoulli series for θ < 1.5. Precondition: θ < 2π (k ≠ 0).
 template <typename T>
 inline T halfCotCoefficient(const T& theta_sq, const T& h, const T& k) {
   if (theta_sq < T(kHalfCotThetaSq)) return horner(theta_sq, halfCotSeries());

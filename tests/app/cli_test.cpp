@@ -4,6 +4,7 @@
 /// is, 17 significant digits) and the --stats JSON keys.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -115,6 +116,36 @@ TEST(Cli, BlowUpExitsOneWithMessageAndNoNaN) {
   std::stringstream s;
   s << f.rdbuf();
   EXPECT_EQ(s.str().find("nan"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Cli, StudyWritesCsvAndErrorsShrinkAtFourthOrder) {
+  const std::string dir = testing::TempDir() + "study_cli";
+  const Outcome o = run("study abaqus-force-free --integrators rkmk4,lgvi --dt 0.02,0.01 --min-time 0.001 "
+                        "--no-plots --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.out.find("exact flow"), std::string::npos) << o.out;
+  std::ifstream f(dir + "/study.csv");
+  std::stringstream s;
+  s << f.rdbuf();
+  const std::vector<std::string> rows = lines(s.str());
+  ASSERT_EQ(rows.size(), 5u) << s.str();
+  auto error_of = [&](const std::string& row) {
+    std::stringstream r(row);
+    std::string cell;
+    for (int i = 0; i < 8; ++i) std::getline(r, cell, ',');
+    return std::stod(cell);  // orientation_error column
+  };
+  // rows: header, rkmk4 0.02, rkmk4 0.01, lgvi 0.02, lgvi 0.01
+  const double rk4_ratio = error_of(rows[1]) / error_of(rows[2]);
+  const double lgvi_ratio = error_of(rows[3]) / error_of(rows[4]);
+  EXPECT_NEAR(std::log2(rk4_ratio), 4.0, 0.3) << rows[1] << "\n" << rows[2];
+  EXPECT_NEAR(std::log2(lgvi_ratio), 2.0, 0.3) << rows[3] << "\n" << rows[4];
+  std::ifstream drift(dir + "/drift.csv");
+  EXPECT_TRUE(drift.good());
 }
 
 }  // namespace

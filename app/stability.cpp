@@ -1,0 +1,143 @@
+#include "app/stability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "app/plotting.hpp"
+#include "integrators/registry.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace app {
+namespace {
+
+struct Probe {
+  bool bounded = false;
+  std::string why;
+};
+
+Probe probe(const Simulation& sim, const std::string& integrator, double omega_c, double h_omega,
+            const StabilityOptions& o) {
+  constexpr double kTwoPi = 6.283185307179586;
+  SimulationOptions run;
+  run.integrator = integrator;
+  run.dt = h_omega / omega_c;
+  run.t_end = std::max(o.periods * kTwoPi / omega_c, static_cast<double>(o.min_steps) * run.dt);
+  if (sim.scene().has_integrator && sim.scene().integrator.name == integrator)
+    run.integrator_options = sim.scene().integrator.options;
+  const SimulationResult r = sim.run(run);
+  Probe p;
+  if (r.failed) {
+    p.why = r.failure;
+  } else if (!(r.energy_drift <= o.energy_bound)) {
+    std::ostringstream s;
+    s << "energy error " << r.energy_drift << " > " << o.energy_bound;
+    p.why = s.str();
+  } else {
+    p.bounded = true;
+  }
+  return p;
+}
+
+}  // namespace
+
+double characteristicFrequency(const SceneDescription& scene) {
+  double omega = 0.0;
+  for (const BodyDescription& b : scene.bodies) {
+    omega = std::max(omega, b.angular_velocity.norm());
+    if (b.spring_stiffness > 0.0) {
+      const double i_min = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(b.inertia).eigenvalues().minCoeff();
+      omega = std::max(omega, std::sqrt(b.spring_stiffness / i_min));
+    }
+  }
+  if (!(omega > 0.0))
+    throw InvalidInput(scene.source, "no time scale for a stability study (no spin, no spring)");
+  return omega;
+}
+
+std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOptions& o) {
+  const double omega_c = characteristicFrequency(sim.scene());
+  std::vector<std::string> integrators = o.integrators;
+  if (integrators.empty())
+    for (const IntegratorInfo& info : integratorRegistry())
+      if (info.name != "exact" && !info.is_adaptive && sim.supports(info.name, nullptr))
+        integrators.push_back(info.name);
+  std::vector<StabilityRow> rows;
+  for (const std::string& name : integrators) {
+    std::string why;
+    if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+    if (o.progress) *o.progress << "stability: " << sim.scene().name << " " << name << "\n";
+    StabilityRow row;
+    row.scene = sim.scene().name;
+    row.integrator = name;
+    row.omega_c = omega_c;
+    const double ratio = std::pow(o.h_omega_max / o.h_omega_min, 1.0 / (o.grid_points - 1));
+    double stable = 0.0, unstable = 0.0;
+    for (int i = 0; i < o.grid_points; ++i) {
+      const double h_omega = o.h_omega_min * std::pow(ratio, i);
+      const Probe p = probe(sim, name, omega_c, h_omega, o);
+      if (!p.bounded) {
+        unstable = h_omega;
+        row.first_failure = p.why;
+        break;
+      }
+      stable = h_omega;
+    }
+    if (unstable == 0.0) {
+      row.unbounded_grid = true;
+      row.h_omega_max = stable;
+    } else if (stable > 0.0) {
+      // Bisection in log h between the last bounded and the first unbounded step.
+      for (int k = 0; k < o.bisections; ++k) {
+        const double mid = std::sqrt(stable * unstable);
+        if (probe(sim, name, omega_c, mid, o).bounded)
+          stable = mid;
+        else
+          unstable = mid;
+      }
+      row.h_omega_max = stable;
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void writeStabilityCsv(const std::vector<StabilityRow>& rows, const std::string& path) {
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path().empty()
+                                          ? "."
+                                          : std::filesystem::path(path).parent_path());
+  std::ofstream f(path);
+  if (!f) throw InvalidInput(path, "cannot open for writing");
+  f << "scene,integrator,omega_c,h_omega_max,bounded_on_whole_grid,first_failure\n";
+  for (const StabilityRow& r : rows) {
+    std::string why = r.first_failure;
+    std::replace(why.begin(), why.end(), '"', '\'');
+    f << r.scene << "," << r.integrator << "," << r.omega_c << "," << r.h_omega_max << ","
+      << (r.unbounded_grid ? "true" : "false") << ",\"" << why << "\"\n";
+  }
+}
+
+void printStabilityTable(std::ostream& out, const std::vector<StabilityRow>& rows) {
+  out << "| scene | integrator | omega_c [rad/s] | largest bounded h*omega_c | first unbounded run |\n";
+  out << "|---|---|---|---|---|\n";
+  for (const StabilityRow& r : rows) {
+    char h[32];
+    std::snprintf(h, sizeof h, "%.3g", r.h_omega_max);
+    out << "| " << r.scene << " | " << r.integrator << " | " << r.omega_c << " | "
+        << (r.unbounded_grid ? std::string(">= ") + h : (r.h_omega_max > 0 ? h : "< grid start")) << " | "
+        << (r.unbounded_grid ? "bounded on the whole grid" : r.first_failure) << " |\n";
+  }
+}
+
+bool plotStability(const std::string& dir, std::string* why) {
+  return runPlotScript("plot_stability.py", dir, why);
+}
+
+}  // namespace app
+}  // namespace lieflow
