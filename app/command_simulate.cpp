@@ -39,23 +39,6 @@ constexpr const char* kUsage =
 
 }  // namespace
 
-nlohmann::ordered_json statsJson(const SimulationResult& r) {
-  nlohmann::ordered_json j;
-  j["integrator"] = r.integrator;
-  j["dt"] = r.dt;
-  j["steps"] = r.steps;
-  j["wall_seconds"] = r.wall_seconds;
-  j["ns_per_step"] = r.ns_per_step;
-  j["energy_drift"] = r.energy_drift;
-  j["momentum_drift"] = r.momentum_conserved ? nlohmann::ordered_json(r.momentum_drift) : nlohmann::ordered_json(nullptr);
-  j["constraint_error"] = r.constraint_error;
-  j["newton_iterations_mean"] = r.implicit ? nlohmann::ordered_json(r.newton_iterations_mean) : nlohmann::ordered_json(nullptr);
-  j["failed"] = r.failed;
-  j["failure"] = r.failure;
-  if (r.rejected_steps > 0) j["rejected_steps"] = r.rejected_steps;
-  return j;
-}
-
 int runSimulate(int argc, char** argv) {
   const Arguments args(argc, argv, {"--integrator", "--dt", "--t-end", "--out", "--every", "--options"},
                        {"--stats"});

@@ -26,6 +26,25 @@ std::map<std::string, double> parseOptionList(const std::vector<std::string>& it
   return out;
 }
 
+nlohmann::ordered_json statsJson(const SimulationResult& r) {
+  nlohmann::ordered_json j;
+  j["integrator"] = r.integrator;
+  j["dt"] = r.dt;
+  j["steps"] = r.steps;
+  j["wall_seconds"] = r.wall_seconds;
+  j["ns_per_step"] = r.ns_per_step;
+  // A failed run has no meaningful drift: null rather than a reassuring 0.
+  const nlohmann::ordered_json none(nullptr);
+  j["energy_drift"] = r.failed ? none : nlohmann::ordered_json(r.energy_drift);
+  j["momentum_drift"] = r.momentum_conserved && !r.failed ? nlohmann::ordered_json(r.momentum_drift) : none;
+  j["constraint_error"] = r.constraint_error;
+  j["newton_iterations_mean"] = r.implicit ? nlohmann::ordered_json(r.newton_iterations_mean) : nlohmann::ordered_json(nullptr);
+  j["failed"] = r.failed;
+  j["failure"] = r.failure;
+  if (r.rejected_steps > 0) j["rejected_steps"] = r.rejected_steps;
+  return j;
+}
+
 SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args) {
   SimulationOptions o;
   o.integrator = args.value("--integrator", scene.has_integrator ? scene.integrator.name : "");

@@ -19,7 +19,8 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
 
 /// The `--stats` JSON object of a run (keys of ../shared/DESIGN.md; null
 /// where a figure does not apply: momentum_drift when the scene does not
-/// conserve momentum, newton_iterations_mean for explicit methods).
+/// conserve momentum, newton_iterations_mean for explicit methods, both drift
+/// figures when the run failed).
 nlohmann::ordered_json statsJson(const SimulationResult& result);
 
 /// Parses "k=v,k=v" into a map; UsageError naming --options if malformed.

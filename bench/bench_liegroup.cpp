@@ -28,9 +28,9 @@ namespace {
 using lieflow::measure::SpeedInputs;
 using lieflow::measure::SpeedTarget;
 
-/// The same elements as measureSpeed (any fixed seed would do).
+/// The same elements as measureSpeed.
 const SpeedInputs& inputs() {
-  static const SpeedInputs in(0x5eed'11ef'f10eULL);
+  static const SpeedInputs in(SpeedInputs::kDefaultSeed);
   return in;
 }
 

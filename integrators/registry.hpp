@@ -33,8 +33,9 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
        "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group (dt = output interval)"},
       {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)"},
       {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)"},
-      {"lgvi", 2, true, true, true, false, {{"tolerance", 1e-14}, {"max_iterations", 20}},
-       "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian"},
+      {"lgvi", 2, true, true, true, false, {{"tolerance", 1e-14}, {"max_iterations", 20}, {"cayley", 0}},
+       "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian; "
+       "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit"},
       {"splitting", 2, false, true, true, false, {},
        "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques"},
       {"genalpha", 2, true, false, false, false, {{"rho_inf", 1.0}, {"tolerance", 1e-12}, {"max_iterations", 20}},

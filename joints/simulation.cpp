@@ -191,12 +191,15 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   std::vector<double> row;
   typename System::State last;
   double t_last = 0.0;
+  bool last_written = false;
   auto observer = [&](long k, double t, const typename System::State& y) {
+    last_written = false;
     if (options.diagnostics) {
       drift.observe(system, k, t, y);
       if (row_sink && (k % options.every == 0 || k == n_outputs)) {
         rows(system, t, y, &row);
         row_sink(row);
+        last_written = true;
       }
     }
     last = y;
@@ -217,8 +220,9 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
   rows(system, t_last, last, &result.final_row);
-  // The last row is always written, whatever `every` is (also after a failure).
-  if (options.diagnostics && row_sink && summary.failed && !result.final_row.empty()) row_sink(result.final_row);
+  // The last good state is always written, whatever `every` is (also when a
+  // failure stopped the run between two output steps).
+  if (options.diagnostics && row_sink && summary.failed && !last_written) row_sink(result.final_row);
   return result;
 }
 
@@ -244,6 +248,10 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
     LgviOptions l;
     l.tolerance = option(o, "tolerance", l.tolerance);
     l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
+    // cayley = 1: the Cayley-map variant (no h‖ω‖ < 1 limit of the exp map).
+    const double cayley = option(o, "cayley", 0.0);
+    if (cayley != 0.0 && cayley != 1.0) throw InvalidInput("cayley", "must be 0 (exp map) or 1 (Cayley map)");
+    if (cayley == 1.0) l.map = LgviMap::kCayley;
     if (!(l.tolerance >= 0.0)) throw InvalidInput("tolerance", "must be non-negative");
     if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
     return fixed(LgviStepper<State>(l));

@@ -13,7 +13,9 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <random>
+#include <utility>
 #include <sstream>
 #include <string>
 
@@ -50,13 +52,19 @@ class SO3 : public LieGroupBase<SO3<T>> {
   /// projected onto it, input beyond it is rejected.
   static constexpr double kCheckedTolerance = 1e-6;
 
+  /// Debug-build check of the unchecked constructor: |‖q‖² − 1| below
+  /// 1e4 ε of the scalar's value type (2e-12 for double, 1e-3 for float), far
+  /// above rounding after long chains of products, far below real misuse.
+  static constexpr double kUnitAssertTolerance =
+      1e4 * std::numeric_limits<decltype(scalarValue(std::declval<T>()))>::epsilon();
+
   /// The identity rotation.
   SO3() : q_(T(1), T(0), T(0), T(0)) {}
 
   /// From a unit quaternion, without checks (precondition: |‖q‖ − 1| ≲ 1e-12,
   /// asserted in debug builds). Use fromQuaternionChecked for untrusted input.
   explicit SO3(const Quaternion& q) : q_(q) {
-    LIEFLOW_ASSERT(std::abs(scalarValue(q.squaredNorm()) - 1.0) < 1e-10,
+    LIEFLOW_ASSERT(std::abs(scalarValue(q.squaredNorm()) - 1.0) < kUnitAssertTolerance,
                    "SO3(q): quaternion must have unit norm");
   }
 

@@ -79,7 +79,7 @@ struct SpeedTarget {
   const char* operation;  ///< e.g. "SO3 exp"
   const char* baseline;   ///< e.g. "Eigen AngleAxis->Quaternion"
   double max_ratio;       ///< lieflow time / baseline time must be ≤ this; NaN: none
-  const char* others;     ///< e.g. "Sophus 1.36, manif 1.32, smooth 0.97", or ""
+  const char* others;     ///< Sophus / manif / smooth ratios, e.g. "1.36 / 1.32 / 0.97", or ""
 };
 
 /// Every (operation, baseline) pair that measureSpeed and bench_liegroup time,

@@ -48,9 +48,6 @@ constexpr double kBatchSeconds = 2e-4;
 constexpr int kMinRepetitions = 9;
 constexpr int kMaxRepetitions = 2001;
 
-/// Seed of the speed inputs (fixed: every run times the same elements).
-constexpr std::uint64_t kSpeedSeed = 0x5eed'11ef'f10eULL;
-
 /// Where every batch's sink ends up; volatile, so the sums must be computed.
 volatile double g_sink = 0.0;
 
@@ -155,7 +152,7 @@ bool SpeedRow::hasTarget() const { return !std::isnan(max_ratio); }
 bool SpeedRow::pass() const { return !hasTarget() || ratio <= max_ratio; }
 
 std::vector<SpeedRow> measureSpeed(double seconds_per_op) {
-  const SpeedInputs in(kSpeedSeed);
+  const SpeedInputs in(SpeedInputs::kDefaultSeed);
   const double wanted = std::max(seconds_per_op, 0.0) / kBatchSeconds;
   int repetitions = static_cast<int>(std::min<double>(wanted, kMaxRepetitions));
   repetitions = std::max(repetitions, kMinRepetitions) | 1;  // odd: the median is a sample

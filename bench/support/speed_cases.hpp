@@ -64,6 +64,8 @@ struct SpeedInputs {
   /// branch pattern of lieflow's series/closed-form switches.
   static constexpr std::size_t kSize = 1024;
   static constexpr std::size_t kMask = kSize - 1;
+  /// The seed both harnesses use, so that they time the same elements.
+  static constexpr std::uint64_t kDefaultSeed = 0x5eed'11ef'f10eULL;
 
   AlignedVector<Eigen::Vector3d> w;  ///< rotation vectors: uniform axis, θ uniform in (0, π)
   AlignedVector<Eigen::Matrix<double, 6, 1>> xi;  ///< (ρ, w[i]), ρ uniform in [−1, 1]³

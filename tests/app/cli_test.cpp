@@ -22,9 +22,13 @@ struct Outcome {
   std::string err;
 };
 
+/// Runs `lieflow ARGS`; output files are named after the running test, since
+/// ctest runs tests in parallel processes.
 Outcome run(const std::string& args) {
-  const std::string out_file = testing::TempDir() + "lieflow_cli_out.txt";
-  const std::string err_file = testing::TempDir() + "lieflow_cli_err.txt";
+  const std::string stem =
+      testing::TempDir() + "lieflow_cli_" + testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string out_file = stem + "_out.txt";
+  const std::string err_file = stem + "_err.txt";
   const std::string cmd = kLieflow + " " + args + " >" + out_file + " 2>" + err_file;
   const int raw = std::system(cmd.c_str());
   auto slurp = [](const std::string& path) {
