@@ -353,34 +353,21 @@ SimulationResult Simulation::run(const SimulationOptions& options,
                          "unknown option for integrator '" + info->name + "'");
   }
 
-  SimulationResult result;
   const Model& m = *model_;
+  // The exact flow is sampled on the output grid; everything else steps.
+  auto run_on = [&](const auto& system, const auto& y0) {
+    if (options.integrator != "exact") return runSystem(m, system, y0, options, row);
+    const ExactFreeRigidBody flow(system.inertia(), y0.R.quaternion(), y0.omega);
+    const long n = stepCount(0.0, options.t_end, options.dt);
+    return observeRun(m, system, options, n, row, [&](auto& observer) {
+      return integrateFixedStep(ExactStepper{&flow, 0.0}, system, y0, 0.0, options.t_end, options.dt,
+                                observer);
+    });
+  };
+  SimulationResult result;
   try {
-  if (m.rotor) {
-    const RotorSystem<double> system(m.params);
-    if (options.integrator == "exact") {
-      const ExactFreeRigidBody flow(system.inertia(), m.rotor0.R.quaternion(), m.rotor0.omega);
-      ExactStepper stepper{&flow, 0.0};
-      const long n = stepCount(0.0, options.t_end, options.dt);
-      result = observeRun(m, system, options, n, row, [&](auto& observer) {
-        return integrateFixedStep(stepper, system, m.rotor0, 0.0, options.t_end, options.dt, observer);
-      });
-    } else {
-      result = runSystem(m, system, m.rotor0, options, row);
-    }
-  } else {
-    const FreeBodySystem<double> system(m.params);
-    if (options.integrator == "exact") {
-      const ExactFreeRigidBody flow(system.inertia(), m.free0.R.quaternion(), m.free0.omega);
-      ExactStepper stepper{&flow, 0.0};
-      const long n = stepCount(0.0, options.t_end, options.dt);
-      result = observeRun(m, system, options, n, row, [&](auto& observer) {
-        return integrateFixedStep(stepper, system, m.free0, 0.0, options.t_end, options.dt, observer);
-      });
-    } else {
-      result = runSystem(m, system, m.free0, options, row);
-    }
-  }
+    result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
+                     : run_on(FreeBodySystem<double>(m.params), m.free0);
   } catch (const InvalidInput& e) {
     // Option errors raised by a stepper's constructor name the bare option.
     if (e.field().find(':') != std::string::npos || e.field().rfind("--", 0) == 0) throw;

@@ -6,6 +6,8 @@
 
 #include <cassert>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -40,5 +42,18 @@ template <typename J>
 auto scalarValue(const J& x) -> decltype(scalarValue(x.a)) {
   return scalarValue(x.a);
 }
+
+/// The floating-point type underneath a scalar: float → float, double →
+/// double, ceres::Jet<double, N> → double (recursively through `.a`).
+template <typename T, typename = void>
+struct ScalarValueType {
+  using type = T;
+};
+template <typename J>
+struct ScalarValueType<J, std::void_t<decltype(std::declval<J>().a)>> {
+  using type = typename ScalarValueType<std::decay_t<decltype(std::declval<J>().a)>>::type;
+};
+template <typename T>
+using ScalarValueTypeT = typename ScalarValueType<T>::type;
 
 }  // namespace lieflow

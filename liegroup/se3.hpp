@@ -65,8 +65,10 @@ class SE3 : public LieGroupBase<SE3<T>> {
     const Point w_x_rho = w.cross(rho);
     const Point t = rho + detail::oneMinusCosCoefficient(k) * w_x_rho +
                     detail::thetaMinusSinCoefficient(theta_sq, h, k) * w.cross(w_x_rho);
-    return SE3(Rotation(Quaternion(h, k * w.x(), k * w.y(), k * w.z()), typename Rotation::NoCheck{}),
-               t);
+    Quaternion q;  // filled through w()/vec(), see SO3::exp
+    q.w() = h;
+    q.vec() = k * w;
+    return SE3(Rotation(q, typename Rotation::NoCheck{}), t);
   }
 
   /// log(X) = (V⁻¹(ω) t, ω), ω = log(R), ‖ω‖ ≤ π, with

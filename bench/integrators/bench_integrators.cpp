@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -51,6 +52,17 @@ using lieflow::bench::FreeBodyScene;
 using lieflow::bench::MujocoFreeBody;
 
 constexpr long kStepsPerRestart = 1000;
+
+/// Benchmark names in registration order (the summary tables keep it, whatever
+/// order --benchmark_enable_random_interleaving ran them in).
+std::vector<std::string>& registered() {
+  static std::vector<std::string> names;
+  return names;
+}
+void registerBenchmark(const std::string& name, std::function<void(benchmark::State&)> fn) {
+  registered().push_back(name);
+  benchmark::RegisterBenchmark(name.c_str(), [fn](benchmark::State& st) { fn(st); });
+}
 
 /// The MuJoCo 2.2.2 figures on this scene (ns per step), for the
 /// fallback comparison when MuJoCo is not in this binary.
@@ -97,8 +109,8 @@ void stepLoop(benchmark::State& st, const State& y0, double h, Advance advance) 
 template <typename System, typename Stepper>
 void addStepper(const std::string& prefix, const std::string& name, const System& system,
                 const typename System::State& y0, double h, Stepper stepper) {
-  benchmark::RegisterBenchmark(
-      (prefix + "/" + name).c_str(), [&system, y0, h, stepper](benchmark::State& st) mutable {
+  registerBenchmark(
+      prefix + "/" + name, [&system, y0, h, stepper](benchmark::State& st) mutable {
         stepLoop(st, y0, h, [&](double t, const typename System::State& y) {
           return stepper.step(system, t, y, h);
         });
@@ -119,8 +131,8 @@ void registerSteppers(const std::string& prefix, const System& system,
   // The adaptive driver's step: DP5(4) with its embedded error estimate.
   {
     const lieflow::RkmkStepper<State> dp(ButcherTableau::dormandPrince54());
-    benchmark::RegisterBenchmark(
-        (prefix + "/dopri5-step+error").c_str(), [&system, y0, h, dp](benchmark::State& st) {
+    registerBenchmark(
+        prefix + "/dopri5-step+error", [&system, y0, h, dp](benchmark::State& st) {
           stepLoop(st, y0, h, [&](double t, const State& y) {
             typename State::Tangent error;
             State y1 = dp.stepWithError(system, t, y, h, &error);
@@ -152,7 +164,7 @@ void registerMujoco(const std::string& name, MujocoFreeBody::Integrator integrat
     std::cerr << "bench_integrators: " << name << " skipped: " << e.what() << "\n";
     return;
   }
-  benchmark::RegisterBenchmark(name.c_str(), [body](benchmark::State& st) {
+  registerBenchmark(name, [body](benchmark::State& st) {
     body->reset();
     long k = 0;
     for (auto _ : st) {
@@ -200,7 +212,7 @@ void registerSimulation(const std::string& integrator, double h) {
   o.dt = h;
   o.t_end = h * static_cast<double>(kStepsPerRestart);
   o.diagnostics = false;
-  benchmark::RegisterBenchmark(("simulate_1000/free/" + integrator).c_str(),
+  registerBenchmark("simulate_1000/free/" + integrator,
                                [sim, o](benchmark::State& st) {
                                  for (auto _ : st) {
                                    lieflow::SimulationResult r = sim->run(o);
@@ -260,7 +272,6 @@ class SummaryReporter : public benchmark::ConsoleReporter {
         iteration_ns_[name].push_back(ns);
       else if (run.aggregate_name == "median")
         median_ns_[name] = ns;
-      if (std::find(order_.begin(), order_.end(), name) == order_.end()) order_.push_back(name);
     }
   }
 
@@ -285,7 +296,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   void printStepTable(std::ostream& out) const {
     // Rows: stepper; columns: free body, rotor.
     std::vector<std::string> steppers;
-    for (const std::string& name : order_) {
+    for (const std::string& name : registered()) {
       const auto slash = name.find('/');
       if (slash == std::string::npos) continue;
       const std::string group = name.substr(0, slash), stepper = name.substr(slash + 1);
@@ -296,6 +307,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     std::vector<std::vector<std::string>> rows;
     for (const std::string& s : steppers) {
       const double f = nsPerStep("free/" + s), r = nsPerStep("rotor/" + s);
+      if (f <= 0 && r <= 0) continue;  // filtered out
       rows.push_back({s, f > 0 ? fixed(f, 1) : "-", r > 0 ? fixed(r, 1) : "-"});
     }
     for (const char* m : {"mujoco/euler", "mujoco/rk4"}) {
@@ -352,7 +364,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
 
   void printSimulationOverhead(std::ostream& out) const {
     std::vector<std::vector<std::string>> rows;
-    for (const std::string& name : order_) {
+    for (const std::string& name : registered()) {
       if (name.rfind("simulate_1000/free/", 0) != 0) continue;
       const std::string stepper = name.substr(std::string("simulate_1000/free/").size());
       const double sim = nsPerStep(name), raw = nsPerStep("free/" + stepper);
@@ -367,7 +379,6 @@ class SummaryReporter : public benchmark::ConsoleReporter {
         {1, 2, 3});
   }
 
-  std::vector<std::string> order_;
   std::map<std::string, std::vector<double>> iteration_ns_;
   std::map<std::string, double> median_ns_;
 };

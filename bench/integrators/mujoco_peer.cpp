@@ -145,8 +145,8 @@ double MujocoFreeBody::time() const { return impl_->d->time; }
 bool mujocoAvailable() { return false; }
 
 std::string mujocoDescription() {
-  return "MuJoCo not available (CMake did not find mujoco/mujoco.h and libmujoco; "
-         "apt-get install libmujoco-dev and re-run CMake)";
+  return "MuJoCo not built in (CMake found no mujoco/mujoco.h and libmujoco, or "
+         "LIEFLOW_BENCH_WITH_MUJOCO=OFF; apt-get install libmujoco-dev and re-run CMake)";
 }
 
 struct MujocoFreeBody::Impl {};

@@ -237,11 +237,9 @@ const CoefficientCase kCoefficients[] = {
      detail::kCosRemainderThetaSq},
     {"sinCosMix (2theta - 3sin + theta cos)/(2theta^5)", sinCosMixGot, sinCosMixRef,
      detail::kSinCosMixThetaSq},
-    // BUG (liegroup/detail/series.hpp, kHalfCotThetaSq = 0.25): the closed form
-    // (1 − h/(2k))/θ² cancels ~50:1 just above its switch θ = 0.5 and is off by
-    // up to ~55–68 ulp there (≤ 30 ulp only from θ ≈ 0.75 on). Expected to fail
-    // WithinThirtyUlpOfLongDouble until the series is used up to θ² ≈ 1 (which
-    // needs ~13 terms, |B_2| … |B_26|, instead of 9).
+    // Regression: with the series switch at θ = 0.5 (kHalfCotThetaSq = 0.25,
+    // 9 terms) the closed form (1 − h/(2k))/θ² cancelled ~50:1 just above it
+    // and was off by up to ~55–68 ulp.
     {"halfCot (1 - (theta/2)cot(theta/2))/theta^2", halfCotGot, halfCotRef, detail::kHalfCotThetaSq},
 };
 

@@ -15,6 +15,7 @@
 #include <random>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -109,8 +110,6 @@ double relativeError(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& 
   return ref > 0.0 ? diff / ref : diff;
 }
 
-inline bool allFinite(const Eigen::MatrixXd& m) { return m.allFinite(); }
-
 // ---- sampling by angle band ---------------------------------------------------
 
 /// A deterministic generator; every test seeds its own.
@@ -157,15 +156,21 @@ inline std::vector<AngleBand> standardBands() {
           {"random", -1.0},           {"pi-1e-5", kPi - 1e-5},      {"pi-1e-9", kPi - 1e-9}};
 }
 
-/// Angles just below and above every series/closed-form switch of
-/// detail/series.hpp (θ² = 1e-8, 0.25, 1, 4).
+/// Angles just below, at and above every series/closed-form switch of
+/// detail/series.hpp (read from the header, so the bands follow it).
 inline std::vector<AngleBand> thresholdBands() {
+  const std::pair<const char*, double> switches[] = {
+      {"kSmallAngleSq", detail::kSmallAngleSq},
+      {"kHalfCotThetaSq", detail::kHalfCotThetaSq},
+      {"kThetaMinusSinThetaSq", detail::kThetaMinusSinThetaSq},
+      {"kCosRemainderThetaSq", detail::kCosRemainderThetaSq},
+      {"kSinCosMixThetaSq", detail::kSinCosMixThetaSq}};
   std::vector<AngleBand> bands;
-  for (const char* t : {"1e-8", "0.25", "1", "4"}) {
-    const double theta_sq = std::stod(t);
-    bands.push_back({std::string("theta^2=") + t + "*(1-1e-12)", std::sqrt(theta_sq * (1 - 1e-12))});
-    bands.push_back({std::string("theta^2=") + t, std::sqrt(theta_sq)});
-    bands.push_back({std::string("theta^2=") + t + "*(1+1e-12)", std::sqrt(theta_sq * (1 + 1e-12))});
+  for (const auto& [name, theta_sq] : switches) {
+    const std::string n = std::string("theta^2=") + name;
+    bands.push_back({n + "*(1-1e-12)", std::sqrt(theta_sq * (1 - 1e-12))});
+    bands.push_back({n, std::sqrt(theta_sq)});
+    bands.push_back({n + "*(1+1e-12)", std::sqrt(theta_sq * (1 + 1e-12))});
   }
   return bands;
 }
