@@ -21,10 +21,22 @@ namespace detail {
 /// Right-trivialized dexp⁻¹ on so(3): d/dt exp(Θ) = exp(Θ) (Jr(Θ) Θ')^, so
 /// Θ' = Jr⁻¹(Θ) ω = dexp⁻¹_{−Θ}(ω). order < 0: exact; else the series
 /// truncated after ad^order.
+/// The series is summed with cross products, ad_{−Θ} x = x × Θ, rather than
+/// through the matrix of ad (same values as dexpInvTruncated<SO3>).
 template <typename T>
 Vector3<T> so3DexpInvRight(const Vector3<T>& theta, const Vector3<T>& w, int order) {
   if (order < 0) return SO3<T>::JrInv(theta) * w;
-  return dexpInvTruncated<SO3<T>>(Vector3<T>(-theta), w, order);
+  // B_k / k! for k = 0..8 (B_1 = −1/2, B_odd≥3 = 0), as in liegroup/dexp.hpp.
+  static constexpr double kCoeff[9] = {1.0,           -0.5, 1.0 / 12.0, 0.0, -1.0 / 720.0, 0.0,
+                                       1.0 / 30240.0, 0.0,  -1.0 / 1209600.0};
+  LIEFLOW_ASSERT(order <= 8, "so3DexpInvRight: order must be at most 8");
+  Vector3<T> term = w;
+  Vector3<T> sum = w;
+  for (int k = 1; k <= order; ++k) {
+    term = term.cross(theta);
+    if (kCoeff[k] != 0.0) sum += T(kCoeff[k]) * term;
+  }
+  return sum;
 }
 }  // namespace detail
 

@@ -150,6 +150,11 @@ struct RowBuilder {
   }
 };
 
+/// An energy error this many times the initial energy means the run has
+/// blown up, even while the state is still finite (an explicit method beyond
+/// its stability limit can take thousands of steps to overflow).
+constexpr double kBlowUpEnergyGrowth = 1e8;
+
 /// Tracks energy and momentum drift over the observed states.
 struct DriftTracker {
   bool momentum_conserved = false;
@@ -192,10 +197,19 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   typename System::State last;
   double t_last = 0.0;
   bool last_written = false;
+  std::string blow_up;
   auto observer = [&](long k, double t, const typename System::State& y) {
     last_written = false;
     if (options.diagnostics) {
       drift.observe(system, k, t, y);
+      if (drift.energy_drift > kBlowUpEnergyGrowth) {
+        std::ostringstream why;
+        why << "blow-up: the energy error reached " << drift.energy_drift << " times the initial energy at t = "
+            << t << " (step " << k << "); the step h = " << options.dt
+            << " is beyond this integrator's stability limit";
+        blow_up = why.str();
+        return false;
+      }
       if (row_sink && (k % options.every == 0 || k == n_outputs)) {
         rows(system, t, y, &row);
         row_sink(row);
@@ -214,15 +228,15 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.rejected_steps = summary.rejected_steps;
   result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
   result.newton_iterations_mean = summary.newtonIterationsMean();
-  result.failed = summary.failed;
-  result.failure = summary.failure;
+  result.failed = summary.failed || !blow_up.empty();
+  result.failure = blow_up.empty() ? summary.failure : blow_up;
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
   rows(system, t_last, last, &result.final_row);
   // The last good state is always written, whatever `every` is (also when a
   // failure stopped the run between two output steps).
-  if (options.diagnostics && row_sink && summary.failed && !last_written) row_sink(result.final_row);
+  if (options.diagnostics && row_sink && result.failed && !last_written) row_sink(result.final_row);
   return result;
 }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Configures a build directory once (default: build/, Release, Ninja) and
-# builds the given targets incrementally. Usage: configure.sh BUILD_DIR [cmake args...]
+# Configures a build directory once (Ninja, Release unless the extra cmake
+# arguments say otherwise); later calls leave it as it is, so builds stay
+# incremental. Usage: configure.sh BUILD_DIR [cmake args...]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir=$1

@@ -21,6 +21,7 @@
 /// PASS/MISS; without MuJoCo, lieflow's absolute ns/step against the issue's
 /// MuJoCo figures (650 ns Euler, 2500 ns RK4), labelled as not side by side.
 /// The exit status is 0 whatever the ratios (2 only for unknown arguments).
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -29,7 +30,6 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -109,12 +109,11 @@ void stepLoop(benchmark::State& st, const State& y0, double h, Advance advance) 
 template <typename System, typename Stepper>
 void addStepper(const std::string& prefix, const std::string& name, const System& system,
                 const typename System::State& y0, double h, Stepper stepper) {
-  registerBenchmark(
-      prefix + "/" + name, [&system, y0, h, stepper](benchmark::State& st) mutable {
-        stepLoop(st, y0, h, [&](double t, const typename System::State& y) {
-          return stepper.step(system, t, y, h);
-        });
-      });
+  registerBenchmark(prefix + "/" + name, [&system, y0, h, stepper](benchmark::State& st) mutable {
+    stepLoop(st, y0, h, [&](double t, const typename System::State& y) {
+      return stepper.step(system, t, y, h);
+    });
+  });
 }
 
 template <typename System>
@@ -122,8 +121,10 @@ void registerSteppers(const std::string& prefix, const System& system,
                       const typename System::State& y0, double h) {
   using State = typename System::State;
   using lieflow::ButcherTableau;
-  addStepper(prefix, "rkmk-euler", system, y0, h, lieflow::RkmkStepper<State>(ButcherTableau::euler()));
-  addStepper(prefix, "rkmk-heun", system, y0, h, lieflow::RkmkStepper<State>(ButcherTableau::heun()));
+  addStepper(prefix, "rkmk-euler", system, y0, h,
+             lieflow::RkmkStepper<State>(ButcherTableau::euler()));
+  addStepper(prefix, "rkmk-heun", system, y0, h,
+             lieflow::RkmkStepper<State>(ButcherTableau::heun()));
   addStepper(prefix, "rkmk3", system, y0, h, lieflow::RkmkStepper<State>(ButcherTableau::kutta3()));
   addStepper(prefix, "rkmk4", system, y0, h, lieflow::RkmkStepper<State>(ButcherTableau::rk4()));
   addStepper(prefix, "dopri5-step", system, y0, h,
@@ -131,15 +132,14 @@ void registerSteppers(const std::string& prefix, const System& system,
   // The adaptive driver's step: DP5(4) with its embedded error estimate.
   {
     const lieflow::RkmkStepper<State> dp(ButcherTableau::dormandPrince54());
-    registerBenchmark(
-        prefix + "/dopri5-step+error", [&system, y0, h, dp](benchmark::State& st) {
-          stepLoop(st, y0, h, [&](double t, const State& y) {
-            typename State::Tangent error;
-            State y1 = dp.stepWithError(system, t, y, h, &error);
-            benchmark::DoNotOptimize(error);
-            return y1;
-          });
-        });
+    registerBenchmark(prefix + "/dopri5-step+error", [&system, y0, h, dp](benchmark::State& st) {
+      stepLoop(st, y0, h, [&](double t, const State& y) {
+        typename State::Tangent error;
+        State y1 = dp.stepWithError(system, t, y, h, &error);
+        benchmark::DoNotOptimize(error);
+        return y1;
+      });
+    });
   }
   addStepper(prefix, "cg3", system, y0, h, lieflow::CrouchGrossman3Stepper<State>());
   addStepper(prefix, "cf4", system, y0, h, lieflow::CommutatorFree4Stepper<State>());
@@ -147,7 +147,8 @@ void registerSteppers(const std::string& prefix, const System& system,
   lieflow::LgviOptions cayley;
   cayley.map = lieflow::LgviMap::kCayley;
   addStepper(prefix, "lgvi-cayley", system, y0, h, lieflow::LgviStepper<State>(cayley));
-  addStepper(prefix, "splitting", system, y0, h, lieflow::SplittingStepper<State>(system.inertia()));
+  addStepper(prefix, "splitting", system, y0, h,
+             lieflow::SplittingStepper<State>(system.inertia()));
   lieflow::SplittingOptions axis;
   axis.scheme = lieflow::SplittingScheme::kAxisRotations;
   addStepper(prefix, "splitting-axis", system, y0, h,
@@ -212,18 +213,17 @@ void registerSimulation(const std::string& integrator, double h) {
   o.dt = h;
   o.t_end = h * static_cast<double>(kStepsPerRestart);
   o.diagnostics = false;
-  registerBenchmark("simulate_1000/free/" + integrator,
-                               [sim, o](benchmark::State& st) {
-                                 for (auto _ : st) {
-                                   lieflow::SimulationResult r = sim->run(o);
-                                   benchmark::DoNotOptimize(r.final_row.data());
-                                   if (r.failed || r.steps != kStepsPerRestart) {
-                                     st.SkipWithError(("simulation failed: " + r.failure).c_str());
-                                     break;
-                                   }
-                                 }
-                                 st.SetItemsProcessed(st.iterations() * kStepsPerRestart);
-                               });
+  registerBenchmark("simulate_1000/free/" + integrator, [sim, o](benchmark::State& st) {
+    for (auto _ : st) {
+      lieflow::SimulationResult r = sim->run(o);
+      benchmark::DoNotOptimize(r.final_row.data());
+      if (r.failed || r.steps != kStepsPerRestart) {
+        st.SkipWithError(("simulation failed: " + r.failure).c_str());
+        break;
+      }
+    }
+    st.SetItemsProcessed(st.iterations() * kStepsPerRestart);
+  });
 }
 
 double median(std::vector<double> v) {
@@ -316,8 +316,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     }
     if (rows.empty()) return;
     out << "\n## ns per step (CPU time, median of the repetitions), h = " << scene().h << "\n\n";
-    lieflow::measure::detail::printMarkdownTable(
-        out, {"stepper", "FreeBodySystem", "RotorSystem"}, rows, {1, 2});
+    lieflow::measure::detail::printMarkdownTable(out, {"stepper", "FreeBodySystem", "RotorSystem"},
+                                                 rows, {1, 2});
   }
 
   void printTargets(std::ostream& out) const {
@@ -351,8 +351,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     } else {
       out << "\n## lieflow vs the issue's MuJoCo 2.2.2 figures (" << kIssueMujocoEulerNs
           << " ns Euler, " << kIssueMujocoRk4Ns
-          << " ns RK4): NOT side by side, measured elsewhere (" << lieflow::bench::mujocoDescription()
-          << ")\n\n";
+          << " ns RK4): NOT side by side, measured elsewhere ("
+          << lieflow::bench::mujocoDescription() << ")\n\n";
     }
     lieflow::measure::detail::printMarkdownTable(
         out, {"lieflow (free body)", "ns/step", "peer", "ns/step", "speed-up", "target", "result"},

@@ -29,23 +29,22 @@ namespace {
 std::string modelXml(const FreeBodyScene& s, MujocoFreeBody::Integrator integrator, double h) {
   const Eigen::Quaterniond& a = s.principal_axes;
   char buf[2048];
-  std::snprintf(
-      buf, sizeof buf,
-      "<mujoco model=\"lieflow-free-body\">\n"
-      "  <option timestep=\"%.17g\" gravity=\"0 0 0\" integrator=\"%s\">\n"
-      "    <flag contact=\"disable\"/>\n"
-      "  </option>\n"
-      "  <worldbody>\n"
-      "    <body name=\"body\" pos=\"0 0 0\">\n"
-      "      <joint name=\"free\" type=\"free\"/>\n"
-      "      <inertial pos=\"0 0 0\" mass=\"%.17g\" diaginertia=\"%.17g %.17g %.17g\"\n"
-      "                quat=\"%.17g %.17g %.17g %.17g\"/>\n"
-      "    </body>\n"
-      "  </worldbody>\n"
-      "</mujoco>\n",
-      h, integrator == MujocoFreeBody::Integrator::kRk4 ? "RK4" : "Euler", s.mass,
-      s.principal_moments.x(), s.principal_moments.y(), s.principal_moments.z(), a.w(), a.x(),
-      a.y(), a.z());
+  std::snprintf(buf, sizeof buf,
+                "<mujoco model=\"lieflow-free-body\">\n"
+                "  <option timestep=\"%.17g\" gravity=\"0 0 0\" integrator=\"%s\">\n"
+                "    <flag contact=\"disable\"/>\n"
+                "  </option>\n"
+                "  <worldbody>\n"
+                "    <body name=\"body\" pos=\"0 0 0\">\n"
+                "      <joint name=\"free\" type=\"free\"/>\n"
+                "      <inertial pos=\"0 0 0\" mass=\"%.17g\" diaginertia=\"%.17g %.17g %.17g\"\n"
+                "                quat=\"%.17g %.17g %.17g %.17g\"/>\n"
+                "    </body>\n"
+                "  </worldbody>\n"
+                "</mujoco>\n",
+                h, integrator == MujocoFreeBody::Integrator::kRk4 ? "RK4" : "Euler", s.mass,
+                s.principal_moments.x(), s.principal_moments.y(), s.principal_moments.z(), a.w(),
+                a.x(), a.y(), a.z());
   return buf;
 }
 

@@ -209,7 +209,8 @@ double bestErrorWithin(const std::vector<Point>& pts, double t, bool* beyond) {
   std::vector<Point> s;
   for (const Point& p : pts)
     if (!p.failed && p.orientation_error > 0.0) s.push_back(p);
-  std::sort(s.begin(), s.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
+  std::sort(s.begin(), s.end(),
+            [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
   *beyond = false;
   if (s.empty() || t < s.front().seconds) return std::numeric_limits<double>::infinity();
   double best = std::numeric_limits<double>::infinity();
@@ -233,7 +234,8 @@ double timeToReach(const std::vector<Point>& pts, double e) {
   std::vector<Point> s;
   for (const Point& p : pts)
     if (!p.failed && p.orientation_error > 0.0) s.push_back(p);
-  std::sort(s.begin(), s.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
+  std::sort(s.begin(), s.end(),
+            [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (s[i].orientation_error <= e) {
       if (i == 0) return s[0].seconds;
@@ -295,8 +297,8 @@ std::string summarize(const Options& opts, const FreeBodyScene& scene,
       const double t_lf = timeToReach(lf, m.orientation_error);
       min_ratio = std::min(min_ratio, ratio);
       ++rows;
-      out << "| " << m.steps << " | " << sci(m.seconds) << " | " << sci(m.orientation_error) << " | "
-          << sci(e) << (beyond ? " (all its runs)" : "") << " | " << sci(ratio) << " | "
+      out << "| " << m.steps << " | " << sci(m.seconds) << " | " << sci(m.orientation_error)
+          << " | " << sci(e) << (beyond ? " (all its runs)" : "") << " | " << sci(ratio) << " | "
           << (std::isfinite(t_lf) ? sci(t_lf) : "-") << " | "
           << (std::isfinite(t_lf) ? fix(m.seconds / t_lf, 1) : "-") << " |\n";
     }
@@ -314,8 +316,9 @@ std::string summarize(const Options& opts, const FreeBodyScene& scene,
     }
   }
   if (best_min_ratio > 0) {
-    out << "**Best lieflow 4th-order method: " << best_method << ", accuracy ratio at equal run time >= "
-        << sci(best_min_ratio) << " for MuJoCo RK4 errors below " << sci(kErrorThreshold)
+    out << "**Best lieflow 4th-order method: " << best_method
+        << ", accuracy ratio at equal run time >= " << sci(best_min_ratio)
+        << " for MuJoCo RK4 errors below " << sci(kErrorThreshold)
         << " (target >= " << kAccuracyRatioTarget << ": "
         << (best_min_ratio >= kAccuracyRatioTarget ? "PASS" : "MISS") << ").**\n\n";
   }
@@ -392,8 +395,8 @@ int main(int argc, char** argv) {
 
   using State = lieflow::FreeBodyState<double>;
   std::vector<Point> points;
-  measureLieflow(opts, scene, "rkmk4", 4, lieflow::RkmkStepper<State>(lieflow::ButcherTableau::rk4()),
-                 exact, &points);
+  measureLieflow(opts, scene, "rkmk4", 4,
+                 lieflow::RkmkStepper<State>(lieflow::ButcherTableau::rk4()), exact, &points);
   measureLieflow(opts, scene, "cf4", 4, lieflow::CommutatorFree4Stepper<State>(), exact, &points);
   measureLieflow(opts, scene, "lgvi", 2, lieflow::LgviStepper<State>(), exact, &points);
   measureLieflow(opts, scene, "splitting", 2, lieflow::SplittingStepper<State>(scene.inertia()),

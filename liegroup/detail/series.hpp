@@ -80,9 +80,28 @@ constexpr std::array<double, 15> halfCotSeries() {
   return c;
 }
 
-/// sin(θ/2)/θ = Σ_k (−1)^k θ^{2k} / (2^{2k+1} (2k+1)!), the quaternion vector
-/// coefficient of exp. Needed only where √(θ²) would break Jet derivatives:
-/// θ² < kSmallAngleSq = 1e-8, where the θ⁴ term (θ⁴/3840 ≤ 3e-20) ends it.
+/// The half-angle coefficients of exp as polynomials in θ², used for
+/// θ² < kHalfAngleThetaSq = 1 instead of √, sincos and a division (faster,
+/// and a polynomial in θ² keeps Jet derivatives right at θ = 0):
+///   cos(θ/2)   = Σ_k (−1)^k θ^{2k} / (4^k (2k)!)        (k = 8 term: 7e-19)
+///   sin(θ/2)/θ = Σ_k (−1)^k θ^{2k} / (2·4^k (2k+1)!)    (k = 8 term: 2e-20)
+constexpr double kHalfAngleThetaSq = 1.0;
+constexpr std::array<double, 8> halfCosSeries() {
+  std::array<double, 8> c{};
+  double four_k = 1.0;
+  for (int k = 0; k < 8; ++k, four_k *= 4.0) c[k] = (k % 2 ? -1.0 : 1.0) / (four_k * factorial(2 * k));
+  return c;
+}
+constexpr std::array<double, 8> halfSincSeries() {
+  std::array<double, 8> c{};
+  double four_k = 1.0;
+  for (int k = 0; k < 8; ++k, four_k *= 4.0)
+    c[k] = (k % 2 ? -1.0 : 1.0) / (2.0 * four_k * factorial(2 * k + 1));
+  return c;
+}
+
+/// Below kSmallAngleSq = 1e-8 the logarithm uses the series of atan(x)/x
+/// (see logScale), where √(n²) would break Jet derivatives at 0.
 constexpr double kSmallAngleSq = 1e-8;
 
 }  // namespace detail

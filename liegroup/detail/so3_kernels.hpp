@@ -18,15 +18,15 @@
 namespace lieflow {
 namespace detail {
 
-/// h = cos(θ/2) and k = sin(θ/2)/θ from θ². Below kSmallAngleSq the Taylor
-/// series in θ² (error < 3e-20) keeps Jet derivatives right at θ = 0.
+/// h = cos(θ/2) and k = sin(θ/2)/θ from θ²: their polynomials in θ² below
+/// kHalfAngleThetaSq (series.hpp), √ and sincos above.
 template <typename T>
 inline void halfAngle(const T& theta_sq, T* h, T* k) {
   using std::cos;
   using std::sin;
-  if (theta_sq < T(kSmallAngleSq)) {
-    *h = T(1.0) - theta_sq * (T(1.0 / 8.0) - theta_sq * T(1.0 / 384.0));
-    *k = T(0.5) - theta_sq * (T(1.0 / 48.0) - theta_sq * T(1.0 / 3840.0));
+  if (theta_sq < T(kHalfAngleThetaSq)) {
+    *h = horner(theta_sq, halfCosSeries());
+    *k = horner(theta_sq, halfSincSeries());
   } else {
     // numext::sqrt: no errno branch (θ² ≥ 0 here); ADL still finds Jet's sqrt.
     const T theta = Eigen::numext::sqrt(theta_sq);

@@ -228,9 +228,9 @@ double halfCotGot(double x) {
 
 const CoefficientCase kCoefficients[] = {
     {"halfAngle h = cos(theta/2)", halfAngleH,
-     [](long double x) { return std::cos(0.5L * std::sqrt(x)); }, detail::kSmallAngleSq},
+     [](long double x) { return std::cos(0.5L * std::sqrt(x)); }, detail::kHalfAngleThetaSq},
     {"halfAngle k = sin(theta/2)/theta", halfAngleK,
-     [](long double x) { return std::sin(0.5L * std::sqrt(x)) / std::sqrt(x); }, detail::kSmallAngleSq},
+     [](long double x) { return std::sin(0.5L * std::sqrt(x)) / std::sqrt(x); }, detail::kHalfAngleThetaSq},
     {"thetaMinusSin (theta - sin)/theta^3", thetaMinusSinGot, thetaMinusSinRef,
      detail::kThetaMinusSinThetaSq},
     {"cosRemainder (theta^2/2 + cos - 1)/theta^4", cosRemainderGot, cosRemainderRef,

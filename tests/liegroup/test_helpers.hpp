@@ -161,6 +161,7 @@ inline std::vector<AngleBand> standardBands() {
 inline std::vector<AngleBand> thresholdBands() {
   const std::pair<const char*, double> switches[] = {
       {"kSmallAngleSq", detail::kSmallAngleSq},
+      {"kHalfAngleThetaSq", detail::kHalfAngleThetaSq},
       {"kHalfCotThetaSq", detail::kHalfCotThetaSq},
       {"kThetaMinusSinThetaSq", detail::kThetaMinusSinThetaSq},
       {"kCosRemainderThetaSq", detail::kCosRemainderThetaSq},

@@ -1,0 +1,180 @@
+/// \file
+/// bench_step_allocations: heap allocations per single-body step ("single-body
+/// steps allocate nothing on the heap"). A counting replacement of the global
+/// operator new sees every C++ allocation (std::function, std::string, Eigen
+/// dynamic storage, ...). Each stepper is constructed and stepped once first
+/// (construction may allocate, and genalpha initializes its history), then the
+/// allocations over kSteps further steps are counted, for every stepper on the
+/// benchmark free body (FreeBodySystem), its RotorSystem, and a torqued rotor
+/// (heavy top about a pivot with a torsional spring: the torque paths). The
+/// drivers are checked by the difference between 1000 and 2000 steps:
+/// integrateFixedStep and Simulation::run (diagnostics off and on).
+///
+/// Prints one line per case; exit status 1 if anything allocates per step, else 0.
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <string>
+
+#include "bench/integrators/free_body_scene.hpp"
+#include "integrators/adaptive.hpp"
+#include "integrators/commutator_free.hpp"
+#include "integrators/generalized_alpha.hpp"
+#include "integrators/integrate.hpp"
+#include "integrators/lgvi.hpp"
+#include "integrators/rkmk.hpp"
+#include "integrators/splitting.hpp"
+#include "joints/simulation.hpp"
+
+// The replaced global allocation functions: malloc/free underneath, every
+// operator new counted. (GCC 12's -Wmismatched-new-delete does not know that
+// these are the replacements and flags their free().)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+static std::atomic<long> g_news{0};
+void* operator new(std::size_t n) {
+  ++g_news;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  ++g_news;
+  return std::malloc(n ? n : 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  ++g_news;
+  return std::malloc(n ? n : 1);
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace lieflow;  // NOLINT: a one-purpose program
+constexpr long kSteps = 1000;
+int failures = 0;
+
+template <class System, class Stepper>
+void check(const char* group, const char* name, const System& sys, typename System::State y0,
+           Stepper stepper) {
+  const double h = bench::FreeBodyScene().h;
+  StepReport report;
+  auto y = stepper.step(sys, 0.0, y0, h, &report);  // warm-up (genalpha: history)
+  const long before = g_news.load();
+  for (long k = 1; k <= kSteps; ++k) y = stepper.step(sys, k * h, y, h, &report);
+  const long allocs = g_news.load() - before;
+  std::printf("%-6s %-22s %6ld allocations in %ld steps%s\n", group, name, allocs, kSteps,
+              allocs ? "   <-- ALLOCATES" : "");
+  failures += allocs != 0;
+  if (!isFinite(y)) std::printf("  (non-finite state!)\n");
+}
+
+template <class System>
+void checkAll(const char* g, const System& sys, const typename System::State& y0) {
+  using S = typename System::State;
+  check(g, "rkmk-euler", sys, y0, RkmkStepper<S>(ButcherTableau::euler()));
+  check(g, "rkmk-heun", sys, y0, RkmkStepper<S>(ButcherTableau::heun()));
+  check(g, "rkmk3", sys, y0, RkmkStepper<S>(ButcherTableau::kutta3()));
+  check(g, "rkmk4", sys, y0, RkmkStepper<S>(ButcherTableau::rk4()));
+  check(g, "dopri5-step", sys, y0, RkmkStepper<S>(ButcherTableau::dormandPrince54()));
+  {
+    const RkmkStepper<S> dp(ButcherTableau::dormandPrince54());
+    const double h = bench::FreeBodyScene().h;
+    typename S::Tangent err;
+    auto y = dp.stepWithError(sys, 0.0, y0, h, &err);
+    const long before = g_news.load();
+    for (long k = 1; k <= kSteps; ++k) y = dp.stepWithError(sys, k * h, y, h, &err);
+    const long allocs = g_news.load() - before;
+    std::printf("%-6s %-22s %6ld allocations in %ld steps%s\n", g, "dopri5-step+error", allocs,
+                kSteps, allocs ? "   <-- ALLOCATES" : "");
+    failures += allocs != 0;
+  }
+  check(g, "cg3", sys, y0, CrouchGrossman3Stepper<S>());
+  check(g, "cf4", sys, y0, CommutatorFree4Stepper<S>());
+  check(g, "lgvi", sys, y0, LgviStepper<S>());
+  LgviOptions c;
+  c.map = LgviMap::kCayley;
+  check(g, "lgvi-cayley", sys, y0, LgviStepper<S>(c));
+  check(g, "splitting", sys, y0, SplittingStepper<S>(sys.inertia()));
+  SplittingOptions a;
+  a.scheme = SplittingScheme::kAxisRotations;
+  check(g, "splitting-axis", sys, y0, SplittingStepper<S>(sys.inertia(), a));
+  check(g, "genalpha", sys, y0, GeneralizedAlphaStepper<S>());
+}
+
+int main() {
+  const bench::FreeBodyScene scene;
+  const auto free_sys = scene.freeBodySystem();
+  const auto rotor_sys = scene.rotorSystem();
+  checkAll("free", free_sys, scene.freeBodyState());
+  checkAll("rotor", rotor_sys, scene.rotorState());
+
+  // A torqued rotor (heavy top about a pivot + a torsional spring): the torque paths.
+  RigidBodyParameters<double> p = scene.parameters();
+  p.gravity = Eigen::Vector3d(0, 0, -9.81);
+  p.has_pivot = true;
+  p.com_from_pivot = Eigen::Vector3d(0.1, 0.0, 0.3);
+  p.spring_stiffness = 0.5;
+  const RotorSystem<double> top(p);
+  checkAll("top", top, scene.rotorState());
+
+  // integrateFixedStep with a no-op observer: allocations must not grow with n.
+  {
+    using S = FreeBodyState<double>;
+    auto run = [&](long n) {
+      const long before = g_news.load();
+      integrateFixedStep(RkmkStepper<S>(ButcherTableau::rk4()), free_sys, scene.freeBodyState(),
+                         0.0, n * scene.h, scene.h, [](long, double, const S&) { return true; });
+      return g_news.load() - before;
+    };
+    const long a1 = run(1000), a2 = run(2000);
+    std::printf(
+        "integrateFixedStep(rkmk4): %ld allocations for 1000 steps, %ld for 2000 (per step: "
+        "%.3f)\n",
+        a1, a2, (a2 - a1) / 1000.0);
+    failures += a2 != a1;
+  }
+  // Simulation::run of the same body as a scene, diagnostics off and on (no row sink).
+  {
+    SceneDescription d;
+    d.name = "alloc";
+    d.source = "alloc_check";
+    BodyDescription b;
+    b.name = "body";
+    b.mass = scene.mass;
+    b.inertia = scene.inertia();
+    b.orientation = scene.q0;
+    b.position = scene.p0;
+    b.velocity = scene.v0_world;
+    b.angular_velocity = scene.omega0_body;
+    b.has_position = b.has_velocity = true;
+    d.bodies.push_back(b);
+    const Simulation sim(d);
+    for (const char* integ : {"rkmk4", "cf4", "lgvi", "splitting", "genalpha", "rkmk45"})
+      for (bool diag : {false, true}) {
+        auto run = [&](long n) {
+          SimulationOptions o;
+          o.integrator = integ;
+          o.dt = scene.h;
+          o.t_end = n * scene.h;
+          o.diagnostics = diag;
+          const long before = g_news.load();
+          sim.run(o);
+          return g_news.load() - before;
+        };
+        run(10);  // first use: function-local statics (registry)
+        const long a1 = run(1000), a2 = run(2000);
+        std::printf(
+            "Simulation::run(%s, diagnostics %s): %ld allocations for 1000 steps, %ld for 2000 "
+            "(per step: %.3f)\n",
+            integ, diag ? "on " : "off", a1, a2, (a2 - a1) / 1000.0);
+        failures += a2 != a1;
+      }
+  }
+  std::printf("%s\n",
+              failures ? "SOME PATHS ALLOCATE PER STEP" : "no per-step heap allocation found");
+  return failures ? 1 : 0;
+}
