@@ -1,0 +1,30 @@
+/// \file
+/// The kinematic constraint library of the joints issue, in maximal
+/// coordinates (each body its own pose (R, p), joints as constraints imposed
+/// with Lagrange multipliers; joint angles as functions of the body poses).
+/// Header-only, templated on the scalar (double, ceres::Jet).
+///
+///   body_pose.hpp        BodyPose, BodyVelocity, ground, ConstraintBlocks
+///   validation.hpp       bad-input checks (InvalidInput naming the field)
+///   angle_wrap.hpp       principal and unwrapped angles
+///   spherical.hpp        spherical joint (3 rows)
+///   dot_row.hpp          dot-1 row of two body-fixed directions
+///   revolute.hpp         revolute joint (5 rows)
+///   revolute_angle.hpp   φ_J, its rate, Jacobian and convective term
+///   universal.hpp        universal joint (4 rows)
+///   universal_angles.hpp φ₁, φ₂, rates, Jacobians, the 90° singularity
+///   gear_terms.hpp       spin and slide terms of the gear rows
+///   gear.hpp             gear, rack and pinion, differential (velocity rows)
+#pragma once
+
+#include "joints/constraints/angle_wrap.hpp"
+#include "joints/constraints/body_pose.hpp"
+#include "joints/constraints/dot_row.hpp"
+#include "joints/constraints/gear.hpp"
+#include "joints/constraints/gear_terms.hpp"
+#include "joints/constraints/revolute.hpp"
+#include "joints/constraints/revolute_angle.hpp"
+#include "joints/constraints/spherical.hpp"
+#include "joints/constraints/universal.hpp"
+#include "joints/constraints/universal_angles.hpp"
+#include "joints/constraints/validation.hpp"
