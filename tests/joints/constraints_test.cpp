@@ -22,8 +22,8 @@
 ///    satisfy them and motions that violate them;
 ///  * bad input.
 // GCC 12 reports a false -Warray-bounds inside Eigen's SSE packet loads for
-// the 1-element dynamic vectors of the angle checks below (GCC bug 106247
-// family); Eigen sizes the loads correctly, so the warning is silenced here.
+// the 1-element dynamic vectors of the angle checks below (a known GCC 12
+// false positive); Eigen sizes the loads correctly, so it is silenced here.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Warray-bounds"
 #endif
