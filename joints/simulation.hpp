@@ -25,7 +25,8 @@ struct SimulationOptions {
   int every = 1;
   std::map<std::string, double> integrator_options;
   /// Compute energy/momentum statistics at every step (off: only the final
-  /// state is observed, so the timing measures the stepping alone).
+  /// state is observed, so the timing measures the stepping alone, and a
+  /// blow-up is caught only once the state is non-finite).
   bool diagnostics = true;
 };
 
@@ -36,7 +37,7 @@ struct SimulationResult {
   long rejected_steps = 0;
   double wall_seconds = 0.0;
   double ns_per_step = 0.0;
-  /// max |E − E₀|/|E₀| over the observed steps.
+  /// max |E − E₀|/|E₀| over the observed steps (absolute when E₀ = 0).
   double energy_drift = 0.0;
   /// Whether the spatial angular momentum is conserved by this scene, and
   /// max ‖L − L₀‖/‖L₀‖ if it is.
