@@ -19,6 +19,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/benchmark_support.hpp"
+
 #include "bench/support/liegroup_measure.hpp"
 #include "bench/support/markdown_table.hpp"
 #include "bench/support/speed_cases.hpp"
@@ -71,53 +73,16 @@ std::vector<Pair> registerPairs() {
   return pairs;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string fixed(double x, int digits) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
+using lieflow::bench::fixed;
 
 /// The console reporter, plus the ratio summary at the end.
-class RatioReporter : public benchmark::ConsoleReporter {
+class RatioReporter : public lieflow::bench::MedianReporter {
  public:
   RatioReporter(OutputOptions options, std::vector<Pair> pairs)
-      : benchmark::ConsoleReporter(options), pairs_(std::move(pairs)) {}
+      : MedianReporter(options), pairs_(std::move(pairs)) {}
 
-  void ReportRuns(const std::vector<Run>& reports) override {
-    benchmark::ConsoleReporter::ReportRuns(reports);
-    for (const Run& run : reports) {
-      if (run.error_occurred) continue;
-      const double ns = run.GetAdjustedCPUTime() * 1e9 /
-                        benchmark::GetTimeUnitMultiplier(run.time_unit);
-      if (run.run_type == Run::RT_Iteration)
-        iteration_ns_[run.run_name.str()].push_back(ns);
-      else if (run.aggregate_name == "median")
-        median_ns_[run.run_name.str()] = ns;
-    }
-  }
-
-  /// CPU ns per operation of a benchmark: the median of its repetitions (from
-  /// the iteration runs when they were reported, else Google Benchmark's
-  /// median aggregate). Negative when the benchmark did not run.
-  double nsPerOp(const std::string& name, int* repetitions) const {
-    const auto it = iteration_ns_.find(name);
-    if (it != iteration_ns_.end() && !it->second.empty()) {
-      *repetitions = static_cast<int>(it->second.size());
-      return median(it->second);
-    }
-    const auto m = median_ns_.find(name);
-    if (m != median_ns_.end()) {
-      *repetitions = -1;  // median aggregate of --benchmark_repetitions
-      return m->second;
-    }
-    return -1.0;
-  }
+  /// CPU ns per operation (see MedianReporter::medianNs).
+  double nsPerOp(const std::string& name, int* repetitions) const { return medianNs(name, repetitions); }
 
   void Finalize() override {
     benchmark::ConsoleReporter::Finalize();
@@ -157,29 +122,14 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
  private:
   std::vector<Pair> pairs_;
-  std::map<std::string, std::vector<double>> iteration_ns_;
-  std::map<std::string, double> median_ns_;
-};
-
-/// Defaults for a noisy 2-core machine, placed before the user's arguments so
-/// that any of them given on the command line wins: 5 repetitions of 0.1 s in
-/// random interleaved order (so a burst of load hits different benchmarks in
-/// different repetitions), and only their mean/median/stddev/cv on screen.
-const char* const kDefaultFlags[] = {
-    "--benchmark_repetitions=5",
-    "--benchmark_min_time=0.1",
-    "--benchmark_enable_random_interleaving=true",
-    "--benchmark_display_aggregates_only=true",
 };
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<char*> args = {argv[0]};
-  for (const char* flag : kDefaultFlags) args.push_back(const_cast<char*>(flag));
-  for (int i = 1; i < argc; ++i) args.push_back(argv[i]);
-  int args_count = static_cast<int>(args.size());
-  args.push_back(nullptr);
+  std::vector<std::string> defaults;
+  std::vector<char*> args = lieflow::bench::argumentsWithDefaults(argc, argv, "0.1", &defaults);
+  int args_count = static_cast<int>(args.size()) - 1;
 
   std::vector<Pair> pairs = registerPairs();
   benchmark::Initialize(&args_count, args.data());

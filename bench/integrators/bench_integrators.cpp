@@ -34,6 +34,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/benchmark_support.hpp"
+
 #include "bench/integrators/free_body_scene.hpp"
 #include "bench/integrators/mujoco_peer.hpp"
 #include "bench/support/markdown_table.hpp"
@@ -226,17 +228,8 @@ void registerSimulation(const std::string& integrator, double h) {
   });
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string fixed(double x, int digits) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
+using lieflow::bench::fixed;
+using lieflow::bench::median;
 
 std::string buildDescription() {
   std::string s;
@@ -257,32 +250,20 @@ std::string buildDescription() {
 }
 
 /// The console reporter, plus the ns/step table and the MuJoCo ratios.
-class SummaryReporter : public benchmark::ConsoleReporter {
+class SummaryReporter : public lieflow::bench::MedianReporter {
  public:
-  explicit SummaryReporter(OutputOptions options) : benchmark::ConsoleReporter(options) {}
+  explicit SummaryReporter(OutputOptions options) : MedianReporter(options) {}
 
-  void ReportRuns(const std::vector<Run>& reports) override {
-    benchmark::ConsoleReporter::ReportRuns(reports);
-    for (const Run& run : reports) {
-      if (run.error_occurred) continue;
-      double ns = run.GetAdjustedCPUTime() * 1e9 / benchmark::GetTimeUnitMultiplier(run.time_unit);
-      const std::string name = run.run_name.str();
-      if (name.rfind("simulate_1000/", 0) == 0) ns /= static_cast<double>(kStepsPerRestart);
-      if (run.run_type == Run::RT_Iteration)
-        iteration_ns_[name].push_back(ns);
-      else if (run.aggregate_name == "median")
-        median_ns_[name] = ns;
-    }
+  /// CPU ns per step (see MedianReporter::medianNs); negative if not run.
+  double nsPerStep(const std::string& name) const { return medianNs(name); }
+
+ protected:
+  /// A simulate_1000 iteration runs kStepsPerRestart steps.
+  double perIteration(const std::string& name) const override {
+    return name.rfind("simulate_1000/", 0) == 0 ? static_cast<double>(kStepsPerRestart) : 1.0;
   }
 
-  /// CPU ns per step: median of the repetitions (iteration runs if reported,
-  /// else Google Benchmark's median aggregate); negative if not run.
-  double nsPerStep(const std::string& name) const {
-    const auto it = iteration_ns_.find(name);
-    if (it != iteration_ns_.end() && !it->second.empty()) return median(it->second);
-    const auto m = median_ns_.find(name);
-    return m != median_ns_.end() ? m->second : -1.0;
-  }
+ public:
 
   void Finalize() override {
     benchmark::ConsoleReporter::Finalize();
@@ -379,27 +360,14 @@ class SummaryReporter : public benchmark::ConsoleReporter {
         {1, 2, 3});
   }
 
-  std::map<std::string, std::vector<double>> iteration_ns_;
-  std::map<std::string, double> median_ns_;
-};
-
-/// Defaults for a noisy 2-core machine, before the user's arguments (which
-/// win): 5 repetitions of 0.2 s in random interleaved order, aggregates only.
-const char* const kDefaultFlags[] = {
-    "--benchmark_repetitions=5",
-    "--benchmark_min_time=0.2",
-    "--benchmark_enable_random_interleaving=true",
-    "--benchmark_display_aggregates_only=true",
 };
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<char*> args = {argv[0]};
-  for (const char* flag : kDefaultFlags) args.push_back(const_cast<char*>(flag));
-  for (int i = 1; i < argc; ++i) args.push_back(argv[i]);
-  int args_count = static_cast<int>(args.size());
-  args.push_back(nullptr);
+  std::vector<std::string> defaults;
+  std::vector<char*> args = lieflow::bench::argumentsWithDefaults(argc, argv, "0.2", &defaults);
+  int args_count = static_cast<int>(args.size()) - 1;
 
   const double h = scene().h;
   registerSteppers("free", freeSystem(), scene().freeBodyState(), h);
