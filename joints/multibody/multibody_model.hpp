@@ -135,8 +135,22 @@ struct MultibodyModel {
   /// Re-checks every body and joint and that `state` has one pose and one
   /// velocity per body, all finite.
   void validate(const MultibodyState& state) const {
+    validateModel();
+    validateState(state);
+  }
+
+  /// Only the model part of validate(): every body and joint.
+  void validateModel() const {
     for (std::size_t i = 0; i < bodies.size(); ++i) checkBody(bodies[i], static_cast<int>(i));
     for (std::size_t k = 0; k < joints.size(); ++k) checkJoint(joints[k], static_cast<int>(k));
+  }
+
+  /// Re-checks body i (as addBody does).
+  void validateBody(int i) const { checkBody(bodies[i], i); }
+
+  /// Only the state part of validate(): one pose and one velocity per body,
+  /// all finite.
+  void validateState(const MultibodyState& state) const {
     if (state.poses.size() != bodies.size() || state.velocities.size() != bodies.size()) {
       std::ostringstream r;
       r << "state has " << state.poses.size() << " poses and " << state.velocities.size()

@@ -310,4 +310,173 @@ TEST(MultibodyAcceleration, RotationOnlyBodyWithBallAtCoM) {
   EXPECT_NEAR((I * sol.omegadot[0] + w.cross(I * w)).norm(), 0.0, 1e-12);
 }
 
+// ---------------------------------------------------------------------------
+// Reusable solver (pattern analysed once, factorize per step).
+
+// Chain of N rods on revolute joints (first to ground), axes alternating z / y
+// in the parent frame when `alternate`, else all z; random consistent state.
+MultibodyModel revoluteChain(int N, bool alternate, unsigned seed, MultibodyState* state) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Vector3d half(0.25, 0, 0);
+  MultibodyModel model;
+  state->poses.clear();
+  state->velocities.clear();
+  SO3d Rprev = SO3d::identity();
+  Vector3d wprev = Vector3d::Zero(), tip = Vector3d::Zero(), tip_v = Vector3d::Zero();
+  for (int i = 0; i < N; ++i) {
+    const Vector3d a = alternate && (i % 2) ? Vector3d(0, 1, 0) : ez;
+    const SO3d R = Rprev * SO3d::exp(u(gen) * a);
+    const Vector3d w = wprev + R.matrix() * (3 * u(gen) * a);  // world
+    const Vector3d p = tip + R.matrix() * half;
+    const Vector3d v = tip_v + w.cross(R.matrix() * half);
+    model.addBody(RigidBody{"rod" + std::to_string(i), 0.5 + 0.2 * (u(gen) + 1.0),
+                            inertiaWithProducts(0.002, 0.01, 0.01), false});
+    const BodyPose<double> pose{R, p};
+    const BodyPose<double> parent =
+        i == 0 ? constraints::groundPose<double>() : state->poses.back();
+    model.addJoint(Joint{"hinge" + std::to_string(i), i - 1, i,
+                         constraints::assembleRevoluteJoint<double>(
+                             parent, pose, i == 0 ? Vector3d::Zero() : half, -half, a, a)});
+    state->poses.push_back(pose);
+    state->velocities.push_back(BodyVelocity<double>{v, R.matrix().transpose() * w});
+    Rprev = R;
+    wprev = w;
+    tip = p + R.matrix() * half;
+    tip_v = v + w.cross(R.matrix() * half);
+  }
+  return model;
+}
+
+double relDiff(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return (a - b).lpNorm<Eigen::Infinity>() / std::max(1.0, b.lpNorm<Eigen::Infinity>());
+}
+
+TEST(MultibodyAcceleration, CachedSolverMatchesFreeFunction) {
+  for (bool alternate : {false, true}) {
+    MultibodyState s0;
+    const MultibodyModel model = revoluteChain(30, alternate, 7, &s0);
+    ConstrainedAccelerationSolver solver(model);
+    AccelerationSolution cached;
+    for (unsigned seed = 1; seed <= 6; ++seed) {
+      MultibodyState s;
+      revoluteChain(30, alternate, seed, &s);  // same topology, new state
+      std::vector<BodyLoad> loads;
+      if (seed % 2) loads.assign(30, BodyLoad{Vector3d(0.1 * seed, 0, 0), Vector3d(0, 0, 0.01)});
+      ASSERT_TRUE(solver.solve(model, s, loads, cached)) << cached.reason;
+      const auto ref = solveConstrainedAccelerations(model, s, loads);
+      ASSERT_TRUE(ref.ok) << ref.reason;
+      EXPECT_LE(cached.constraint_residual, 1e-9);
+      EXPECT_LE(relDiff(cached.lambda, ref.lambda), 1e-14) << seed;
+      for (int i = 0; i < 30; ++i) {
+        EXPECT_LE((cached.vdot[i] - ref.vdot[i]).norm(), 1e-14 * (1 + ref.vdot[i].norm()));
+        EXPECT_LE((cached.omegadot[i] - ref.omegadot[i]).norm(),
+                  1e-14 * (1 + ref.omegadot[i].norm()));
+        ASSERT_TRUE(cached.reactions[i].axial_moment.has_value());
+        EXPECT_LE(std::abs(*cached.reactions[i].axial_moment - *ref.reactions[i].axial_moment),
+                  1e-14 * (1 + std::abs(*ref.reactions[i].axial_moment)));
+      }
+      EXPECT_EQ(cached.factor_nonzeros, ref.factor_nonzeros);
+    }
+    EXPECT_EQ(solver.analyzeCount(), 1);  // pattern analysed once for all states
+  }
+}
+
+// Planar pendulum chains against an independent dense KKT solve.
+TEST(MultibodyAcceleration, CachedSolverMatchesDenseKkt) {
+  MultibodyState s;
+  const MultibodyModel model = revoluteChain(8, true, 3, &s);
+  ConstrainedAccelerationSolver solver;
+  const auto sol = solver.solve(model, s);
+  ASSERT_TRUE(sol.ok) << sol.reason;
+  const int n = model.dofs(), m = model.constraintCount();
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(n + m);
+  for (int i = 0; i < 8; ++i) {
+    const auto& b = model.bodies[i];
+    K.block<3, 3>(6 * i, 6 * i) = b.mass * Matrix3d::Identity();
+    K.block<3, 3>(6 * i + 3, 6 * i + 3) = b.inertia;
+    const Vector3d w = s.velocities[i].omega;
+    r.segment<3>(6 * i) = b.mass * model.gravity;
+    r.segment<3>(6 * i + 3) = -w.cross(b.inertia * w);
+  }
+  for (int k = 0, row = n; k < 8; ++k, row += 5) {
+    const auto& jt = model.joints[k];
+    const auto& con = std::get<constraints::RevoluteJoint<double>>(jt.constraint);
+    const auto pa = jt.main == kGround ? constraints::groundPose<double>() : s.poses[jt.main];
+    const auto va =
+        jt.main == kGround ? constraints::groundVelocity<double>() : s.velocities[jt.main];
+    const auto J = con.jacobians(pa, s.poses[k]);
+    if (jt.main != kGround) K.block<5, 6>(row, 6 * jt.main) = J[0];
+    K.block<5, 6>(row, 6 * k) = J[1];
+    r.segment<5>(row) = -con.convective(pa, s.poses[k], va, s.velocities[k]);
+  }
+  K.topRightCorner(n, m) = K.bottomLeftCorner(m, n).transpose();
+  const Eigen::VectorXd x = K.fullPivLu().solve(r);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_NEAR((sol.vdot[i] - x.segment<3>(6 * i)).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((sol.omegadot[i] - x.segment<3>(6 * i + 3)).norm(), 0.0, 1e-9);
+  }
+  EXPECT_LE(relDiff(sol.lambda, x.tail(m)), 1e-9);
+}
+
+TEST(MultibodyAcceleration, CachedSolverReportsRedundantAndRecovers) {
+  Pendulum P;
+  ConstrainedAccelerationSolver solver(P.model);
+  ASSERT_TRUE(solver.solve(P.model, P.state(0.4, 1.0)).ok);
+  MultibodyModel bad = P.model;
+  bad.addJoint(Joint{"hinge-again", kGround, 0, P.model.joints[0].constraint});
+  AccelerationSolution sol;
+  for (int rep = 0; rep < 2; ++rep) {  // reported on every step, not just the first
+    EXPECT_FALSE(solver.solve(bad, P.state(0.4 + rep, 1.0), {}, sol));
+    EXPECT_TRUE(sol.failed_joint == 0 || sol.failed_joint == 1);
+    EXPECT_NE(sol.reason.find("redundant"), std::string::npos) << sol.reason;
+    EXPECT_NE(sol.reason.find("hinge"), std::string::npos) << sol.reason;
+    EXPECT_EQ(sol.lambda.size(), 0);
+  }
+  EXPECT_EQ(solver.analyzeCount(), 2);  // topology change re-analysed once
+  // The exactly-zero-pivot case through the cached solver (factorize fails).
+  MultibodyModel sym;
+  sym.gravity = Vector3d(0, -9.81, 0);
+  sym.addBody(RigidBody{"link", 1.0, 0.1 * Matrix3d::Identity(), false});
+  const BodyPose<double> p0{SO3d::identity(), Vector3d(0, -1, 0)};
+  const auto hinge = constraints::assembleRevoluteJoint<double>(
+      constraints::groundPose<double>(), p0, Vector3d::Zero(), Vector3d(0, 1, 0), ez, ez);
+  sym.addJoint(Joint{"hinge", kGround, 0, hinge});
+  sym.addJoint(Joint{"hinge-again", kGround, 0, hinge});
+  MultibodyState s;
+  s.poses = {p0};
+  s.velocities = {BodyVelocity<double>{}};
+  EXPECT_FALSE(solver.solve(sym, s, {}, sol));
+  EXPECT_NE(sol.reason.find("redundant"), std::string::npos) << sol.reason;
+  // Back to the valid model: solves again and matches the free function.
+  ASSERT_TRUE(solver.solve(P.model, P.state(0.4, 1.0), {}, sol)) << sol.reason;
+  const auto ref = solveConstrainedAccelerations(P.model, P.state(0.4, 1.0));
+  EXPECT_EQ(sol.lambda, ref.lambda);
+}
+
+// The cached solver skips re-checking unchanged bodies, but still rejects a
+// body made invalid (or a bad state) between steps, like the free function.
+TEST(MultibodyAcceleration, CachedSolverStillValidatesBetweenSteps) {
+  Pendulum P;
+  ConstrainedAccelerationSolver solver(P.model);
+  ASSERT_TRUE(solver.solve(P.model, P.state(0.4, 1.0)).ok);
+  MultibodyModel bad = P.model;
+  bad.bodies[0].inertia(0, 1) = 5.0;  // not symmetric
+  try {
+    solver.solve(bad, P.state(0.4, 1.0));
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.field(), "bodies[0].inertia");
+  }
+  bad = P.model;
+  bad.bodies[0].mass = -1.0;
+  EXPECT_THROW(solver.solve(bad, P.state(0.4, 1.0)), InvalidInput);
+  MultibodyState s = P.state(0.4, 1.0);
+  s.velocities[0].omega.x() = std::nan("");
+  EXPECT_THROW(solver.solve(P.model, s), InvalidInput);
+  EXPECT_TRUE(solver.solve(P.model, P.state(0.4, 1.0)).ok);
+  EXPECT_EQ(solver.analyzeCount(), 1);
+}
+
 }  // namespace
