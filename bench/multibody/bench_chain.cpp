@@ -12,6 +12,7 @@
 #include <random>
 #include <string>
 
+#include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
 
 namespace {
@@ -23,38 +24,12 @@ using constraints::BodyVelocity;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
+/// The chain of joints/multibody/chain_builder.hpp, axes alternating z / y,
+/// with a full inertia (products of inertia included).
 MultibodyModel revoluteChain(int N, unsigned seed, MultibodyState* state) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Vector3d half(0.25, 0, 0);
   Matrix3d I;
   I << 0.002, 0.0002, -0.0005, 0.0002, 0.01, 0.0007, -0.0005, 0.0007, 0.01;
-  MultibodyModel model;
-  state->poses.clear();
-  state->velocities.clear();
-  SO3d Rprev = SO3d::identity();
-  Vector3d wprev = Vector3d::Zero(), tip = Vector3d::Zero(), tip_v = Vector3d::Zero();
-  for (int i = 0; i < N; ++i) {
-    const Vector3d a = (i % 2) ? Vector3d(0, 1, 0) : Vector3d(0, 0, 1);
-    const SO3d R = Rprev * SO3d::exp(u(gen) * a);
-    const Vector3d w = wprev + R.matrix() * (3 * u(gen) * a);  // world
-    const Vector3d p = tip + R.matrix() * half;
-    const Vector3d v = tip_v + w.cross(R.matrix() * half);
-    model.addBody(RigidBody{"rod" + std::to_string(i), 0.5 + 0.2 * (u(gen) + 1.0), I, false});
-    const BodyPose<double> pose{R, p};
-    const BodyPose<double> parent =
-        i == 0 ? constraints::groundPose<double>() : state->poses.back();
-    model.addJoint(Joint{"hinge" + std::to_string(i), i - 1, i,
-                         constraints::assembleRevoluteJoint<double>(
-                             parent, pose, i == 0 ? Vector3d::Zero() : half, -half, a, a)});
-    state->poses.push_back(pose);
-    state->velocities.push_back(BodyVelocity<double>{v, R.matrix().transpose() * w});
-    Rprev = R;
-    wprev = w;
-    tip = p + R.matrix() * half;
-    tip_v = v + w.cross(R.matrix() * half);
-  }
-  return model;
+  return randomRevoluteChain(N, true, I, seed, state);
 }
 
 void BM_ChainCachedSolve(benchmark::State& st) {

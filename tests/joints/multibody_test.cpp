@@ -8,6 +8,7 @@
 #include <random>
 #include <sstream>
 
+#include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
 
 namespace {
@@ -313,39 +314,10 @@ TEST(MultibodyAcceleration, RotationOnlyBodyWithBallAtCoM) {
 // ---------------------------------------------------------------------------
 // Reusable solver (pattern analysed once, factorize per step).
 
-// Chain of N rods on revolute joints (first to ground), axes alternating z / y
-// in the parent frame when `alternate`, else all z; random consistent state.
+// Chain of N rods on revolute joints (joints/multibody/chain_builder.hpp) with
+// products of inertia; axes alternating z / y when `alternate`, else all z.
 MultibodyModel revoluteChain(int N, bool alternate, unsigned seed, MultibodyState* state) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Vector3d half(0.25, 0, 0);
-  MultibodyModel model;
-  state->poses.clear();
-  state->velocities.clear();
-  SO3d Rprev = SO3d::identity();
-  Vector3d wprev = Vector3d::Zero(), tip = Vector3d::Zero(), tip_v = Vector3d::Zero();
-  for (int i = 0; i < N; ++i) {
-    const Vector3d a = alternate && (i % 2) ? Vector3d(0, 1, 0) : ez;
-    const SO3d R = Rprev * SO3d::exp(u(gen) * a);
-    const Vector3d w = wprev + R.matrix() * (3 * u(gen) * a);  // world
-    const Vector3d p = tip + R.matrix() * half;
-    const Vector3d v = tip_v + w.cross(R.matrix() * half);
-    model.addBody(RigidBody{"rod" + std::to_string(i), 0.5 + 0.2 * (u(gen) + 1.0),
-                            inertiaWithProducts(0.002, 0.01, 0.01), false});
-    const BodyPose<double> pose{R, p};
-    const BodyPose<double> parent =
-        i == 0 ? constraints::groundPose<double>() : state->poses.back();
-    model.addJoint(Joint{"hinge" + std::to_string(i), i - 1, i,
-                         constraints::assembleRevoluteJoint<double>(
-                             parent, pose, i == 0 ? Vector3d::Zero() : half, -half, a, a)});
-    state->poses.push_back(pose);
-    state->velocities.push_back(BodyVelocity<double>{v, R.matrix().transpose() * w});
-    Rprev = R;
-    wprev = w;
-    tip = p + R.matrix() * half;
-    tip_v = v + w.cross(R.matrix() * half);
-  }
-  return model;
+  return randomRevoluteChain(N, alternate, inertiaWithProducts(0.002, 0.01, 0.01), seed, state);
 }
 
 double relDiff(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
