@@ -13,12 +13,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 cd "$root"
-build_dir=${LIEFLOW_BUILD_DIR:-build}
-lieflow="$build_dir/app/lieflow"
-if [[ ! -x "$lieflow" ]]; then
-  echo "reproduce: $lieflow missing, building it (scripts/run.sh)" >&2
-  bash scripts/run.sh --help >/dev/null
-fi
+source "$root/papers/find_lieflow.sh"
 
 integrators=(rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi splitting genalpha exact)
 steps=(0.01 0.02 0.05 0.1 0.2 0.25)

@@ -12,12 +12,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 cd "$root"
-build_dir=${LIEFLOW_BUILD_DIR:-build}
-lieflow="$build_dir/app/lieflow"
-if [[ ! -x "$lieflow" ]]; then
-  echo "reproduce: $lieflow missing, building it (scripts/run.sh)" >&2
-  bash scripts/run.sh --help >/dev/null
-fi
+source "$root/papers/find_lieflow.sh"
 
 load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 out="$here/out"
