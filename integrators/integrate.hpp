@@ -61,7 +61,7 @@ RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename 
     summary.newton_iterations += report.newton_iterations;
     if (!report.converged) {
       std::ostringstream why;
-      why << report.failure << " at t = " << t << " (step " << k + 1 << ", residual "
+      why << report.failure << (report.detail.empty() ? "" : ": ") << report.detail << " at t = " << t << " (step " << k + 1 << ", residual "
           << report.residual << ")";
       summary.failed = true;
       summary.failure = why.str();

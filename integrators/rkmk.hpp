@@ -10,7 +10,7 @@
 /// manifolds", Thm. 1); Euler and Heun need no correction at all.
 ///
 /// A State supplies `Tangent`, `rplus(Tangent)`, `zeroTangent()` and
-/// `static dexpInvRight(Θ, v, order)`; a System supplies
+/// `dexpInvRight(Θ, v, order)` (static or not); a System supplies
 /// `velocity(t, y, Tangent*)`. Fixed-size states allocate nothing per step.
 #pragma once
 
@@ -77,7 +77,7 @@ class RkmkStepper {
       for (int j = 0; j < i; ++j)
         if (tableau_.a[i][j] != 0.0) theta += (h * Scalar(tableau_.a[i][j])) * (*K)[j];
       system.velocity(t + Scalar(tableau_.c[i]) * h, y.rplus(theta), &f);
-      (*K)[i] = dexp_order_ == 0 ? f : State::dexpInvRight(theta, f, dexp_order_);
+      (*K)[i] = dexp_order_ == 0 ? f : y.dexpInvRight(theta, f, dexp_order_);
     }
   }
 

@@ -3,6 +3,8 @@
 /// iterations and say when they failed to converge (never silently).
 #pragma once
 
+#include <string>
+
 namespace lieflow {
 
 struct StepReport {
@@ -12,6 +14,9 @@ struct StepReport {
   bool converged = true;
   /// Static text naming the failure (no allocation on the step path).
   const char* failure = "";
+  /// Longer text for failures whose reason is only known at run time
+  /// (which constraint, how far off); empty (no allocation) otherwise.
+  std::string detail;
   /// Final residual norm of the implicit solve (0 for explicit methods).
   double residual = 0.0;
 

@@ -26,6 +26,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "joints/constraints/constraints.hpp"
+#include "joints/multibody/schur_solver.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -33,9 +34,6 @@ namespace multibody {
 
 using constraints::BodyPose;
 using constraints::BodyVelocity;
-
-/// Index of the ground in Joint::main / Joint::secondary.
-constexpr int kGround = -1;
 
 struct RigidBody {
   std::string name;

@@ -1,0 +1,236 @@
+/// \file
+/// A constrained multibody system in maximal coordinates, ready to be
+/// stepped: the bodies and holonomic joints of a MultibodyModel, the force
+/// elements and drives of the joint coordinates, and the gear-type
+/// constraints, with the state on the product of the bodies' groups.
+///
+/// Formulation (README "Joints"): every body keeps its own coordinates —
+/// (R, p) ∈ SO(3) × ℝ³ with velocity (v world, ω body), or R ∈ SO(3) with ω
+/// for a rotation-only body — and joints are constraints imposed with
+/// Lagrange multipliers. The joint coordinates of the Abaqus revolute and
+/// universal joints (φ_J; φ₁, φ₂) are functions of the two bodies' relative
+/// rotation (joints/constraints/revolute_angle.hpp, universal_angles.hpp),
+/// continued across ±π by tracking the unwrapped values in the state. On them
+/// act, in any combination,
+///   * a torsional spring −k (φ − φ₀) and a dashpot −c φ̇ ("to ground": to
+///     the joint's zero), and an applied moment M(t): a joint moment M_c does
+///     virtual work M_c δφ, so it enters the bodies as J_φᵀ M_c;
+///   * a prescribed motion φ(t): the rheonomic constraint φ(q) − φ_p(t) = 0,
+///     one more multiplier row (its multiplier is the driving moment).
+/// Gear, rack-and-pinion and differential rows (Radioss) act on velocities
+/// only: B(q) u = 0.
+///
+/// Rows are grouped (schur_solver.hpp): first the holonomic joints, then the
+/// prescribed coordinates — together the position-level rows Φ(q, t) — then
+/// the gears (velocity rows). At acceleration level (index 1):
+///   M u̇ + Jᵀ λ = F(t, q, u),    J u̇ = −c + a_p(t),
+/// with c the convective terms and a_p the prescribed accelerations; at
+/// velocity level J u = b(t) (b the prescribed rates).
+///
+/// Why maximal coordinates: each body stays on its own group (the Lie-group
+/// integrators of integrators/ apply body by body), joints of every type —
+/// including closed loops and the gear rows, which reduced coordinates
+/// cannot express on velocities — are rows of one sparse Schur complement
+/// whose cost is linear along chains, and the reactions are the multipliers.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "joints/multibody/multibody_model.hpp"
+#include "joints/multibody/schur_solver.hpp"
+#include "joints/multibody/time_function.hpp"
+
+namespace lieflow {
+namespace multibody {
+
+class MultibodySystem;
+
+/// Force elements and drive of one joint coordinate.
+struct CoordinateDrive {
+  double stiffness = 0.0;   ///< k ≥ 0: spring moment −k (φ − rest_angle)
+  double rest_angle = 0.0;  ///< φ₀
+  double damping = 0.0;     ///< c ≥ 0: dashpot moment −c φ̇
+  std::optional<TimeFunction> moment;      ///< applied moment M(t)
+  std::optional<TimeFunction> prescribed;  ///< imposed φ(t)
+  bool hasForce() const { return stiffness != 0.0 || damping != 0.0 || moment.has_value(); }
+};
+
+using GearConstraint = std::variant<constraints::GearJoint<double>, constraints::RackPinionJoint<double>,
+                                    constraints::DifferentialJoint<double>>;
+
+/// A gear-type constraint: bodies (carrier N0, node 1, node 2[, node 3]),
+/// kGround allowed for the carrier.
+struct Gear {
+  std::string name;
+  std::array<int, 4> bodies{{kGround, kGround, kGround, kGround}};
+  GearConstraint constraint;
+};
+
+/// The state on Π_i (SO(3) × ℝ³ × ℝ³ × ℝ³ or SO(3) × ℝ³): body poses and
+/// velocities, plus the unwrapped joint coordinates (two slots per joint).
+/// Tangent (size 2n, n = Σ dofs): first the position increments per body in
+/// body order ((δp world, δθ body) or δθ), then the velocity increments
+/// ((δv, δω) or δω). ⊕ is right multiplication by exp on each SO(3) and
+/// addition elsewhere; dexp⁻¹ acts blockwise on the δθ blocks.
+struct MultibodyGroupState {
+  using Scalar = double;
+  using Tangent = Eigen::VectorXd;
+
+  MultibodyState bodies;
+  std::vector<double> angles;  ///< unwrapped φ (slot 2k + i for coordinate i of joint k)
+  const MultibodySystem* system = nullptr;
+
+  Tangent zeroTangent() const;
+  MultibodyGroupState rplus(const Tangent& d) const;
+  /// Right-trivialized dexp⁻¹ blockwise (so(3) series on the δθ blocks).
+  Tangent dexpInvRight(const Tangent& theta, const Tangent& v, int order) const;
+  /// Per-component size for error control: 1 for positions, |u| for velocities.
+  Tangent magnitude() const;
+  /// The stacked body velocities u (size n).
+  Eigen::VectorXd velocities() const;
+  void setVelocities(const Eigen::VectorXd& u);
+};
+
+bool isFinite(const MultibodyGroupState& y);
+
+/// One joint coordinate's force element rows (for implicit integrators):
+/// φ's Jacobian blocks on the joint's two bodies and the spring/damper
+/// constants (the applied moment is in forces()).
+struct CoordinateElement {
+  int joint = -1;
+  int coordinate = 0;
+  int main = kGround, secondary = kGround;
+  Eigen::Matrix<double, 1, 6> J_main, J_secondary;
+  double stiffness = 0.0, damping = 0.0;
+};
+
+/// Joint outputs for the trajectory CSV (README "Trajectory and recording CSV").
+struct JointOutput {
+  int coordinates = 0;               ///< 0 (spherical), 1 (revolute), 2 (universal)
+  std::array<double, 2> phi{}, phidot{}, moment{};
+  double condition = 1.0;            ///< universal: κ = 1/min|cos φᵢ| (universal_angles.hpp)
+};
+
+/// Which rows a factorization uses.
+enum class RowSet {
+  kPosition,  ///< holonomic joints + prescribed coordinates
+  kAll,       ///< plus gear rows
+};
+
+class MultibodySystem {
+ public:
+  using State = MultibodyGroupState;
+  using Scalar = double;
+
+  /// Checks the drives (one pair per joint; springs, dashpots and drives only
+  /// on revolute/universal coordinates; k, c finite ≥ 0; a coordinate is not
+  /// both prescribed and loaded by an applied moment... see the .cpp) and the
+  /// gears' bodies. Throws InvalidInput naming "joints[k] (name).field".
+  MultibodySystem(MultibodyModel model, std::vector<std::array<CoordinateDrive, 2>> drives,
+                  std::vector<Gear> gears = {});
+
+  const MultibodyModel& model() const { return model_; }
+  const std::vector<std::array<CoordinateDrive, 2>>& drives() const { return drives_; }
+  const std::vector<Gear>& gears() const { return gears_; }
+  int bodyCount() const { return static_cast<int>(model_.bodies.size()); }
+  /// n = Σ dofs.
+  int dofs() const { return n_; }
+  int dofBegin(int body) const { return off_[body]; }
+  bool rotationOnly(int body) const { return rot_[body] != 0; }
+  /// 0, 1 or 2 coordinates of joint k.
+  int coordinateCount(int k) const;
+  bool hasConstraints() const { return all_groups_.size() > 0; }
+  bool hasGears() const { return !gears_.empty(); }
+  int positionRowCount() const;
+
+  /// The state for body poses/velocities (angles set to principal values).
+  State makeState(const MultibodyState& bodies) const;
+  /// Re-unwraps the joint coordinates of y near their stored values.
+  void rebaseAngles(State* y) const;
+
+  // --- Dynamics -----------------------------------------------------------
+  /// Generalized forces per dof: (m g + coordinate forces, τ) per body, with
+  /// the gyroscopic term −ω × J ω if `gyroscopic`.
+  void forces(double t, const State& y, bool gyroscopic, Eigen::VectorXd* F) const;
+  /// u̇ and λ (all rows) of the index-1 equations. Returns false with `why`
+  /// (naming the joint) when J M⁻¹ Jᵀ is singular.
+  bool accelerations(double t, const State& y, Eigen::VectorXd* udot, Eigen::VectorXd* lambda,
+                     std::string* why) const;
+  /// The velocity field of the RKMK / commutator-free steppers: f = (u, u̇).
+  /// A singular constraint system gives a NaN field (the driver reports the
+  /// blow-up; accelerations() says why).
+  void velocity(double t, const State& y, Eigen::VectorXd* f) const;
+
+  // --- Constraints --------------------------------------------------------
+  /// Φ(q, t) of the position rows (size positionRowCount()).
+  void positionResidual(double t, const State& y, Eigen::VectorXd* phi) const;
+  /// max |Φ| (0 without position rows).
+  double constraintError(double t, const State& y) const;
+  /// max |J u − b| over all rows.
+  double velocityConstraintError(double t, const State& y) const;
+  /// Fills the blocks of the row set at y, sets M⁻¹ and factors S = J M⁻¹ Jᵀ;
+  /// afterwards schur(set) gives J, Jᵀ, M⁻¹ and S⁻¹. Also writes the velocity
+  /// targets b (J u = b) if `b` and the convective terms minus the prescribed
+  /// accelerations (J u̇ = −c) if `c`. Returns false with `why` on a singular S.
+  bool factorConstraints(double t, const State& y, RowSet set, std::string* why,
+                         Eigen::VectorXd* b = nullptr, Eigen::VectorXd* c = nullptr) const;
+  SchurSolver& schur(RowSet set) const { return set == RowSet::kAll || !hasGears() ? all_ : pos_; }
+  /// Velocity projection: u ← u − M⁻¹ Jᵀ S⁻¹ (J u − b) (all rows, at y's q).
+  bool projectVelocities(double t, State* y, std::string* why) const;
+  /// Position projection onto Φ = 0 (M-orthogonal, simplified Newton with S
+  /// factored at the start point): stops when max |Φ| ≤ tolerance; false
+  /// with `why` if max_iterations pass first or S is singular.
+  bool projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
+                        std::string* why) const;
+
+  /// Spring/dashpot elements with their φ Jacobians at y (implicit methods).
+  std::vector<CoordinateElement> coordinateElements(const State& y) const;
+
+  // --- Observables --------------------------------------------------------
+  /// Kinetic + gravity potential + spring energy.
+  double energy(const State& y) const;
+  /// Σ (p × m v + R J ω), the spatial angular momentum about the world origin.
+  Eigen::Vector3d angularMomentum(const State& y) const;
+  /// True when no external moment acts: no gravity, no joint or gear to the
+  /// ground, no applied moments or prescribed motion.
+  bool conservesAngularMomentum() const;
+  /// Joint angles, rates and moments about the joint axes at (t, y): the
+  /// moment on the main body about each axis (M_J = M_M · a, README), the
+  /// constraint reaction plus the joint's force elements. Uses the
+  /// acceleration solve for the multipliers.
+  std::vector<JointOutput> jointOutputs(double t, const State& y) const;
+
+ private:
+  struct CoordinateRef {
+    int joint, coordinate;
+  };
+  void validate() const;
+  void poses(const State& y, int main, int secondary, BodyPose<double>* a, BodyPose<double>* b,
+             BodyVelocity<double>* va, BodyVelocity<double>* vb) const;
+  /// φ (unwrapped near y.angles), and its Jacobian row blocks on (main, secondary).
+  double coordinate(const State& y, int k, int i, Eigen::Matrix<double, 1, 6>* Ja,
+                    Eigen::Matrix<double, 1, 6>* Jb) const;
+  double coordinateConvective(const State& y, int k, int i) const;
+  void fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,
+                  Eigen::VectorXd* b, Eigen::VectorXd* c) const;
+
+  MultibodyModel model_;
+  std::vector<std::array<CoordinateDrive, 2>> drives_;
+  std::vector<Gear> gears_;
+  std::vector<char> rot_;
+  std::vector<int> off_;
+  int n_ = 0;
+  std::vector<CoordinateRef> prescribed_;
+  std::vector<RowGroup> all_groups_, pos_groups_;
+  mutable SchurSolver all_, pos_;
+  mutable Eigen::VectorXd F_, y_, rhs_, c_, lam_, tmp_;
+};
+
+}  // namespace multibody
+}  // namespace lieflow
