@@ -5,12 +5,16 @@
 /// reading; `assemble*` functions turn it into systems that integrators step.
 #pragma once
 
+#include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "joints/multibody/time_function.hpp"
 
 namespace lieflow {
 
@@ -35,8 +39,28 @@ struct BodyDescription {
   Eigen::Quaterniond spring_rest = Eigen::Quaterniond::Identity();
 };
 
+/// Force elements and drive of one joint coordinate (revolute φ, universal
+/// φ₁ or φ₂): `spring` {stiffness, rest_angle}, `damper` {damping},
+/// `moment` and `prescribed` (time functions).
+struct CoordinateDescription {
+  double stiffness = 0.0;
+  double rest_angle = 0.0;
+  double damping = 0.0;
+  std::optional<multibody::TimeFunction> moment;
+  std::optional<multibody::TimeFunction> prescribed;
+};
+
+/// A gear node's local axes (r, s[, t]) in its body's frame.
+struct NodeAxesDescription {
+  Eigen::Vector3d r = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d s = Eigen::Vector3d::UnitY();
+  bool has_t = false;
+  Eigen::Vector3d t = Eigen::Vector3d::UnitZ();
+};
+
 /// One joint. `main`/`secondary` are body names; "ground" is the world.
-/// Anchors are in the frame of the body they belong to.
+/// Anchors and axes are in the frame of the body they belong to (the suffix
+/// of their names says which).
 struct JointDescription {
   std::string name;
   std::string type;
@@ -44,6 +68,22 @@ struct JointDescription {
   std::string secondary;
   Eigen::Vector3d anchor_main = Eigen::Vector3d::Zero();
   Eigen::Vector3d anchor_secondary = Eigen::Vector3d::Zero();
+  /// revolute: axis_main (and optionally axis_secondary; else R_b⁻¹ R_a a_main
+  /// at t = 0); universal: axis1_main, axis2_secondary.
+  Eigen::Vector3d axis_main = Eigen::Vector3d::UnitZ();
+  bool has_axis_secondary = false;
+  Eigen::Vector3d axis_secondary = Eigen::Vector3d::UnitZ();
+  /// Joint angles at t = 0 (revolute: [0]; universal: both). Default 0.
+  std::array<double, 2> initial_angles{{0.0, 0.0}};
+  /// revolute: [0]; universal: [0] = φ₁ (suffix 1), [1] = φ₂ (suffix 2).
+  std::array<CoordinateDescription, 2> coordinates;
+  /// gear, rack_pinion, differential: ratio α, carrier body (default
+  /// "ground"), third node (differential: `tertiary`) and node axes
+  /// (axes_main, axes_secondary, axes_tertiary).
+  double ratio = 0.0;
+  std::string carrier = "ground";
+  std::string tertiary;
+  NodeAxesDescription axes_main, axes_secondary, axes_tertiary;
 };
 
 /// The integrator a scene asks for: a name of `lieflow integrators`, a step

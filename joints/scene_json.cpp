@@ -216,6 +216,80 @@ BodyDescription readBody(const json& v, int index, const std::string& source) {
   return b;
 }
 
+/// A time function: a number (constant) or {"type": "constant" | "ramp" |
+/// "sine" | "table", ...} (joints/multibody/time_function.hpp).
+multibody::TimeFunction readTimeFunction(ObjectReader& parent, const std::string& key) {
+  const json& v = parent.get(key);
+  if (v.is_number()) {
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) parent.fail(key, "must be finite");
+    return multibody::TimeFunction::constant(x);
+  }
+  ObjectReader r(v, parent.fieldPath(key), parent.source());
+  const std::string type = r.string("type");
+  multibody::TimeFunction f;
+  if (type == "constant") {
+    f = multibody::TimeFunction::constant(r.number("value"));
+  } else if (type == "ramp") {
+    f = multibody::TimeFunction::ramp(r.has("initial") ? r.number("initial") : 0.0, r.number("rate"));
+  } else if (type == "sine") {
+    const double amplitude = r.number("amplitude");
+    const double frequency = r.number("frequency");
+    if (frequency < 0.0) r.fail("frequency", "must be >= 0 (Hz)");
+    f = multibody::TimeFunction::sine(amplitude, frequency, r.has("phase") ? r.number("phase") : 0.0,
+                                      r.has("offset") ? r.number("offset") : 0.0);
+  } else if (type == "table") {
+    f.kind = multibody::TimeFunction::Kind::kTable;
+    const json& pts = r.array("points");
+    if (pts.size() < 2) r.fail("points", "a table needs at least 2 points [t, value]");
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const std::string where = "points[" + std::to_string(i) + "]";
+      if (!pts[i].is_array() || pts[i].size() != 2 || !pts[i][0].is_number() || !pts[i][1].is_number())
+        r.fail(where, "expected [t, value]");
+      const double t = pts[i][0].get<double>(), x = pts[i][1].get<double>();
+      if (!std::isfinite(t) || !std::isfinite(x)) r.fail(where, "must be finite");
+      if (i > 0 && !(t > f.points.back().first)) r.fail(where, "times must increase strictly");
+      f.points.emplace_back(t, x);
+    }
+  } else {
+    r.fail("type", "unknown time function '" + type + "' (known: constant, ramp, sine, table)");
+  }
+  r.finish();
+  return f;
+}
+
+/// The coordinate fields of a revolute (suffix "") or universal ("1", "2") joint.
+void readCoordinate(ObjectReader& r, const std::string& suffix, CoordinateDescription* c) {
+  if (r.has("spring" + suffix)) {
+    ObjectReader s(r.get("spring" + suffix), r.fieldPath("spring" + suffix), r.source());
+    c->stiffness = s.number("stiffness");
+    if (c->stiffness < 0.0) s.fail("stiffness", "must be >= 0");
+    if (s.has("rest_angle")) c->rest_angle = s.number("rest_angle");
+    s.finish();
+  }
+  if (r.has("damper" + suffix)) {
+    ObjectReader d(r.get("damper" + suffix), r.fieldPath("damper" + suffix), r.source());
+    c->damping = d.number("damping");
+    if (c->damping < 0.0) d.fail("damping", "must be >= 0");
+    d.finish();
+  }
+  if (r.has("moment" + suffix)) c->moment = readTimeFunction(r, "moment" + suffix);
+  if (r.has("prescribed" + suffix)) c->prescribed = readTimeFunction(r, "prescribed" + suffix);
+}
+
+NodeAxesDescription readNodeAxes(ObjectReader& r, const std::string& key) {
+  ObjectReader a(r.get(key), r.fieldPath(key), r.source());
+  NodeAxesDescription n;
+  n.r = a.vector3("r");
+  n.s = a.vector3("s");
+  if (a.has("t")) {
+    n.t = a.vector3("t");
+    n.has_t = true;
+  }
+  a.finish();
+  return n;
+}
+
 JointDescription readJoint(const json& v, int index, const std::string& source) {
   ObjectReader r(v, "joints[" + std::to_string(index) + "]", source);
   JointDescription j;
@@ -228,12 +302,44 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
                        "' (known: spherical, revolute, universal, gear, rack_pinion, differential)");
   j.main = r.string("main");
   j.secondary = r.string("secondary");
-  if (j.type == "spherical") {
+  if (j.type == "spherical" || j.type == "revolute" || j.type == "universal") {
     j.anchor_main = r.vector3("anchor_main");
     j.anchor_secondary = r.vector3("anchor_secondary");
-  } else {
-    r.fail("type", "'" + j.type +
-                       "' joints are not supported by this version of lieflow (only 'spherical')");
+  }
+  if (j.type == "revolute") {
+    j.axis_main = r.vector3("axis_main");
+    if (r.has("axis_secondary")) {
+      j.axis_secondary = r.vector3("axis_secondary");
+      j.has_axis_secondary = true;
+    }
+    if (r.has("initial_angle")) j.initial_angles[0] = r.number("initial_angle");
+    readCoordinate(r, "", &j.coordinates[0]);
+  } else if (j.type == "universal") {
+    j.axis_main = r.vector3("axis1_main");
+    j.axis_secondary = r.vector3("axis2_secondary");
+    j.has_axis_secondary = true;
+    if (r.has("initial_angles")) {
+      const Eigen::VectorXd a = r.numbers("initial_angles", 2);
+      j.initial_angles = {{a[0], a[1]}};
+    }
+    readCoordinate(r, "1", &j.coordinates[0]);
+    readCoordinate(r, "2", &j.coordinates[1]);
+  } else if (j.type != "spherical") {
+    j.ratio = r.number("ratio");
+    if (j.ratio == 0.0) r.fail("ratio", "gear ratio is 0 (a non-zero ratio is required)");
+    if (r.has("carrier")) j.carrier = r.string("carrier");
+    j.axes_main = readNodeAxes(r, "axes_main");
+    j.axes_secondary = readNodeAxes(r, "axes_secondary");
+    if (j.type == "differential") {
+      j.tertiary = r.string("tertiary");
+      j.axes_tertiary = readNodeAxes(r, "axes_tertiary");
+    }
+    for (const char* key : {"main", "secondary", "tertiary"}) {
+      const std::string& node = std::string(key) == "main" ? j.main
+                                : std::string(key) == "secondary" ? j.secondary : j.tertiary;
+      if (node == "ground")
+        r.fail(key, "a gear node must be a body with rotary inertia; 'ground' has none");
+    }
   }
   r.finish();
   return j;
@@ -276,12 +382,20 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
     for (std::size_t i = 0; i < joints.size(); ++i) {
       JointDescription j = readJoint(joints[i], static_cast<int>(i), source);
       const std::string field = source + ": joints[" + std::to_string(i) + "]";
-      for (const std::string* body : {&j.main, &j.secondary})
-        if (*body != "ground" && scene.bodyIndex(*body) < 0)
-          throw InvalidInput(field + (body == &j.main ? ".main" : ".secondary"),
-                             "unknown body '" + *body + "'");
-      if (j.main == j.secondary)
-        throw InvalidInput(field + ".secondary", "joint connects body '" + j.main + "' to itself");
+      const bool gear = j.type == "gear" || j.type == "rack_pinion" || j.type == "differential";
+      std::vector<std::pair<std::string, const std::string*>> named = {{"main", &j.main},
+                                                                        {"secondary", &j.secondary}};
+      if (gear) named.emplace_back("carrier", &j.carrier);
+      if (j.type == "differential") named.emplace_back("tertiary", &j.tertiary);
+      for (const auto& nb : named)
+        if (*nb.second != "ground" && scene.bodyIndex(*nb.second) < 0)
+          throw InvalidInput(field + "." + nb.first, "unknown body '" + *nb.second + "'");
+      for (std::size_t a = 0; a < named.size(); ++a)
+        for (std::size_t b = 0; b < a; ++b)
+          if (*named[a].second == *named[b].second)
+            throw InvalidInput(field + "." + named[a].first,
+                               "joint connects body '" + *named[a].second + "' to itself (also its " +
+                                   named[b].first + ")");
       scene.joints.push_back(j);
     }
   }

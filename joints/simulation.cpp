@@ -16,7 +16,9 @@
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "integrators/rigid_body_system.hpp"
+#include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
+#include "joints/multibody_scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -35,6 +37,9 @@ struct Simulation::Model {
   FreeBodyState<double> free0;
   /// A free rotor's centre of mass stays here.
   Eigen::Vector3d fixed_position = Eigen::Vector3d::Zero();
+  /// Scenes with joints (other than one spherical joint to ground): the
+  /// constrained multibody system; the fields above are then unused.
+  std::unique_ptr<MultibodyScene> multibody;
 };
 
 namespace {
@@ -48,6 +53,10 @@ std::string fmt(const Eigen::Vector3d& v) {
 
 std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   auto model = std::make_unique<Simulation::Model>();
+  if (needsMultibody(scene)) {
+    model->multibody = assembleMultibody(scene);
+    return model;
+  }
   if (scene.bodies.size() != 1)
     throw InvalidInput(scene.source + ": bodies",
                        "this version of lieflow simulates scenes of one body (got " +
@@ -148,7 +157,39 @@ struct RowBuilder {
     const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
     row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
   }
+
+  void operator()(const multibody::MultibodySystem& sys, double t, const multibody::MultibodyGroupState& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    for (int i = 0; i < sys.bodyCount(); ++i) {
+      const auto& P = y.bodies.poses[i];
+      const auto& V = y.bodies.velocities[i];
+      const Eigen::Quaterniond& q = P.R.quaternion();
+      row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), V.omega.x(), V.omega.y(), V.omega.z()});
+      if (!sys.rotationOnly(i))
+        row->insert(row->end(), {P.p.x(), P.p.y(), P.p.z(), V.v.x(), V.v.y(), V.v.z()});
+    }
+    for (const multibody::JointOutput& o : sys.jointOutputs(t, y)) {
+      if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
+      if (o.coordinates == 2)
+        row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
+    }
+    const Eigen::Vector3d L = sys.angularMomentum(y);
+    row->insert(row->end(), {sys.energy(y), L.x(), L.y(), L.z(), sys.constraintError(t, y)});
+  }
 };
+
+/// Position-level constraint error of a state (0 for single-body systems,
+/// whose joint is built into the system).
+template <typename System, typename State>
+double constraintErrorOf(const System&, double, const State&) {
+  return 0.0;
+}
+inline double constraintErrorOf(const multibody::MultibodySystem& sys, double t,
+                                const multibody::MultibodyGroupState& y) {
+  return sys.constraintError(t, y);
+}
 
 /// An energy error this many times the initial energy means the run has
 /// blown up, even while the state is still finite (an explicit method beyond
@@ -204,10 +245,12 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   double t_last = 0.0;
   bool last_written = false;
   std::string blow_up;
+  double constraint_error = 0.0;
   auto observer = [&](long k, double t, const typename System::State& y) {
     last_written = false;
     if (options.diagnostics) {
       drift.observe(system, k, t, y);
+      constraint_error = std::max(constraint_error, constraintErrorOf(system, t, y));
       if (drift.blownUp()) {
         std::ostringstream why;
         why << "blow-up: the energy error reached " << drift.energy_drift << " times the initial energy at t = "
@@ -239,6 +282,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
+  result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
   rows(system, t_last, last, &result.final_row);
   // The last good state is always written, whatever `every` is (also when a
   // failure stopped the run between two output steps).
@@ -296,6 +340,30 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
   throw InvalidInput("--integrator", "'" + name + "' is not available for this scene");
 }
 
+/// The integrators of a constrained multibody scene: the explicit Lie-group
+/// steppers in index-1 form with projection (projected_stepper.hpp).
+SimulationResult runMultibody(const Simulation::Model& model, const SimulationOptions& o,
+                              const std::function<void(const std::vector<double>&)>& row) {
+  using State = multibody::MultibodyGroupState;
+  const multibody::MultibodySystem& system = *model.multibody->system;
+  const State& y0 = model.multibody->y0;
+  const std::string& name = o.integrator;
+  const long n = stepCount(0.0, o.t_end, o.dt);
+  auto fixed = [&](auto stepper) {
+    return observeRun(model, system, o, n, row, [&](auto& observer) {
+      return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
+    });
+  };
+  auto projected = [&](auto inner) { return fixed(ProjectedStepper<decltype(inner)>(std::move(inner))); };
+  if (name == "rkmk-euler") return projected(RkmkStepper<State>(ButcherTableau::euler()));
+  if (name == "rkmk-heun") return projected(RkmkStepper<State>(ButcherTableau::heun()));
+  if (name == "rkmk3") return projected(RkmkStepper<State>(ButcherTableau::kutta3()));
+  if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
+  if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
+  if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+  throw InvalidInput("--integrator", "'" + name + "' is not available for scenes with joints");
+}
+
 /// The exact flow sampled on the output grid (a "step" is one evaluation).
 struct ExactStepper {
   const ExactFreeRigidBody* flow;
@@ -329,6 +397,25 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 std::vector<std::string> Simulation::columns() const {
   std::vector<std::string> cols = {"t"};
+  if (model_->multibody) {
+    const multibody::MultibodySystem& sys = *model_->multibody->system;
+    for (int i = 0; i < sys.bodyCount(); ++i) {
+      const std::string& b = scene_.bodies[i].name;
+      for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz"}) cols.push_back(b + "." + c);
+      if (!sys.rotationOnly(i))
+        for (const char* c : {"x", "y", "z", "vx", "vy", "vz"}) cols.push_back(b + "." + c);
+    }
+    for (std::size_t k = 0; k < sys.model().joints.size(); ++k) {
+      const std::string& j = sys.model().joints[k].name;
+      const int nc = sys.coordinateCount(static_cast<int>(k));
+      if (nc == 1)
+        for (const char* c : {"phi", "phidot", "moment"}) cols.push_back(j + "." + c);
+      if (nc == 2)
+        for (const char* c : {"phi1", "phi2", "phi1dot", "phi2dot", "moment1", "moment2"}) cols.push_back(j + "." + c);
+    }
+    for (const char* c : {"energy", "Lx", "Ly", "Lz", "constraint_error"}) cols.push_back(c);
+    return cols;
+  }
   const std::string& b = scene_.bodies[0].name;
   for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz"}) cols.push_back(b + "." + c);
   if (model_->translational_output)
@@ -340,6 +427,16 @@ std::vector<std::string> Simulation::columns() const {
 bool Simulation::supports(const std::string& integrator, std::string* why) const {
   if (!findIntegrator(integrator)) {
     if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
+    return false;
+  }
+  if (model_->multibody) {
+    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"};
+    for (const char* n : kConstrained)
+      if (integrator == n) return true;
+    if (why)
+      *why = "'" + integrator +
+             "' is not available for scenes with joints (available: rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, "
+             "cf4 with projection)";
     return false;
   }
   if (integrator == "exact") {
@@ -386,7 +483,10 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   };
   SimulationResult result;
   try {
-    result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
+    if (m.multibody)
+      result = runMultibody(m, options, row);
+    else
+      result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
                      : run_on(FreeBodySystem<double>(m.params), m.free0);
   } catch (const InvalidInput& e) {
     // Option errors raised by a stepper's constructor name the bare option.

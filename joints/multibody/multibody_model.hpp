@@ -67,6 +67,9 @@ struct Joint {
   int main = kGround;
   int secondary = kGround;
   JointConstraint constraint;
+  /// How messages name the joint (e.g. "scene.json: joints[3] (hinge)");
+  /// default "joints[k] (name)".
+  std::string label = {};
 };
 
 /// External load on a body: force f (world, through the CoM) and moment τ
@@ -123,6 +126,7 @@ struct MultibodyModel {
 
   /// "joints[k] (name)": how messages refer to joint k.
   std::string jointLabel(int k) const {
+    if (k >= 0 && k < static_cast<int>(joints.size()) && !joints[k].label.empty()) return joints[k].label;
     std::ostringstream s;
     s << "joints[" << k << "]";
     if (k >= 0 && k < static_cast<int>(joints.size()) && !joints[k].name.empty())

@@ -195,6 +195,8 @@ class MultibodySystem {
   // --- Observables --------------------------------------------------------
   /// Kinetic + gravity potential + spring energy.
   double energy(const State& y) const;
+  double energy(double /*t*/, const State& y) const { return energy(y); }
+  Eigen::Vector3d spatialAngularMomentum(const State& y) const { return angularMomentum(y); }
   /// Σ (p × m v + R J ω), the spatial angular momentum about the world origin.
   Eigen::Vector3d angularMomentum(const State& y) const;
   /// True when no external moment acts: no gravity, no joint or gear to the

@@ -1,0 +1,157 @@
+#include "joints/multibody_scene.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+
+using multibody::kGround;
+
+namespace {
+
+/// Relative tolerance of the assembly checks (anchors coincide).
+constexpr double kAssemblyTolerance = 1e-6;
+/// The initial projections stop at this max |Φ| (metres, radians).
+constexpr double kInitialProjectionTolerance = 1e-13;
+
+bool isGear(const std::string& type) {
+  return type == "gear" || type == "rack_pinion" || type == "differential";
+}
+
+constraints::NodeAxes<double> nodeAxes(const NodeAxesDescription& d, const std::string& prefix) {
+  return d.has_t ? constraints::makeNodeAxes<double>(d.r, d.s, d.t, prefix)
+                 : constraints::makeNodeAxes<double>(d.r, d.s, prefix);
+}
+
+std::string fmt(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+bool needsMultibody(const SceneDescription& scene) {
+  if (scene.bodies.size() != 1 || scene.joints.size() > 1) return true;
+  if (scene.joints.empty()) return false;
+  const JointDescription& j = scene.joints[0];
+  return j.type != "spherical" || (j.main != "ground" && j.secondary != "ground");
+}
+
+std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene) {
+  auto out = std::make_unique<MultibodyScene>();
+  multibody::MultibodyModel model;
+  model.gravity = scene.gravity;
+  multibody::MultibodyState s;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodyDescription& b = scene.bodies[i];
+    const std::string field = scene.source + ": bodies[" + std::to_string(i) + "]";
+    if (b.spring_stiffness > 0.0)
+      throw InvalidInput(field + ".torsional_spring",
+                         "a torsional spring to ground is for single-body scenes; in a scene with joints use a "
+                         "joint spring");
+    if (b.rotation_only && b.has_velocity && b.velocity.norm() > 0.0)
+      throw InvalidInput(field + ".velocity", "a rotation-only body has no translational state");
+    model.addBody(multibody::RigidBody{b.name, b.mass, b.inertia, b.rotation_only});
+    s.poses.push_back(constraints::BodyPose<double>{SO3d(b.orientation), b.position});
+    s.velocities.push_back(constraints::BodyVelocity<double>{b.rotation_only ? Eigen::Vector3d::Zero() : b.velocity,
+                                                             b.angular_velocity});
+  }
+  auto body = [&](const std::string& name) { return name == "ground" ? kGround : scene.bodyIndex(name); };
+  auto pose = [&](int i) { return i == kGround ? constraints::groundPose<double>() : s.poses[i]; };
+
+  std::vector<std::array<multibody::CoordinateDrive, 2>> drives;
+  std::vector<multibody::Gear> gears;
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    const JointDescription& j = scene.joints[k];
+    const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
+    const std::string prefix = scene.source + ": joints[" + std::to_string(k) + "]";
+    if (isGear(j.type)) {
+      multibody::Gear g;
+      g.name = label;
+      g.bodies = {{body(j.carrier), body(j.main), body(j.secondary), kGround}};
+      const auto a1 = nodeAxes(j.axes_main, prefix + ".axes_main");
+      const auto a2 = nodeAxes(j.axes_secondary, prefix + ".axes_secondary");
+      if (j.type == "gear") {
+        g.constraint = constraints::makeGearJoint<double>(j.ratio, a1, a2, prefix);
+      } else if (j.type == "rack_pinion") {
+        g.constraint = constraints::makeRackPinionJoint<double>(j.ratio, a1, a2, prefix);
+        if (scene.bodies[g.bodies[2]].rotation_only)
+          throw InvalidInput(prefix + ".secondary", "the rack '" + j.secondary +
+                                                        "' is rotation_only: it needs translational coordinates");
+      } else {
+        g.bodies[3] = body(j.tertiary);
+        g.constraint = constraints::makeDifferentialJoint<double>(
+            j.ratio, a1, a2, nodeAxes(j.axes_tertiary, prefix + ".axes_tertiary"), prefix);
+      }
+      gears.push_back(g);
+      continue;
+    }
+    const int a = body(j.main), b = body(j.secondary);
+    const constraints::BodyPose<double> pa = pose(a), pb = pose(b);
+    multibody::JointConstraint c;
+    if (j.type == "spherical") {
+      c = constraints::makeSphericalJoint<double>(j.anchor_main, j.anchor_secondary, prefix);
+    } else if (j.type == "revolute") {
+      const Eigen::Vector3d axis_b =
+          j.has_axis_secondary ? j.axis_secondary
+                               : Eigen::Vector3d(pb.R.inverse() * (pa.R * j.axis_main.normalized()));
+      c = constraints::assembleRevoluteJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, axis_b,
+                                                     j.initial_angles[0], prefix);
+    } else {
+      c = constraints::assembleUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
+                                                      j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
+                                                      prefix);
+    }
+    // The anchors must coincide at t = 0.
+    const Eigen::Vector3d xa = pa.toWorld(j.anchor_main), xb = pb.toWorld(j.anchor_secondary);
+    const double length = std::max({1.0, j.anchor_main.norm(), j.anchor_secondary.norm()});
+    if ((xa - xb).norm() > kAssemblyTolerance * length)
+      throw InvalidInput(prefix + ".anchor_secondary",
+                         "the anchors do not coincide at t = 0: anchor_main is at " + fmt(xa) +
+                             " and anchor_secondary at " + fmt(xb) +
+                             " in the world (the bodies' positions must satisfy the joint)");
+    multibody::Joint joint{j.name, a, b, c};
+    joint.label = label;
+    model.addJoint(joint);
+    out->scene_joint.push_back(static_cast<int>(k));
+    std::array<multibody::CoordinateDrive, 2> d;
+    for (int i = 0; i < 2; ++i) {
+      const CoordinateDescription& cd = j.coordinates[i];
+      d[i].stiffness = cd.stiffness;
+      d[i].rest_angle = cd.rest_angle;
+      d[i].damping = cd.damping;
+      d[i].moment = cd.moment;
+      d[i].prescribed = cd.prescribed;
+    }
+    drives.push_back(d);
+  }
+  out->system = std::make_unique<multibody::MultibodySystem>(std::move(model), std::move(drives), std::move(gears));
+  const multibody::MultibodySystem& sys = *out->system;
+  multibody::MultibodyGroupState y = sys.makeState(s);
+  // The joint angles at t = 0 are the given initial angles (the principal
+  // values could differ by 2π).
+  for (std::size_t k = 0; k < sys.model().joints.size(); ++k)
+    for (int i = 0; i < sys.coordinateCount(static_cast<int>(k)); ++i)
+      y.angles[2 * k + i] = constraints::unwrapAngle(y.angles[2 * k + i],
+                                                     scene.joints[out->scene_joint[k]].initial_angles[i]);
+  std::string why;
+  if (sys.hasConstraints() && !sys.factorConstraints(0.0, y, multibody::RowSet::kAll, &why))
+    throw InvalidInput(scene.source + ": joints", why);
+  const double phi0 = sys.constraintError(0.0, y);
+  int iterations = 0;
+  if (!sys.projectPositions(0.0, &y, kInitialProjectionTolerance, 50, &iterations, &why))
+    throw InvalidInput(scene.source + ": joints",
+                       "the initial state cannot be brought onto the joints' constraints: " + why);
+  out->initial_position_correction = phi0;
+  const Eigen::VectorXd u0 = y.velocities();
+  if (!sys.projectVelocities(0.0, &y, &why)) throw InvalidInput(scene.source + ": joints", why);
+  out->initial_velocity_correction = (y.velocities() - u0).lpNorm<Eigen::Infinity>();
+  out->y0 = y;
+  return out;
+}
+
+}  // namespace lieflow
