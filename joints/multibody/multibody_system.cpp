@@ -109,11 +109,52 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
     off_[i + 1] = off_[i] + model_.bodies[i].dofs();
   }
   n_ = off_[nb];
+  // Identically satisfied rows (see the header).
+  auto fixedPoint = [&](int body, const Eigen::Vector3d& anchor) {
+    return body == kGround || (rot_[body] && anchor.norm() <= 1e-12);
+  };
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const Joint& j = model_.joints[k];
+    const auto& point = std::visit(
+        [](const auto& con) -> const constraints::SphericalJoint<double>& {
+          if constexpr (std::is_same_v<std::decay_t<decltype(con)>, constraints::SphericalJoint<double>>)
+            return con;
+          else
+            return con.point;
+        },
+        j.constraint);
+    const bool trivial = fixedPoint(j.main, point.anchor_main) && fixedPoint(j.secondary, point.anchor_secondary);
+    skip_rows_.push_back(trivial ? 3 : 0);
     RowGroup g;
-    g.bodies = {{model_.joints[k].main, model_.joints[k].secondary, kGround, kGround}};
-    g.rows = constraintRows(model_.joints[k].constraint);
+    g.bodies = {{j.main, j.secondary, kGround, kGround}};
+    g.rows = constraintRows(j.constraint) - skip_rows_.back();
     pos_groups_.push_back(g);
+  }
+  auto hingedToCarrier = [&](int node, int carrier) {
+    for (const Joint& j : model_.joints)
+      if (j.constraint.index() == 1 &&
+          ((j.main == node && j.secondary == carrier) || (j.main == carrier && j.secondary == node)))
+        return true;
+    return false;
+  };
+  for (const Gear& gear : gears_) {
+    std::vector<int> rows;
+    if (gear.constraint.index() == 0) {  // gear: r row, node 1 s/t, node 2 s/t
+      rows.push_back(0);
+      for (int node = 1; node <= 2; ++node)
+        if (!hingedToCarrier(gear.bodies[node], gear.bodies[0])) {
+          rows.push_back(2 * node - 1);
+          rows.push_back(2 * node);
+        }
+    } else if (gear.constraint.index() == 1) {  // rack and pinion: both rows
+      rows = {0, 1};
+    } else {  // differential: r row; s, t rows unless every node is hinged
+      rows.push_back(0);
+      bool all = true;
+      for (int node = 1; node <= 3; ++node) all = all && hingedToCarrier(gear.bodies[node], gear.bodies[0]);
+      if (!all) rows.insert(rows.end(), {1, 2});
+    }
+    gear_rows_.push_back(rows);
   }
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
     for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i)
@@ -125,10 +166,10 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
         pos_groups_.push_back(g);
       }
   all_groups_ = pos_groups_;
-  for (const Gear& gear : gears_) {
+  for (std::size_t i = 0; i < gears_.size(); ++i) {
     RowGroup g;
-    g.bodies = gear.bodies;
-    g.rows = std::visit([](const auto& c) { return std::decay_t<decltype(c)>::kRows; }, gear.constraint);
+    g.bodies = gears_[i].bodies;
+    g.rows = static_cast<int>(gear_rows_[i].size());
     all_groups_.push_back(g);
   }
   all_.setup(rot_, all_groups_);
@@ -141,6 +182,13 @@ int MultibodySystem::coordinateCount(int k) const {
     case 2: return 2;  // universal
     default: return 0;
   }
+}
+
+bool MultibodySystem::hasDampers() const {
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i)
+      if (drives_[k][i].damping != 0.0) return true;
+  return false;
 }
 
 int MultibodySystem::positionRowCount() const {
@@ -306,14 +354,15 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
     BodyVelocity<double> va, vb;
     poses(y, j.main, j.secondary, &pa, &pb, &va, &vb);
     const int r0 = S.rowBegin(g), rows = S.groupRows(g);
+    if (rows == 0) continue;
     std::visit(
         [&](const auto& con) {
           const auto J = con.jacobians(pa, pb);
-          S.block(g, 0) = J[0];
-          S.block(g, 1) = J[1];
-          if (phi) phi->segment(r0, rows) = con.residual(pa, pb);
+          S.block(g, 0) = J[0].bottomRows(rows);
+          S.block(g, 1) = J[1].bottomRows(rows);
+          if (phi) phi->segment(r0, rows) = con.residual(pa, pb).tail(rows);
           if (b) b->segment(r0, rows).setZero();
-          if (c) c->segment(r0, rows) = con.convective(pa, pb, va, vb);
+          if (c) c->segment(r0, rows) = con.convective(pa, pb, va, vb).tail(rows);
         },
         j.constraint);
   }
@@ -330,7 +379,9 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
     ++g;
   }
   if (!gears) return;
-  for (const Gear& gear : gears_) {
+  for (std::size_t gi = 0; gi < gears_.size(); ++gi) {
+    const Gear& gear = gears_[gi];
+    const std::vector<int>& sel = gear_rows_[gi];
     std::visit(
         [&](const auto& con) {
           using C = std::decay_t<decltype(con)>;
@@ -342,10 +393,18 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
             V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
           }
           const auto B = con.rows(X);
-          for (std::size_t s = 0; s < C::kBodies; ++s) S.block(g, static_cast<int>(s)) = B[s];
+          const int rows = static_cast<int>(sel.size());
+          for (std::size_t s = 0; s < C::kBodies; ++s) {
+            GroupBlock& blk = S.block(g, static_cast<int>(s));
+            blk.resize(rows, 6);
+            for (int r = 0; r < rows; ++r) blk.row(r) = B[s].row(sel[r]);
+          }
           const int r0 = S.rowBegin(g);
-          if (b) b->segment(r0, C::kRows).setZero();
-          if (c) c->segment(r0, C::kRows) = con.convective(X, V);
+          if (b) b->segment(r0, rows).setZero();
+          if (c) {
+            const auto cc = con.convective(X, V);
+            for (int r = 0; r < rows; ++r) (*c)[r0 + r] = cc[sel[r]];
+          }
         },
         gear.constraint);
     ++g;
@@ -433,16 +492,14 @@ void MultibodySystem::velocity(double t, const State& y, Eigen::VectorXd* f) con
 void MultibodySystem::positionResidual(double t, const State& y, Eigen::VectorXd* phi) const {
   phi->resize(positionRowCount());
   int r = 0;
-  for (const Joint& j : model_.joints) {
+  for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const Joint& j = model_.joints[k];
+    const int rows = constraintRows(j.constraint) - skip_rows_[k];
+    if (rows == 0) continue;
     BodyPose<double> pa, pb;
     poses(y, j.main, j.secondary, &pa, &pb, nullptr, nullptr);
-    std::visit(
-        [&](const auto& con) {
-          const auto res = con.residual(pa, pb);
-          phi->segment(r, res.size()) = res;
-          r += static_cast<int>(res.size());
-        },
-        j.constraint);
+    std::visit([&](const auto& con) { phi->segment(r, rows) = con.residual(pa, pb).tail(rows); }, j.constraint);
+    r += rows;
   }
   for (const CoordinateRef& p : prescribed_)
     (*phi)[r++] = coordinate(y, p.joint, p.coordinate, nullptr, nullptr) -
@@ -464,6 +521,39 @@ double MultibodySystem::velocityConstraintError(double t, const State& y) const 
   Eigen::VectorXd Ju;
   S.multiplyJ(y.velocities(), Ju);
   return (Ju - b).lpNorm<Eigen::Infinity>();
+}
+
+void MultibodySystem::constraintJacobians(double t, const State& y, Eigen::VectorXd* phi,
+                                          Eigen::VectorXd* b) const {
+  // Position rows come first in all_, so Φ fills the head of the row range.
+  if (phi) phi->resize(positionRowCount());
+  if (b) b->resize(all_.rows());
+  fillGroups(t, y, all_, hasGears(), phi, b, nullptr);
+}
+
+void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) const {
+  int rows = 0;
+  for (const Gear& gear : gears_)
+    rows += std::visit([](const auto& c) { return std::decay_t<decltype(c)>::kRows; }, gear.constraint);
+  r->resize(rows);
+  int r0 = 0;
+  for (const Gear& gear : gears_) {
+    std::visit(
+        [&](const auto& con) {
+          using C = std::decay_t<decltype(con)>;
+          typename C::Poses X;
+          typename C::Velocities V;
+          for (std::size_t s = 0; s < C::kBodies; ++s) {
+            const int body = gear.bodies[s];
+            X[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
+            V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
+            if (body != kGround && rot_[body]) V[s].v.setZero();  // no δp columns (as multiplyJ)
+          }
+          r->segment(r0, C::kRows) = con.velocity(X, V);
+          r0 += C::kRows;
+        },
+        gear.constraint);
+  }
 }
 
 bool MultibodySystem::projectVelocities(double t, State* y, std::string* why) const {

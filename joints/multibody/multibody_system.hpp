@@ -20,6 +20,14 @@
 /// Gear, rack-and-pinion and differential rows (Radioss) act on velocities
 /// only: B(q) u = 0.
 ///
+/// Rows that are identically satisfied are not imposed (they would make
+/// J M⁻¹ Jᵀ singular): the point rows of a joint whose sides are all
+/// rotation-only bodies anchored at their centre of mass (or the ground) —
+/// the point cannot move, only the angular rows act; the s, t rows of a gear
+/// node hinged to the carrier by a revolute joint, and the s, t rows of a
+/// differential whose three nodes are all so hinged (gear.hpp: they vanish
+/// identically then).
+///
 /// Rows are grouped (schur_solver.hpp): first the holonomic joints, then the
 /// prescribed coordinates — together the position-level rows Φ(q, t) — then
 /// the gears (velocity rows). At acceleration level (index 1):
@@ -127,6 +135,8 @@ class MultibodySystem {
  public:
   using State = MultibodyGroupState;
   using Scalar = double;
+  /// The row sets, for generic steppers (integrators/constrained_lgvi.hpp).
+  using RowSet = ::lieflow::multibody::RowSet;
 
   /// Checks the drives (one pair per joint; springs, dashpots and drives only
   /// on revolute/universal coordinates; k, c finite ≥ 0; a coordinate is not
@@ -143,6 +153,11 @@ class MultibodySystem {
   int dofs() const { return n_; }
   int dofBegin(int body) const { return off_[body]; }
   bool rotationOnly(int body) const { return rot_[body] != 0; }
+  /// Mass and inertia (about the CoM, body axes) of a body.
+  double bodyMass(int body) const { return model_.bodies[body].mass; }
+  const Eigen::Matrix3d& bodyInertia(int body) const { return model_.bodies[body].inertia; }
+  /// True when some joint coordinate carries a dashpot (forces depend on u).
+  bool hasDampers() const;
   /// 0, 1 or 2 coordinates of joint k.
   int coordinateCount(int k) const;
   bool hasConstraints() const { return all_groups_.size() > 0; }
@@ -174,6 +189,17 @@ class MultibodySystem {
   double constraintError(double t, const State& y) const;
   /// max |J u − b| over all rows.
   double velocityConstraintError(double t, const State& y) const;
+  /// B(q) u of the gear rows at y (q, u of y), in row order (size: rows of
+  /// RowSet::kAll minus positionRowCount(); their targets b are 0). Evaluated
+  /// from the constraints directly: leaves the factorizations and the blocks
+  /// of schur() untouched.
+  void gearVelocityResidual(const State& y, Eigen::VectorXd* r) const;
+  /// Fills the Jacobian blocks of all rows at (t, y) into schur(RowSet::kAll)
+  /// without factoring S (for Newton iterations that assemble their own
+  /// matrix; read them with schur(RowSet::kAll).block(g, s)). Writes Φ of the
+  /// position rows (size positionRowCount()) if `phi` and the velocity
+  /// targets b of all rows (J u = b) if `b`.
+  void constraintJacobians(double t, const State& y, Eigen::VectorXd* phi, Eigen::VectorXd* b) const;
   /// Fills the blocks of the row set at y, sets M⁻¹ and factors S = J M⁻¹ Jᵀ;
   /// afterwards schur(set) gives J, Jᵀ, M⁻¹ and S⁻¹. Also writes the velocity
   /// targets b (J u = b) if `b` and the convective terms minus the prescribed
@@ -221,6 +247,12 @@ class MultibodySystem {
   double coordinateConvective(const State& y, int k, int i) const;
   void fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,
                   Eigen::VectorXd* b, Eigen::VectorXd* c) const;
+
+  /// Rows of joint k's constraint that are imposed: all but the first
+  /// skip_rows_[k] (3 when the point rows are identically satisfied).
+  std::vector<int> skip_rows_;
+  /// Rows of each gear constraint that are imposed.
+  std::vector<std::vector<int>> gear_rows_;
 
   MultibodyModel model_;
   std::vector<std::array<CoordinateDrive, 2>> drives_;
