@@ -130,4 +130,8 @@ struct BuiltinScene {
 };
 const std::vector<BuiltinScene>& builtinScenes();
 
+/// Scenes generated from their name (`chain-N`, 1 ≤ N ≤ 100000): writes the
+/// JSON text and returns true, or returns false for other names.
+bool generatedScene(const std::string& name, std::string* json);
+
 }  // namespace lieflow

@@ -429,8 +429,12 @@ SceneDescription loadScene(const std::string& file_or_name) {
   }
   for (const BuiltinScene& s : builtinScenes())
     if (s.name == file_or_name) return parseScene(s.json, "built-in scene '" + s.name + "'");
+  std::string generated;
+  if (generatedScene(file_or_name, &generated))
+    return parseScene(generated, "built-in scene '" + file_or_name + "'");
   std::string names;
   for (const BuiltinScene& s : builtinScenes()) names += (names.empty() ? "" : ", ") + s.name;
+  names += ", chain-N (N = 1 ... 100000)";
   throw InvalidInput(file_or_name, "no such scene file, and no built-in scene of that name (built-in: " +
                                        names + ")");
 }

@@ -1,10 +1,14 @@
-// Constrained acceleration solve on a chain of N rods joined by revolute joints
-// (first to ground, hinge axes alternating z / y in the parent frame), random
-// consistent state, with the cached ConstrainedAccelerationSolver (pattern
-// analysed once, factorize + solve per iteration).
+// A chain of N rods joined by revolute joints (first to ground, hinge axes
+// alternating z / y in the parent frame), random consistent state:
+//  * BM_ChainCachedSolve: the constrained acceleration solve alone, with the
+//    cached ConstrainedAccelerationSolver (pattern analysed once, factorize +
+//    solve per iteration);
+//  * BM_ChainStep_<integrator>: one full step of a constrained integrator on
+//    the MultibodySystem (projected RKMK4: 4 acceleration solves + position
+//    and velocity projections).
 //
-// After the benchmarks, prints time(1000)/time(100) against the target ≤ 12
-// (cost per step linear in N) and time(100)/time(10).
+// After the benchmarks, prints time(1000)/time(100) for each family against
+// the target ≤ 12 (cost per step linear in N) and time(100)/time(10).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -12,8 +16,12 @@
 #include <random>
 #include <string>
 
+#include "integrators/butcher_tableau.hpp"
+#include "integrators/projected_stepper.hpp"
+#include "integrators/rkmk.hpp"
 #include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
+#include "joints/multibody/multibody_system.hpp"
 
 namespace {
 
@@ -62,21 +70,52 @@ void BM_ChainFreeFunction(benchmark::State& st) {
 }
 BENCHMARK(BM_ChainFreeFunction)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
-// Collects real time per iteration of BM_ChainCachedSolve/N for the summary.
+/// One full step of `stepper` on the chain (h = 1e-3), state carried over.
+template <typename Stepper>
+void chainSteps(benchmark::State& st, Stepper stepper) {
+  const int N = static_cast<int>(st.range(0));
+  MultibodyState s;
+  const MultibodySystem system(revoluteChain(N, 42, &s), {});
+  // Released at rest (the random joint rates of the chain builder add up to
+  // tip speeds of ~N rad/s, beyond what h = 1e-3 resolves at N = 1000).
+  for (auto& v : s.velocities) v = BodyVelocity<double>{};
+  MultibodyGroupState y = system.makeState(s);
+  double t = 0.0;
+  const double h = 1e-3;
+  StepReport report;
+  for (auto _ : st) {
+    y = stepper.step(system, t, y, h, &report);
+    t += h;
+    if (!report.converged) {
+      st.SkipWithError(report.failure);
+      break;
+    }
+  }
+  st.counters["constraint_error"] = system.constraintError(t, y);
+  st.SetComplexityN(N);
+}
+
+void BM_ChainStep_rkmk4(benchmark::State& st) {
+  chainSteps(st, ProjectedStepper<RkmkStepper<MultibodyGroupState>>(
+                     RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())));
+}
+BENCHMARK(BM_ChainStep_rkmk4)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// Collects real time per iteration of every BM_.../N for the summary.
 class SummaryReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
       const std::string name = r.benchmark_name();
       if (r.run_type != Run::RT_Iteration || r.iterations == 0) continue;
-      const std::string prefix = "BM_ChainCachedSolve/";
-      if (name.rfind(prefix, 0) == 0)
-        ns[std::stoi(name.substr(prefix.size()))] =
-            r.real_accumulated_time / static_cast<double>(r.iterations) * 1e9;
+      const auto slash = name.rfind('/');
+      if (slash == std::string::npos) continue;
+      ns[name.substr(0, slash)][std::stoi(name.substr(slash + 1))] =
+          r.real_accumulated_time / static_cast<double>(r.iterations) * 1e9;
     }
     ConsoleReporter::ReportRuns(runs);
   }
-  std::map<int, double> ns;
+  std::map<std::string, std::map<int, double>> ns;
 };
 
 }  // namespace
@@ -87,13 +126,14 @@ int main(int argc, char** argv) {
   SummaryReporter rep;
   benchmark::RunSpecifiedBenchmarks(&rep);
   benchmark::Shutdown();
-  auto& t = rep.ns;
-  if (t.count(10) && t.count(100) && t.count(1000)) {
+  std::printf("\n");
+  for (auto& family : rep.ns) {
+    auto& t = family.second;
+    if (!(t[10] > 0 && t[100] > 0 && t[1000] > 0)) continue;
     const double r1 = t[1000] / t[100], r2 = t[100] / t[10];
-    std::printf("\nSUMMARY cached solve (revolute chain): t(10) = %.2f us, t(100) = %.2f us, "
-                "t(1000) = %.2f us\n",
-                t[10] * 1e-3, t[100] * 1e-3, t[1000] * 1e-3);
-    std::printf("SUMMARY t(1000)/t(100) = %.2f (target <= 12: %s), t(100)/t(10) = %.2f\n", r1,
+    std::printf("SUMMARY %s: t(10) = %.2f us, t(100) = %.2f us, t(1000) = %.2f us; t(1000)/t(100) = %.2f "
+                "(target <= 12: %s), t(100)/t(10) = %.2f\n",
+                family.first.c_str(), t[10] * 1e-3, t[100] * 1e-3, t[1000] * 1e-3, r1,
                 r1 <= 12.0 ? "met" : "NOT met", r2);
   }
   return 0;
