@@ -13,6 +13,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/csv_writer.hpp"
+#include "app/recording_noise.hpp"
 #include "app/run_setup.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -35,12 +36,18 @@ constexpr const char* kUsage =
     "  --stats            print one JSON object: integrator, dt, steps, wall_seconds,\n"
     "                     ns_per_step, energy_drift, momentum_drift, constraint_error,\n"
     "                     newton_iterations_mean, failed, failure\n"
+    "  --noise-gyro S     add N(0, S^2) rad/s to every B.wx, B.wy, B.wz written (a gyroscope)\n"
+    "  --noise-angle S    add N(0, S^2) rad to every joint angle J.phi, J.phi1, J.phi2 written\n"
+    "  --noise-quat S     rotate every written quaternion by exp(d), d ~ N(0, S^2 I) rad (body frame)\n"
+    "  --seed N           seed of the noise generator (default 1)\n"
     "exit status: 0 success, 1 the simulation failed (blow-up, non-convergence), 2 bad input\n";
 
 }  // namespace
 
 int runSimulate(int argc, char** argv) {
-  const Arguments args(argc, argv, {"--integrator", "--dt", "--t-end", "--out", "--every", "--options"},
+  const Arguments args(argc, argv,
+                       {"--integrator", "--dt", "--t-end", "--out", "--every", "--options", "--noise-gyro",
+                        "--noise-angle", "--noise-quat", "--seed"},
                        {"--stats"});
   if (args.help()) {
     std::cout << kUsage;
@@ -61,12 +68,23 @@ int runSimulate(int argc, char** argv) {
   }
   std::ostream* csv_stream = !out_path.empty() ? static_cast<std::ostream*>(&file)
                                                : (stats ? nullptr : &std::cout);
+  NoiseOptions noise;
+  noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
+  noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
+  noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
+  noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
+  RecordingNoise noisy(simulation.columns(), noise);
   std::function<void(const std::vector<double>&)> sink;
   std::unique_ptr<CsvWriter> csv;
   if (csv_stream) {
     csv = std::make_unique<CsvWriter>(*csv_stream);
     csv->header(simulation.columns());
-    sink = [&](const std::vector<double>& row) { csv->row(row); };
+    sink = [&](const std::vector<double>& row) {
+      if (!noise.any()) return csv->row(row);
+      std::vector<double> r = row;
+      noisy.apply(&r);
+      csv->row(r);
+    };
   }
   const SimulationResult result = simulation.run(options, sink);
   if (file.is_open()) {

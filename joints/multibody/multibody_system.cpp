@@ -533,11 +533,12 @@ void MultibodySystem::constraintJacobians(double t, const State& y, Eigen::Vecto
 
 void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) const {
   int rows = 0;
-  for (const Gear& gear : gears_)
-    rows += std::visit([](const auto& c) { return std::decay_t<decltype(c)>::kRows; }, gear.constraint);
+  for (const std::vector<int>& sel : gear_rows_) rows += static_cast<int>(sel.size());
   r->resize(rows);
   int r0 = 0;
-  for (const Gear& gear : gears_) {
+  for (std::size_t gi = 0; gi < gears_.size(); ++gi) {
+    const Gear& gear = gears_[gi];
+    const std::vector<int>& sel = gear_rows_[gi];  // the imposed rows, as in fillGroups
     std::visit(
         [&](const auto& con) {
           using C = std::decay_t<decltype(con)>;
@@ -549,8 +550,9 @@ void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) c
             V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
             if (body != kGround && rot_[body]) V[s].v.setZero();  // no δp columns (as multiplyJ)
           }
-          r->segment(r0, C::kRows) = con.velocity(X, V);
-          r0 += C::kRows;
+          const auto Bu = con.velocity(X, V);
+          for (std::size_t k = 0; k < sel.size(); ++k) (*r)[r0 + static_cast<int>(k)] = Bu[sel[k]];
+          r0 += static_cast<int>(sel.size());
         },
         gear.constraint);
   }
@@ -663,15 +665,19 @@ Eigen::Vector3d MultibodySystem::angularMomentum(const State& y) const {
 }
 
 bool MultibodySystem::conservesAngularMomentum() const {
+  // External moments about the origin come from gravity (unless every body
+  // is rotation-only, held at its centre of mass), from the ground side of
+  // joints and gears, and from the supports of rotation-only bodies whenever
+  // a joint passes a force to them (its point rows are imposed). Joint
+  // springs, dashpots, applied moments and prescribed motion between two
+  // bodies act in equal and opposite pairs.
   bool all_rotation_only = true;
   for (int i = 0; i < bodyCount(); ++i) all_rotation_only = all_rotation_only && rot_[i];
   if (model_.gravity.squaredNorm() != 0.0 && !all_rotation_only) return false;
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const Joint& j = model_.joints[k];
     if (j.main == kGround || j.secondary == kGround) return false;
-    if (rot_[j.main] || rot_[j.secondary]) return false;
-    for (const CoordinateDrive& d : drives_[k])
-      if (d.moment || d.prescribed) return false;
+    if ((rot_[j.main] || rot_[j.secondary]) && skip_rows_[k] != 3) return false;
   }
   for (const Gear& g : gears_)
     for (int b : g.bodies)

@@ -225,8 +225,9 @@ class MultibodySystem {
   Eigen::Vector3d spatialAngularMomentum(const State& y) const { return angularMomentum(y); }
   /// Σ (p × m v + R J ω), the spatial angular momentum about the world origin.
   Eigen::Vector3d angularMomentum(const State& y) const;
-  /// True when no external moment acts: no gravity, no joint or gear to the
-  /// ground, no applied moments or prescribed motion.
+  /// True when no external moment acts about the origin: no gravity on a
+  /// translating body, no joint or gear to the ground, no force passed to the
+  /// support of a rotation-only body (see the .cpp).
   bool conservesAngularMomentum() const;
   /// Joint angles, rates and moments about the joint axes at (t, y): the
   /// moment on the main body about each axis (M_J = M_M · a, README), the
