@@ -1,6 +1,7 @@
 #include "app/stability.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -54,6 +55,30 @@ double characteristicFrequency(const SceneDescription& scene) {
     if (b.spring_stiffness > 0.0) {
       const double i_min = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(b.inertia).eigenvalues().minCoeff();
       omega = std::max(omega, std::sqrt(b.spring_stiffness / i_min));
+    }
+  }
+  // Joint springs: √(k / I_a), I_a the secondary body's moment of inertia
+  // about the joint axis through the anchor at t = 0 (parallel axes; the main
+  // body held), the frequency of that joint alone.
+  for (const JointDescription& j : scene.joints) {
+    if (j.type != "revolute" && j.type != "universal") continue;
+    const int bi = scene.bodyIndex(j.secondary);
+    const int ai = scene.bodyIndex(j.main);
+    if (bi < 0) continue;
+    const BodyDescription& b = scene.bodies[bi];
+    const Eigen::Matrix3d Rb = b.orientation.toRotationMatrix();
+    const Eigen::Matrix3d Ra = ai < 0 ? Eigen::Matrix3d::Identity()
+                                      : Eigen::Matrix3d(scene.bodies[ai].orientation.toRotationMatrix());
+    const std::array<Eigen::Vector3d, 2> axes = {
+        Eigen::Vector3d((Ra * j.axis_main).normalized()), Eigen::Vector3d((Rb * j.axis_secondary).normalized())};
+    for (int i = 0; i < (j.type == "revolute" ? 1 : 2); ++i) {
+      const double k = j.coordinates[i].stiffness;
+      if (!(k > 0.0)) continue;
+      const Eigen::Vector3d& a = axes[i];
+      const Eigen::Vector3d d = Rb * j.anchor_secondary;  // CoM → anchor, world
+      const double lever2 = b.rotation_only ? 0.0 : (d - d.dot(a) * a).squaredNorm();
+      const double I = a.dot(Rb * b.inertia * Rb.transpose() * a) + b.mass * lever2;
+      omega = std::max(omega, std::sqrt(k / I));
     }
   }
   if (!(omega > 0.0))

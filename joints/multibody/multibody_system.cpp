@@ -604,7 +604,8 @@ bool MultibodySystem::projectPositions(double t, State* y, double tolerance, int
   if (why) {
     std::ostringstream s;
     s << "position projection did not converge: max |Phi| = " << phi.lpNorm<Eigen::Infinity>() << " after "
-      << (iterations ? *iterations : max_iterations) << " iterations (tolerance " << tolerance << ")";
+      << (iterations ? *iterations : max_iterations) << " iterations (tolerance " << tolerance
+      << "); the step left the constraints too far to return, as beyond the integrator's stability limit";
     *why = s.str();
   }
   return false;
