@@ -8,18 +8,27 @@
 //    and velocity projections).
 //
 // After the benchmarks, prints time(1000)/time(100) for each family against
-// the target ≤ 12 (cost per step linear in N) and time(100)/time(10).
+// the target ≤ 12 (cost per step linear in N) and time(100)/time(10), medians
+// over --benchmark_repetitions. Built with MuJoCo (CMakeLists.txt), the binary
+// also times the same chain in MuJoCo (bench_chain_mujoco.cpp:
+// BM_ChainStep_mujoco_rk4/N, BM_ChainStep_mujoco_euler/N), prints their ratios
+// (for comparison: the target is lieflow's) and lieflow's time per step over
+// MuJoCo's at each N.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <random>
 #include <string>
+#include <vector>
 
+#include <unistd.h>
+
+#include "bench/multibody/chain_scene.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
 #include "joints/multibody/multibody_system.hpp"
 
@@ -32,18 +41,12 @@ using constraints::BodyVelocity;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-/// The chain of joints/multibody/chain_builder.hpp, axes alternating z / y,
-/// with a full inertia (products of inertia included).
-MultibodyModel revoluteChain(int N, unsigned seed, MultibodyState* state) {
-  Matrix3d I;
-  I << 0.002, 0.0002, -0.0005, 0.0002, 0.01, 0.0007, -0.0005, 0.0007, 0.01;
-  return randomRevoluteChain(N, true, I, seed, state);
-}
+using bench::revoluteChain;
 
 void BM_ChainCachedSolve(benchmark::State& st) {
   const int N = static_cast<int>(st.range(0));
   MultibodyState s;
-  const MultibodyModel model = revoluteChain(N, 42, &s);
+  const MultibodyModel model = revoluteChain(N, bench::kChainSeed, &s);
   ConstrainedAccelerationSolver solver(model);
   AccelerationSolution out;
   for (auto _ : st) {
@@ -56,13 +59,17 @@ void BM_ChainCachedSolve(benchmark::State& st) {
   st.counters["analyze"] = solver.analyzeCount();
   st.SetComplexityN(N);
 }
-BENCHMARK(BM_ChainCachedSolve)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+// N = 30 and 300 only fill in the curve of papers/chain-scaling/ (the summary
+// uses 10, 100, 1000).
+BENCHMARK(BM_ChainCachedSolve)
+    ->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
 
 // For comparison: the free function (pattern analysed on every call).
 void BM_ChainFreeFunction(benchmark::State& st) {
   const int N = static_cast<int>(st.range(0));
   MultibodyState s;
-  const MultibodyModel model = revoluteChain(N, 42, &s);
+  const MultibodyModel model = revoluteChain(N, bench::kChainSeed, &s);
   for (auto _ : st) {
     const auto out = solveConstrainedAccelerations(model, s);
     benchmark::DoNotOptimize(out.lambda.data());
@@ -75,7 +82,7 @@ template <typename Stepper>
 void chainSteps(benchmark::State& st, Stepper stepper) {
   const int N = static_cast<int>(st.range(0));
   MultibodyState s;
-  const MultibodySystem system(revoluteChain(N, 42, &s), {});
+  const MultibodySystem system(revoluteChain(N, bench::kChainSeed, &s), {});
   // Released at rest (the random joint rates of the chain builder add up to
   // tip speeds of ~N rad/s, beyond what h = 1e-3 resolves at N = 1000).
   for (auto& v : s.velocities) v = BodyVelocity<double>{};
@@ -99,42 +106,100 @@ void BM_ChainStep_rkmk4(benchmark::State& st) {
   chainSteps(st, ProjectedStepper<RkmkStepper<MultibodyGroupState>>(
                      RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())));
 }
-BENCHMARK(BM_ChainStep_rkmk4)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ChainStep_rkmk4)
+    ->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
 
-// Collects real time per iteration of every BM_.../N for the summary.
+// Collects real time per iteration of every BM_.../N for the summary (every
+// repetition with --benchmark_repetitions; the summary takes their median).
 class SummaryReporter : public benchmark::ConsoleReporter {
  public:
+  explicit SummaryReporter(OutputOptions options) : ConsoleReporter(options) {}
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
       const std::string name = r.benchmark_name();
-      if (r.run_type != Run::RT_Iteration || r.iterations == 0) continue;
+      if (r.run_type != Run::RT_Iteration || r.iterations == 0 || r.error_occurred) continue;
       const auto slash = name.rfind('/');
       if (slash == std::string::npos) continue;
-      ns[name.substr(0, slash)][std::stoi(name.substr(slash + 1))] =
-          r.real_accumulated_time / static_cast<double>(r.iterations) * 1e9;
+      ns[name.substr(0, slash)][std::stoi(name.substr(slash + 1))].push_back(
+          r.real_accumulated_time / static_cast<double>(r.iterations) * 1e9);
     }
     ConsoleReporter::ReportRuns(runs);
   }
-  std::map<std::string, std::map<int, double>> ns;
+  /// Median real ns per iteration of family/N (0 when not run).
+  double median(const std::string& family, int n) const {
+    const auto f = ns.find(family);
+    if (f == ns.end()) return 0.0;
+    const auto it = f->second.find(n);
+    if (it == f->second.end() || it->second.empty()) return 0.0;
+    std::vector<double> v = it->second;
+    std::sort(v.begin(), v.end());
+    const size_t k = v.size() / 2;
+    return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
+  }
+  std::map<std::string, std::map<int, std::vector<double>>> ns;
 };
 
 }  // namespace
 
+#ifdef LIEFLOW_BENCH_CHAIN_MUJOCO
+namespace lieflow {
+namespace bench {
+std::string chainMujocoDescription();  // bench_chain_mujoco.cpp
+}  // namespace bench
+}  // namespace lieflow
+#endif
+
 int main(int argc, char** argv) {
+  // Colours as Google Benchmark's own console reporter: only on a terminal,
+  // never with --benchmark_color=false (read before Initialize consumes it).
+  bool color = isatty(STDOUT_FILENO) != 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--benchmark_color=false" || a == "--benchmark_color=no") color = false;
+    if (a == "--benchmark_color=true" || a == "--benchmark_color=yes") color = true;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  SummaryReporter rep;
+#ifdef LIEFLOW_BENCH_CHAIN_MUJOCO
+  benchmark::AddCustomContext("lieflow_mujoco", lieflow::bench::chainMujocoDescription());
+#else
+  benchmark::AddCustomContext("lieflow_mujoco", "not built in (CMake found no MuJoCo)");
+#endif
+  SummaryReporter rep(color ? benchmark::ConsoleReporter::OO_ColorTabular
+                            : benchmark::ConsoleReporter::OO_Tabular);
   benchmark::RunSpecifiedBenchmarks(&rep);
   benchmark::Shutdown();
   std::printf("\n");
-  for (auto& family : rep.ns) {
-    auto& t = family.second;
-    if (!(t[10] > 0 && t[100] > 0 && t[1000] > 0)) continue;
-    const double r1 = t[1000] / t[100], r2 = t[100] / t[10];
+  for (const auto& family : rep.ns) {
+    const std::string& name = family.first;
+    const double t10 = rep.median(name, 10), t100 = rep.median(name, 100), t1000 = rep.median(name, 1000);
+    if (!(t10 > 0 && t100 > 0 && t1000 > 0)) continue;
+    const double r1 = t1000 / t100, r2 = t100 / t10;
+    // The target (cost per step linear in N) is lieflow's; MuJoCo's ratios are
+    // printed for comparison.
+    const bool peer = name.find("mujoco") != std::string::npos;
     std::printf("SUMMARY %s: t(10) = %.2f us, t(100) = %.2f us, t(1000) = %.2f us; t(1000)/t(100) = %.2f "
-                "(target <= 12: %s), t(100)/t(10) = %.2f\n",
-                family.first.c_str(), t[10] * 1e-3, t[100] * 1e-3, t[1000] * 1e-3, r1,
+                "(%s%s), t(100)/t(10) = %.2f\n",
+                name.c_str(), t10 * 1e-3, t100 * 1e-3, t1000 * 1e-3, r1,
+                peer ? "MuJoCo, for comparison; lieflow's target <= 12: " : "target <= 12: ",
                 r1 <= 12.0 ? "met" : "NOT met", r2);
+  }
+  // lieflow's projected RKMK4 step against MuJoCo's steps, N by N.
+  const char* lieflow_family = "BM_ChainStep_rkmk4";
+  for (const char* peer : {"BM_ChainStep_mujoco_rk4", "BM_ChainStep_mujoco_euler"}) {
+    if (!rep.ns.count(peer) || !rep.ns.count(lieflow_family)) continue;
+    std::string line;
+    for (int n : {10, 30, 100, 300, 1000}) {
+      const double a = rep.median(lieflow_family, n), b = rep.median(peer, n);
+      if (!(a > 0 && b > 0)) continue;
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%sN = %d: %.3g", line.empty() ? "" : ", ", n, a / b);
+      line += buf;
+    }
+    if (!line.empty())
+      std::printf("SUMMARY time per step %s / %s (> 1: lieflow slower): %s\n", lieflow_family, peer,
+                  line.c_str());
   }
   return 0;
 }
