@@ -68,7 +68,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
     const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
-    const std::string prefix = scene.source + ": joints[" + std::to_string(k) + "]";
+    const std::string& prefix = label;
     if (isGear(j.type)) {
       multibody::Gear g;
       g.name = label;
@@ -139,16 +139,21 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
       y.angles[2 * k + i] = constraints::unwrapAngle(y.angles[2 * k + i],
                                                      scene.joints[out->scene_joint[k]].initial_angles[i]);
   std::string why;
-  if (sys.hasConstraints() && !sys.factorConstraints(0.0, y, multibody::RowSet::kAll, &why))
-    throw InvalidInput(scene.source + ": joints", why);
+  // The system's messages start with the joint's label ("SOURCE: joints[k]
+  // (name): reason"); split it off as the field.
+  auto fail = [&](const std::string& text, const std::string& context) -> InvalidInput {
+    const auto cut = text.find("): ");
+    if (cut == std::string::npos) return InvalidInput(scene.source + ": joints", context + text);
+    return InvalidInput(text.substr(0, cut + 1), context + text.substr(cut + 3));
+  };
+  if (sys.hasConstraints() && !sys.factorConstraints(0.0, y, multibody::RowSet::kAll, &why)) throw fail(why, "");
   const double phi0 = sys.constraintError(0.0, y);
   int iterations = 0;
   if (!sys.projectPositions(0.0, &y, kInitialProjectionTolerance, 50, &iterations, &why))
-    throw InvalidInput(scene.source + ": joints",
-                       "the initial state cannot be brought onto the joints' constraints: " + why);
+    throw fail(why, "the initial state cannot be brought onto the joints' constraints: ");
   out->initial_position_correction = phi0;
   const Eigen::VectorXd u0 = y.velocities();
-  if (!sys.projectVelocities(0.0, &y, &why)) throw InvalidInput(scene.source + ": joints", why);
+  if (!sys.projectVelocities(0.0, &y, &why)) throw fail(why, "");
   out->initial_velocity_correction = (y.velocities() - u0).lpNorm<Eigen::Infinity>();
   out->y0 = y;
   return out;

@@ -302,6 +302,11 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
                        "' (known: spherical, revolute, universal, gear, rack_pinion, differential)");
   j.main = r.string("main");
   j.secondary = r.string("secondary");
+  if (j.type == "spherical")
+    for (const char* key : {"spring", "damper", "moment", "prescribed"})
+      if (r.has(key))
+        r.fail(key, "a spherical joint has no joint coordinate to carry a spring, damper, moment or prescribed "
+                    "motion (use a revolute or universal joint)");
   if (j.type == "spherical" || j.type == "revolute" || j.type == "universal") {
     j.anchor_main = r.vector3("anchor_main");
     j.anchor_secondary = r.vector3("anchor_secondary");

@@ -17,8 +17,11 @@
 ///    the dashpots c J_φᵀ J_φ of the joint coordinates;
 ///  * K_t: the springs k J_φᵀ J_φ and the geometric stiffness of the
 ///    constraint forces ∂(Jᵀλ)/∂δq, by one-sided differences of the Jacobian
-///    blocks of each row group in the rotation coordinates of its bodies
-///    (the blocks of joints/constraints/ depend on the orientations only).
+///    blocks (MultibodySystem::constraintJacobians at perturbed poses, bodies
+///    coloured so that one evaluation per colour and coordinate suffices: 2
+///    colours × 3 rotations along a chain). Holonomic joint and angle blocks
+///    depend on the orientations only; with gears the positions are
+///    perturbed too (rack-and-pinion slide terms).
 ///    Left out: the spring's k (φ − φ₀) ∂J_φ/∂δq, ∂(Jᵀλ)/∂δp (zero for these
 ///    joints) and the velocity rows' ∂(B u)/∂δq — they cost iterations, not
 ///    accuracy.
@@ -112,6 +115,10 @@ class KktAssembly {
   std::vector<std::array<int, kMaxGroupBodies>> j_block_, jt_block_;  ///< per group
   Eigen::VectorXd F_, phi_, b_, Mu_, JTl_, Ju_;
   std::vector<Eigen::Matrix3d> Jr_;
+  double t_ = 0.0;                                   ///< t of the last residual()
+  std::vector<int> colour_;                          ///< per body (geometricStiffness)
+  int colours_ = 0;
+  std::vector<std::array<GroupBlock, kMaxGroupBodies>> base_;  ///< J(y) saved
 };
 
 }  // namespace multibody

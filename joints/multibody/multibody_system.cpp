@@ -130,28 +130,42 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
     g.rows = constraintRows(j.constraint) - skip_rows_.back();
     pos_groups_.push_back(g);
   }
-  auto hingedToCarrier = [&](int node, int carrier) {
-    for (const Joint& j : model_.joints)
-      if (j.constraint.index() == 1 &&
-          ((j.main == node && j.secondary == carrier) || (j.main == carrier && j.secondary == node)))
-        return true;
+  // A node is hinged to its carrier when a revolute joint joins them about
+  // the node's r axis (parallel to 1e-9 in the node's frame).
+  auto hingedToCarrier = [&](int node, int carrier, const Eigen::Vector3d& r_node) {
+    for (const Joint& j : model_.joints) {
+      const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint);
+      if (!rev) continue;
+      Eigen::Vector3d axis_node;
+      if (j.main == node && j.secondary == carrier)
+        axis_node = rev->axis_main;
+      else if (j.main == carrier && j.secondary == node)
+        axis_node = rev->axis_secondary;
+      else
+        continue;
+      if (std::abs(axis_node.dot(r_node)) >= 1.0 - 1e-9) return true;
+    }
     return false;
   };
   for (const Gear& gear : gears_) {
     std::vector<int> rows;
     if (gear.constraint.index() == 0) {  // gear: r row, node 1 s/t, node 2 s/t
+      const auto& gj = std::get<constraints::GearJoint<double>>(gear.constraint);
       rows.push_back(0);
       for (int node = 1; node <= 2; ++node)
-        if (!hingedToCarrier(gear.bodies[node], gear.bodies[0])) {
+        if (!hingedToCarrier(gear.bodies[node], gear.bodies[0], node == 1 ? gj.node1.r : gj.node2.r)) {
           rows.push_back(2 * node - 1);
           rows.push_back(2 * node);
         }
     } else if (gear.constraint.index() == 1) {  // rack and pinion: both rows
       rows = {0, 1};
     } else {  // differential: r row; s, t rows unless every node is hinged
+      const auto& dj = std::get<constraints::DifferentialJoint<double>>(gear.constraint);
       rows.push_back(0);
+      const Eigen::Vector3d r[3] = {dj.node1.r, dj.node2.r, dj.node3.r};
       bool all = true;
-      for (int node = 1; node <= 3; ++node) all = all && hingedToCarrier(gear.bodies[node], gear.bodies[0]);
+      for (int node = 1; node <= 3; ++node)
+        all = all && hingedToCarrier(gear.bodies[node], gear.bodies[0], r[node - 1]);
       if (!all) rows.insert(rows.end(), {1, 2});
     }
     gear_rows_.push_back(rows);
@@ -516,7 +530,7 @@ double MultibodySystem::constraintError(double t, const State& y) const {
 double MultibodySystem::velocityConstraintError(double t, const State& y) const {
   if (!hasConstraints()) return 0.0;
   SchurSolver& S = all_;
-  Eigen::VectorXd b;
+  Eigen::VectorXd b(S.rows());  // fillGroups writes segments: size it first
   fillGroups(t, y, S, hasGears(), nullptr, &b, nullptr);
   Eigen::VectorXd Ju;
   S.multiplyJ(y.velocities(), Ju);

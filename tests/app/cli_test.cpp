@@ -122,6 +122,29 @@ TEST(Cli, BlowUpExitsOneWithMessageAndNoNaN) {
   EXPECT_EQ(s.str().find("nan"), std::string::npos);
 }
 
+TEST(Cli, PendulumOnARevoluteJointKeepsItsConstraint) {
+  const Outcome o = run("simulate pendulum --stats");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string key = "\"constraint_error\":";
+  const auto pos = o.out.find(key);
+  ASSERT_NE(pos, std::string::npos) << o.out;
+  EXPECT_LE(std::stod(o.out.substr(pos + key.size())), 1e-10) << o.out;
+  EXPECT_NE(o.out.find("\"failed\":false"), std::string::npos) << o.out;
+}
+
+TEST(Cli, BadJointExitsTwoNamingFileAndField) {
+  const std::string path = testing::TempDir() + "bad_joint.json";
+  std::ofstream(path) << R"({"name": "x", "gravity": [0, 0, -9.81],
+    "bodies": [{"name": "rod", "mass": 1, "inertia": [0.1, 0.1, 0.01], "position": [0, 0, -0.5]}],
+    "joints": [{"name": "hinge", "type": "revolute", "main": "ground", "secondary": "rod",
+                "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 0, 0]}]})";
+  const Outcome o = run("simulate " + path + " --integrator rkmk4 --dt 0.01 --t-end 1");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find(path), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("joints[0] (hinge).axis_main"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("zero"), std::string::npos) << o.err;
+}
+
 }  // namespace
 
 namespace {
