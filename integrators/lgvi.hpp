@@ -300,6 +300,77 @@ inline void velocityVerletTranslation(const System& system, const T& t, const Fr
 
 }  // namespace detail
 
+/// The solution of one LGVI implicit equation (1): the Newton unknown f and
+/// the relative rotation F_k = 1 + (w_minus_one, vec) as a quaternion (exp(f^)
+/// or cay(f), by LgviOptions::map), with the Newton statistics.
+template <typename T>
+struct LgviSolution {
+  Vector3<T> f;     ///< the last Newton iterate
+  T w_minus_one;    ///< F_k's quaternion is (1 + w_minus_one, vec)
+  Vector3<T> vec;
+  int iterations = 0;     ///< Newton corrections
+  double residual = 0.0;  ///< ‖G(f)‖ at the last iterate
+  bool converged = false;
+};
+
+namespace detail {
+
+/// Newton's method on G(f) = 0 (see the file comment) from the third-order
+/// predictor; the stopping test and the extra Jet step are those of
+/// LgviStepper.
+template <typename T, typename Equation>
+LgviSolution<T> solveLgviNewton(Equation* equation, const Matrix3<T>& J_inv, const Vector3<T>& rhs,
+                                const LgviOptions& options) {
+  constexpr bool kPlainFloat = std::is_floating_point<T>::value;
+  auto norm = [](const Vector3<T>& v) { return std::sqrt(scalarValue(v.squaredNorm())); };
+  const double threshold = options.tolerance * norm(rhs) + options.absolute_tolerance;
+  // Predictors: f₁ = J⁻¹ r (first order), f₀ = f₁ − ½ J⁻¹(f₁ × r) (second
+  // order, since J f₁ = r), then the map's third-order predictor.
+  const Vector3<T> f1 = J_inv * rhs;
+  LgviSolution<T> out;
+  Vector3<T>& f = out.f;
+  f = equation->predictor(J_inv, f1 - T(0.5) * (J_inv * f1.cross(rhs)));
+  Vector3<T> G = equation->residual(f);
+  double residual = norm(G);
+  int iterations = 0;
+  while (!(residual <= threshold) && iterations < options.max_iterations) {
+    f -= equation->jacobian(f).inverse() * G;
+    ++iterations;
+    G = equation->residual(f);
+    residual = norm(G);
+  }
+  const bool converged = residual <= threshold;
+  if (!kPlainFloat && converged) {
+    // Derivative parts: one more Newton step on the converged value.
+    f -= equation->jacobian(f).inverse() * G;
+    ++iterations;
+    G = equation->residual(f);
+    residual = norm(G);
+  }
+  out.iterations = iterations;
+  out.residual = residual;
+  out.converged = converged;
+  equation->increment(f, &out.w_minus_one, &out.vec);
+  return out;
+}
+
+}  // namespace detail
+
+/// Solves the LGVI equation (1), h Π^ + (h²/2) M^ = F J_d − J_d Fᵀ, for the
+/// relative rotation F (exp or Cayley map by options.map), given J, J⁻¹ and
+/// rhs = h Π + (h²/2) M (Lee, Leok & McClamroch 2005, eq. (16)). Shared by
+/// LgviStepper and the constrained LGVI (integrators/constrained_lgvi.hpp).
+template <typename T>
+LgviSolution<T> solveLgviEquation(const Matrix3<T>& J, const Matrix3<T>& J_inv, const Vector3<T>& rhs,
+                                  const LgviOptions& options) {
+  if (options.map == LgviMap::kCayley) {
+    detail::LgviCayleyEquation<T> equation(J, rhs);
+    return detail::solveLgviNewton(&equation, J_inv, rhs, options);
+  }
+  detail::LgviExpEquation<T> equation(J, rhs);
+  return detail::solveLgviNewton(&equation, J_inv, rhs, options);
+}
+
 /// The LGVI stepper for RotorState and FreeBodyState, on any System with
 /// `inertia()`, `inertiaInverse()`, `hasExternalTorque()`,
 /// `externalTorque(t, R)` (body frame) and, for FreeBodyState, `mass()` and
@@ -333,15 +404,14 @@ class LgviStepper {
     const Vector3<T> rhs = h * momentum;
 
     // F_k = 1 + (dw, dv) as a quaternion.
-    T dw;
-    Vector3<T> dv;
-    if (options_.map == LgviMap::kCayley) {
-      detail::LgviCayleyEquation<T> equation(J, rhs);
-      solve(&equation, J_inv, rhs, report, &dw, &dv);
-    } else {
-      detail::LgviExpEquation<T> equation(J, rhs);
-      solve(&equation, J_inv, rhs, report, &dw, &dv);
+    const LgviSolution<T> solution = solveLgviEquation(J, J_inv, rhs, options_);
+    if (report) {
+      report->newton_iterations = solution.iterations;
+      report->residual = solution.residual;
+      if (!solution.converged) report->fail("LGVI Newton did not converge", solution.residual);
     }
+    const T& dw = solution.w_minus_one;
+    const Vector3<T>& dv = solution.vec;
 
     State out = y;
     out.R = SO3<T>(detail::composeNearIdentity(y.R.quaternion(), dw, dv));
@@ -355,45 +425,6 @@ class LgviStepper {
   }
 
  private:
-  static constexpr bool kPlainFloat = std::is_floating_point<Scalar>::value;
-
-  static double norm(const Vector3<Scalar>& v) { return std::sqrt(scalarValue(v.squaredNorm())); }
-
-  /// Newton's method on G(f) = 0; returns F(f) = 1 + (dw, dv) at the last iterate.
-  template <typename Equation>
-  void solve(Equation* equation, const Matrix3<Scalar>& J_inv, const Vector3<Scalar>& rhs,
-             StepReport* report, Scalar* dw, Vector3<Scalar>* dv) const {
-    using T = Scalar;
-    const double threshold = options_.tolerance * norm(rhs) + options_.absolute_tolerance;
-    // Predictors: f₁ = J⁻¹ r (first order), f₀ = f₁ − ½ J⁻¹(f₁ × r) (second
-    // order, since J f₁ = r), then the map's third-order predictor.
-    const Vector3<T> f1 = J_inv * rhs;
-    Vector3<T> f = equation->predictor(J_inv, f1 - T(0.5) * (J_inv * f1.cross(rhs)));
-    Vector3<T> G = equation->residual(f);
-    double residual = norm(G);
-    int iterations = 0;
-    while (!(residual <= threshold) && iterations < options_.max_iterations) {
-      f -= equation->jacobian(f).inverse() * G;
-      ++iterations;
-      G = equation->residual(f);
-      residual = norm(G);
-    }
-    const bool converged = residual <= threshold;
-    if (!kPlainFloat && converged) {
-      // Derivative parts: one more Newton step on the converged value.
-      f -= equation->jacobian(f).inverse() * G;
-      ++iterations;
-      G = equation->residual(f);
-      residual = norm(G);
-    }
-    if (report) {
-      report->newton_iterations = iterations;
-      report->residual = residual;
-      if (!converged) report->fail("LGVI Newton did not converge", residual);
-    }
-    equation->increment(f, dw, dv);
-  }
-
   LgviOptions options_;
 };
 

@@ -16,6 +16,7 @@
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "integrators/rigid_body_system.hpp"
+#include "integrators/constrained_lgvi.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "joints/multibody_scene.hpp"
@@ -361,6 +362,17 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
   if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
   if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
   if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+  if (name == "lgvi") {
+    ConstrainedLgviOptions l;
+    l.tolerance = option(o, "tolerance", l.tolerance);
+    l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
+    const double cayley = option(o, "cayley", 0.0);
+    if (cayley != 0.0 && cayley != 1.0) throw InvalidInput("cayley", "must be 0 (exp map) or 1 (Cayley map)");
+    if (cayley == 1.0) l.rotation.map = LgviMap::kCayley;
+    if (!(l.tolerance > 0.0)) throw InvalidInput("tolerance", "must be positive");
+    if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
+    return fixed(ConstrainedLgviStepper<multibody::MultibodySystem>(l));
+  }
   throw InvalidInput("--integrator", "'" + name + "' is not available for scenes with joints");
 }
 
@@ -430,13 +442,13 @@ bool Simulation::supports(const std::string& integrator, std::string* why) const
     return false;
   }
   if (model_->multibody) {
-    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"};
+    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi"};
     for (const char* n : kConstrained)
       if (integrator == n) return true;
     if (why)
       *why = "'" + integrator +
              "' is not available for scenes with joints (available: rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, "
-             "cf4 with projection)";
+             "cf4 with projection; lgvi as RATTLE)";
     return false;
   }
   if (integrator == "exact") {

@@ -58,6 +58,8 @@ class KktAssembly {
   using State = MultibodyGroupState;
 
   explicit KktAssembly(KktAssemblyOptions options = {}) : options_(options) {}
+  const KktAssemblyOptions& options() const { return options_; }
+  void setOptions(const KktAssemblyOptions& options) { options_ = options; }
 
   /// Binds to `system` (kept by reference) and builds the pattern when its
   /// topology differs from the bound one; true when the pattern is new.
