@@ -16,7 +16,9 @@
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "integrators/rigid_body_system.hpp"
+#include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/constrained_lgvi.hpp"
+#include "joints/multibody/kkt_assembly.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "joints/multibody_scene.hpp"
@@ -373,6 +375,13 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
     if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
     return fixed(ConstrainedLgviStepper<multibody::MultibodySystem>(l));
   }
+  if (name == "genalpha") {
+    ConstrainedGeneralizedAlphaOptions g;
+    g.rho_inf = option(o, "rho_inf", g.rho_inf);
+    g.tolerance = option(o, "tolerance", g.tolerance);
+    g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
+    return fixed(ConstrainedGeneralizedAlphaStepper<multibody::MultibodySystem>(g));
+  }
   throw InvalidInput("--integrator", "'" + name + "' is not available for scenes with joints");
 }
 
@@ -442,13 +451,13 @@ bool Simulation::supports(const std::string& integrator, std::string* why) const
     return false;
   }
   if (model_->multibody) {
-    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi"};
+    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "genalpha"};
     for (const char* n : kConstrained)
       if (integrator == n) return true;
     if (why)
       *why = "'" + integrator +
              "' is not available for scenes with joints (available: rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, "
-             "cf4 with projection; lgvi as RATTLE)";
+             "cf4 with projection; lgvi as RATTLE; genalpha at index 3)";
     return false;
   }
   if (integrator == "exact") {
