@@ -25,6 +25,7 @@ constexpr const char* kUsage =
     "  integrators      list the integrators with their order and properties\n"
     "  scenes           list the built-in scenes\n"
     "  liegroup         precision and speed tables of the SO(3)/SE(3) library\n"
+    "  calibrate hinge|universal RECORDING.csv  fit joint axes to a recording (needs Ceres)\n"
     "\n"
     "exit status: 0 success, 1 computation failed, 2 bad input or usage\n";
 
@@ -44,6 +45,13 @@ int dispatch(int argc, char** argv) {
   if (command == "integrators") return runIntegrators(rest_argc, rest_argv);
   if (command == "scenes") return runScenes(rest_argc, rest_argv);
   if (command == "liegroup") return runLiegroup(rest_argc, rest_argv);
+#ifdef LIEFLOW_HAVE_CERES
+  if (command == "calibrate") return runCalibrate(rest_argc, rest_argv);
+#else
+  if (command == "calibrate")
+    throw UsageError("calibrate: this lieflow was built without Ceres (apt-get install libceres-dev, then "
+                     "rebuild with -DLIEFLOW_BUILD_CALIBRATION=ON)");
+#endif
   throw UsageError("unknown command '" + command + "' (see lieflow --help)");
 }
 

@@ -1,0 +1,165 @@
+/// \file
+/// `lieflow calibrate hinge|universal RECORDING.csv ...`: fits a joint's axes
+/// to a recording and prints one JSON object (../shared/DESIGN.md). Exit 1
+/// when the data cannot identify the axes or the solver does not converge
+/// (the JSON is still printed then), 2 on bad input.
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/arguments.hpp"
+#include "app/cli.hpp"
+#include "app/commands.hpp"
+#include "calibration/hinge_fit.hpp"
+#include "calibration/recording.hpp"
+#include "calibration/universal_fit.hpp"
+
+namespace lieflow {
+namespace app {
+namespace {
+
+using calibration::AxisFitOptions;
+using calibration::AxisFitSummary;
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kUsage =
+    "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
+    "\n"
+    "Fits a joint's axes to a recording (the trajectory CSV: t and, per body B, any of\n"
+    "B.qw,B.qx,B.qy,B.qz and B.wx,B.wy,B.wz) and prints one JSON object.\n"
+    "  hinge      the revolute axis in both bodies' frames: axis_main, axis_secondary,\n"
+    "             axis_sigma_deg (from gyroscopes, orientations or both)\n"
+    "  universal  both axes of a universal joint: axis1_main, axis2_secondary and their\n"
+    "             _sigma_deg (needs orientations; gyroscopes are used too when present)\n"
+    "Only hinge and universal are available (the spring fit is not yet).\n"
+    "Always: rms_residual, iterations, converged, message; sigmas are 1-sigma RMS angles.\n"
+    "\n"
+    "  --main A, --secondary B   the joint's bodies; with exactly two bodies in the recording\n"
+    "                            they may be omitted (main: the first in column order)\n"
+    "  --use auto|gyroscopes|orientations|both   data to fit (default auto: all both bodies have)\n"
+    "  --loss none|huber|cauchy  robust loss per sample (default none)\n"
+    "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
+    "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
+    "                            an extra starting point (the closed-form one is always tried)\n"
+    "  --max-iterations N        Levenberg-Marquardt iterations (default 100)\n"
+    "  --max-sigma-deg S         largest 1-sigma of an axis direction accepted (default 5)\n"
+    "  --min-samples N           fewest samples accepted (default 20)\n"
+    "exit status: 0 success, 1 not identifiable or no convergence, 2 bad input\n";
+
+Eigen::Vector3d parseAxis(const Arguments& args, const std::string& flag) {
+  const std::vector<std::string> items = args.list(flag);
+  if (items.size() != 3) throw UsageError(flag + ": expected three numbers X,Y,Z");
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtod(items[i].c_str(), &end);
+    if (*end != '\0' || !std::isfinite(v[i])) throw UsageError(flag + ": '" + items[i] + "' is not a number");
+  }
+  if (!(v.norm() > 0.0)) throw UsageError(flag + ": the zero vector is no axis");
+  return v;
+}
+
+AxisFitOptions fitOptions(const Arguments& args) {
+  AxisFitOptions o;
+  o.use = calibration::parseDataUse(args.value("--use", "auto"), "--use");
+  o.loss = calibration::parseRobustLoss(args.value("--loss", "none"), "--loss");
+  o.loss_scale = args.positiveNumber("--loss-scale", o.loss_scale);
+  o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
+  o.max_sigma_deg = args.positiveNumber("--max-sigma-deg", o.max_sigma_deg);
+  o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+  if (args.has("--start-main") != args.has("--start-secondary"))
+    throw UsageError("--start-main and --start-secondary go together");
+  if (args.has("--start-main"))
+    o.extra_starts.push_back({parseAxis(args, "--start-main"), parseAxis(args, "--start-secondary")});
+  return o;
+}
+
+Json vector3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+/// The keys every calibration prints, after the fit's own.
+void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSamples& joint) {
+  j["rms_residual"] = s.rms_residual;
+  j["iterations"] = s.iterations;
+  j["converged"] = s.converged;
+  j["message"] = s.message;
+  j["main"] = joint.main.name;
+  j["secondary"] = joint.secondary.name;
+  j["data"] = s.data;
+  j["samples"] = s.samples;
+  j["rms_residual_unit"] = s.residuals.front().unit;
+  Json residuals = Json::array();
+  for (const calibration::ResidualStats& r : s.residuals)
+    residuals.push_back({{"kind", r.kind}, {"unit", r.unit}, {"samples", r.samples},
+                         {"noise_components", r.noise_dof}, {"rms", r.rms}, {"noise_scale", r.noise_scale}});
+  j["residuals"] = residuals;
+  j["reduced_chi_square"] = s.reduced_chi_square;
+  j["starts"] = s.starts;
+  j["start"] = s.start;
+  j["reweightings"] = s.reweightings;
+  j["seconds"] = s.seconds;
+}
+
+int finish(const Json& j, const AxisFitSummary& s, const std::string& what) {
+  std::cout << j.dump() << "\n";
+  if (!s.converged) {
+    std::cerr << "lieflow: " << what << ": the solver did not converge: " << s.message << "\n";
+    return kComputationFailed;
+  }
+  return kSuccess;
+}
+
+}  // namespace
+
+int runCalibrate(int argc, char** argv) {
+  const Arguments args(argc, argv,
+                       {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
+                        "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples"},
+                       {});
+  if (args.help()) {
+    std::cout << kUsage;
+    return kSuccess;
+  }
+  const std::vector<std::string>& pos = args.positional();
+  if (pos.empty())
+    throw UsageError("calibrate needs hinge or universal and a RECORDING.csv (see lieflow calibrate --help)");
+  const std::string& kind = pos[0];
+  if (kind != "hinge" && kind != "universal")
+    throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal)");
+  if (pos.size() != 2) throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv");
+  const AxisFitOptions options = fitOptions(args);
+  const calibration::Recording recording = calibration::readRecording(pos[1]);
+  const calibration::JointSamples joint =
+      calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", ""));
+  const std::string what = "calibrate " + kind + " " + pos[1];
+  try {
+    Json j;
+    if (kind == "hinge") {
+      const calibration::HingeFit fit = calibration::fitHinge(joint, options);
+      j["axis_main"] = vector3(fit.axis_main);
+      j["axis_secondary"] = vector3(fit.axis_secondary);
+      j["axis_sigma_deg"] = fit.axisSigmaDeg();
+      j["axis_main_sigma_deg"] = fit.sigma_main_deg;
+      j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
+      addSummary(j, fit.summary, joint);
+      j["sign"] = fit.sign;
+      return finish(j, fit.summary, what);
+    }
+    const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);
+    j["axis1_main"] = vector3(fit.axis1_main);
+    j["axis2_secondary"] = vector3(fit.axis2_secondary);
+    j["axis1_main_sigma_deg"] = fit.sigma1_deg;
+    j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
+    addSummary(j, fit.summary, joint);
+    j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
+    return finish(j, fit.summary, what);
+  } catch (const calibration::NotIdentifiable& e) {
+    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
+    return kComputationFailed;
+  }
+}
+
+}  // namespace app
+}  // namespace lieflow

@@ -1,0 +1,40 @@
+#include "calibration/fit_types.hpp"
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+const char* robustLossName(RobustLoss loss) {
+  switch (loss) {
+    case RobustLoss::kHuber: return "huber";
+    case RobustLoss::kCauchy: return "cauchy";
+    case RobustLoss::kNone: break;
+  }
+  return "none";
+}
+
+RobustLoss parseRobustLoss(const std::string& text, const std::string& field) {
+  for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy})
+    if (text == robustLossName(loss)) return loss;
+  throw InvalidInput(field, "unknown robust loss '" + text + "' (none, huber, cauchy)");
+}
+
+const char* dataUseName(DataUse use) {
+  switch (use) {
+    case DataUse::kAngularVelocities: return "gyroscopes";
+    case DataUse::kOrientations: return "orientations";
+    case DataUse::kBoth: return "both";
+    case DataUse::kAuto: break;
+  }
+  return "auto";
+}
+
+DataUse parseDataUse(const std::string& text, const std::string& field) {
+  for (DataUse use : {DataUse::kAuto, DataUse::kAngularVelocities, DataUse::kOrientations, DataUse::kBoth})
+    if (text == dataUseName(use)) return use;
+  throw InvalidInput(field, "unknown data selection '" + text + "' (auto, gyroscopes, orientations, both)");
+}
+
+}  // namespace calibration
+}  // namespace lieflow

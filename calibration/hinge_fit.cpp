@@ -1,0 +1,104 @@
+#include "calibration/hinge_fit.hpp"
+
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include "calibration/data_selection.hpp"
+#include "calibration/hinge_initial.hpp"
+#include "calibration/hinge_residuals.hpp"
+#include "calibration/hinge_sign.hpp"
+#include "calibration/residual_kind.hpp"
+#include "calibration/two_axis_solver.hpp"
+#include "calibration/unit_axis.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+constexpr const char* kRateHint =
+    "from gyroscopes alone each body must turn about directions other than the hinge axis (a body at rest, "
+    "or motion only about the hinge axis itself, leaves its axis undetermined)";
+constexpr const char* kOrientationHint =
+    "the joint must move: the relative orientation of the two bodies has to turn about the hinge";
+
+}  // namespace
+
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const DataSelection data = selectData(samples, options.use, "hinge");
+  requireEnoughSamples(samples.size(), options);
+
+  const std::vector<Eigen::Matrix3d> R12 =
+      data.orientations ? relativeOrientations(samples) : std::vector<Eigen::Matrix3d>();
+  std::vector<std::unique_ptr<ResidualKind>> kinds;
+  std::vector<NamedStart> starts;
+  IdentifiabilityContext context;
+  context.axis1 = "the axis in the main body '" + samples.main.name + "'";
+  context.axis2 = "the axis in the secondary body '" + samples.secondary.name + "'";
+  if (data.orientations) {
+    std::vector<OrientationHingeResidual> blocks;
+    blocks.reserve(R12.size());
+    for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
+    kinds.push_back(std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>(
+        "orientation hinge constraint R1 j1 = R2 j2", "rad", 2, std::move(blocks)));
+    starts.push_back({hingeAxesFromOrientations(R12), "closed form (orientations)"});
+    context.hint = kOrientationHint;
+  }
+  if (data.rates) {
+    const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
+    const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
+    std::vector<GyroHingeResidual> blocks;
+    blocks.reserve(w1.size());
+    for (std::size_t k = 0; k < w1.size(); ++k) blocks.emplace_back(w1[k], w2[k]);
+    kinds.push_back(std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(
+        "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)", "rad/s", 1, std::move(blocks)));
+    if (!data.orientations) {
+      const std::vector<AxisPair> closed_form = hingeStartsFromRates(w1, w2);
+      for (std::size_t i = 0; i < closed_form.size(); ++i)
+        starts.push_back({closed_form[i], i == 0 ? std::string("closed form (gyroscopes)")
+                                                 : "closed form (gyroscopes), near-null alternative " +
+                                                       std::to_string(i)});
+      context.hint = kRateHint;
+    }
+  }
+  for (std::size_t i = 0; i < options.extra_starts.size(); ++i)
+    starts.push_back({options.extra_starts[i], "given start " + std::to_string(i + 1)});
+
+  std::vector<const ResidualKind*> kind_list;
+  for (const auto& k : kinds) kind_list.push_back(k.get());
+  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context);
+
+  HingeFit fit;
+  Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
+  if (data.orientations) {
+    double agreement = 0.0;
+    for (const Eigen::Matrix3d& R : R12) agreement += j1.dot(R * j2);
+    if (agreement < 0.0) j2 = -j2;
+    fit.sign = "R1 j1 = R2 j2 from the orientations";
+  } else {
+    const HingeSignEvidence evidence =
+        hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity, j1, j2);
+    j2 *= evidence.relative_sign;
+    fit.sign = evidence.decided ? "R1 j1 = R2 j2 from the phase of the perpendicular angular velocities"
+                                : "relative sign of axis_secondary not determined by these gyroscope data "
+                                  "(the perpendicular angular velocity does not turn about the axis); "
+                                  "reported by convention";
+  }
+  const double overall = canonicalSign(j1);
+  fit.sign += "; overall sign: largest component of axis_main positive";
+  fit.axis_main = overall * j1;
+  fit.axis_secondary = overall * j2;
+  fit.sigma_main_deg = solution.sigma1_rad * kRadToDeg;
+  fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
+  fit.covariance = solution.covariance;
+  fit.information = solution.information;
+  fit.summary = solution.summary;
+  fit.summary.data = data.name();
+  fit.summary.samples = samples.size();
+  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return fit;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

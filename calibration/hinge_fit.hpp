@@ -1,0 +1,52 @@
+/// \file
+/// `lieflow calibrate hinge`: the revolute axis of a joint in both bodies'
+/// frames, j₁ (main) and j₂ (secondary), from the columns the recording has:
+///
+///  - gyroscopes only: GyroHingeResidual (Seel et al. 2012's constraint in
+///    Sampson form), started from the closed form of hingeAxesFromRates; the
+///    relative sign from hingeRelativeSign;
+///  - orientations only: OrientationHingeResidual, started from the exact
+///    least-squares solution hingeAxesFromOrientations;
+///  - both: OrientationHingeResidual and GyroHingeResidual, each weighted by
+///    its estimated noise, started as with orientations. (The gyroscope
+///    constraint involves no orientation, so the two kinds have independent,
+///    homoscedastic noise; a relative-rate residual R₁ᵀR₂ω₂ − ω₁ ∥ j₁ would
+///    carry orientation noise scaled by ‖ω‖, which one weight cannot whiten.)
+///
+/// Reported signs: R₁j₁ = R₂j₂ (from the data where they tell), and the
+/// largest-magnitude component of j₁ positive (the hinge's own direction is a
+/// convention: turning it over only negates the joint angle).
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "calibration/fit_types.hpp"
+#include "calibration/identifiability.hpp"
+#include "calibration/joint_samples.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+struct HingeFit {
+  Eigen::Vector3d axis_main;       ///< j₁, unit, main body frame
+  Eigen::Vector3d axis_secondary;  ///< j₂, unit, secondary body frame
+  double sigma_main_deg = 0.0;     ///< 1σ angle of j₁ (RMS angular error)
+  double sigma_secondary_deg = 0.0;
+  std::string sign;                ///< how the signs were fixed
+  Eigen::Matrix4d covariance;      ///< rad², axis angles (j₁'s two, then j₂'s)
+  AxisInformation information;
+  AxisFitSummary summary;
+
+  /// The larger of the two axes' σ: the `axis_sigma_deg` of the JSON output.
+  double axisSigmaDeg() const { return sigma_main_deg > sigma_secondary_deg ? sigma_main_deg : sigma_secondary_deg; }
+};
+
+/// Throws lieflow::InvalidInput when the samples lack the columns the fit
+/// needs (or that options.use asks for), NotIdentifiable when the data cannot
+/// determine the axes.
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options = AxisFitOptions());
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,95 @@
+#include "calibration/hinge_initial.hpp"
+
+#include "calibration/hinge_residuals.hpp"
+#include "calibration/nullspace_starts.hpp"
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+
+/// ωᵀSω = q(ω) · s(S) for symmetric S with s = (S₀₀, S₁₁, S₂₂, S₀₁, S₀₂, S₁₂).
+Vector6d quadraticRow(const Eigen::Vector3d& w) {
+  Vector6d q;
+  q << w.x() * w.x(), w.y() * w.y(), w.z() * w.z(), 2.0 * w.x() * w.y(), 2.0 * w.x() * w.z(),
+      2.0 * w.y() * w.z();
+  return q;
+}
+
+Eigen::Matrix3d symmetricFrom(const Vector6d& s) {
+  Eigen::Matrix3d S;
+  S << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+  return S;
+}
+
+/// The eigenvector of S's smallest eigenvalue.
+Eigen::Vector3d smallestEigenvector(const Eigen::Matrix3d& S) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(S);
+  return eig.eigenvectors().col(0).normalized();
+}
+
+/// G = Σ rowᵀrow of the relaxation's rows [q(ω₁), −q(ω₂)] / (‖ω₁‖² + ‖ω₂‖²)^½.
+Matrix12d gramFromRates(const std::vector<Eigen::Vector3d>& w1, const std::vector<Eigen::Vector3d>& w2) {
+  Matrix12d G = Matrix12d::Zero();
+  for (std::size_t k = 0; k < w1.size(); ++k) {
+    const double scale_sq = w1[k].squaredNorm() + w2[k].squaredNorm();
+    if (!(scale_sq > 0.0)) continue;
+    Vector12d row;
+    row << quadraticRow(w1[k]), -quadraticRow(w2[k]);
+    G.selfadjointView<Eigen::Lower>().rankUpdate(row, 1.0 / scale_sq);
+  }
+  return G.selfadjointView<Eigen::Lower>();
+}
+
+/// The axes of a null-vector candidate x = (s(A), s(B)).
+AxisPair axesFromQuadrics(const Vector12d& x) {
+  Eigen::Matrix3d A = symmetricFrom(x.head<6>()), B = symmetricFrom(x.tail<6>());
+  if (A.trace() + B.trace() < 0.0) {
+    A = -A;
+    B = -B;
+  }
+  return {smallestEigenvector(A), smallestEigenvector(B)};
+}
+
+}  // namespace
+
+AxisPair hingeAxesFromRates(const std::vector<Eigen::Vector3d>& w1, const std::vector<Eigen::Vector3d>& w2) {
+  const Eigen::SelfAdjointEigenSolver<Matrix12d> eig(gramFromRates(w1, w2));
+  return axesFromQuadrics(eig.eigenvectors().col(0));
+}
+
+std::vector<AxisPair> hingeStartsFromRates(const std::vector<Eigen::Vector3d>& w1,
+                                           const std::vector<Eigen::Vector3d>& w2) {
+  std::vector<GyroHingeResidual> residuals;
+  residuals.reserve(w1.size());
+  for (std::size_t k = 0; k < w1.size(); ++k) residuals.emplace_back(w1[k], w2[k]);
+  const double one = 1.0;
+  for (GyroHingeResidual& r : residuals) r.weight = &one;
+  const auto cost = [&](const AxisPair& axes) {
+    double sum = 0.0, r = 0.0;
+    for (const GyroHingeResidual& residual : residuals) {
+      residual(axes.axis1.data(), axes.axis2.data(), &r);
+      sum += r * r;
+    }
+    return sum;
+  };
+  return nullspaceStarts<12>(gramFromRates(w1, w2), axesFromQuadrics, cost);
+}
+
+AxisPair hingeAxesFromOrientations(const std::vector<Eigen::Matrix3d>& R12) {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  for (const Eigen::Matrix3d& R : R12) M += R;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return {svd.matrixU().col(0), svd.matrixV().col(0)};
+}
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,74 @@
+/// \file
+/// Residuals of a hinge (revolute joint) with unit axis j₁ in the main body's
+/// frame and j₂ in the secondary's. The kinematics: R₁ j₁ = R₂ j₂ (the axis is
+/// one line in the world), and the relative angular velocity is along it,
+/// R₂ω₂ − R₁ω₁ = φ̇ R₁j₁ (R body → world, ω body-frame, φ the joint angle).
+/// With orientations and gyroscopes both residuals are used (hinge_fit.hpp).
+///
+/// All functors multiply their residuals by *weight (1/σ̂ of their kind) and
+/// allocate nothing.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "calibration/mixed_scalar.hpp"
+#include "liegroup/scalar.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// Gyroscopes only. The components of ω perpendicular to the axis are the
+/// same world vector seen from either body, so their lengths agree:
+/// ‖ω₁ × j₁‖ = ‖ω₂ × j₂‖ (Seel, Schauer & Raisch 2012, eq. 7). Seel's
+/// difference of norms has a kink where ω ∥ j and a bias there (E‖n⊥‖ > 0 for
+/// noise n); we use the smooth squared form c = ‖ω₁×j₁‖² − ‖ω₂×j₂‖² (its
+/// noise bias 2σ₁² − 2σ₂² cancels for equal gyroscopes) divided by the norm of
+/// its gradient with respect to the measured ω, 2 (‖ω₁×j₁‖² + ‖ω₂×j₂‖²)^½
+/// (Sampson's first-order geometric error): the residual is then in rad/s with
+/// the variance σ² of one gyroscope axis, and ≈ (‖ω₁×j₁‖ − ‖ω₂×j₂‖)/√2 where
+/// both are large. `floor_sq` keeps 0/0 away when both vanish.
+struct GyroHingeResidual {
+  Eigen::Vector3d w1;
+  Eigen::Vector3d w2;
+  double floor_sq = 0.0;
+  const double* weight = nullptr;
+
+  /// Relative size of floor_sq: (kFloor · |ω|)², far below any gyroscope's noise.
+  static constexpr double kFloor = 1e-6;
+
+  GyroHingeResidual(const Eigen::Vector3d& omega1, const Eigen::Vector3d& omega2)
+      : w1(omega1), w2(omega2),
+        floor_sq(kFloor * kFloor * (omega1.squaredNorm() + omega2.squaredNorm()) + 1e-300) {}
+
+  template <typename T>
+  bool operator()(const T* j1_data, const T* j2_data, T* r) const {
+    const Eigen::Map<const Vector3<T>> j1(j1_data), j2(j2_data);
+    const T p1 = mixed::cross(w1, Vector3<T>(j1)).squaredNorm();
+    const T p2 = mixed::cross(w2, Vector3<T>(j2)).squaredNorm();
+    using std::sqrt;
+    r[0] = *weight * (p1 - p2) / (2.0 * sqrt(p1 + p2 + floor_sq));
+    return true;
+  }
+};
+
+/// Orientations: j₁ − R₁ᵀR₂ j₂ = 0 (the axis as one world line, in body 1's
+/// frame; its norm is ‖R₁j₁ − R₂j₂‖). Noise on R₁, R₂ moves it within the plane
+/// ⟂ j₁ only: 2 noise components per sample. In rad (the angle between R₁j₁
+/// and R₂j₂ for small residuals).
+struct OrientationHingeResidual {
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
+  const double* weight = nullptr;
+
+  explicit OrientationHingeResidual(const Eigen::Matrix3d& r12) : R12(r12) {}
+
+  template <typename T>
+  bool operator()(const T* j1_data, const T* j2_data, T* r) const {
+    const Eigen::Map<const Vector3<T>> j1(j1_data), j2(j2_data);
+    const Vector3<T> d = mixed::mul(R12, Vector3<T>(j2)) - j1;
+    for (int i = 0; i < 3; ++i) r[i] = *weight * d[i];
+    return true;
+  }
+};
+
+}  // namespace calibration
+}  // namespace lieflow

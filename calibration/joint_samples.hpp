@@ -1,0 +1,45 @@
+/// \file
+/// The samples of one joint's two bodies that a calibration fits: the times
+/// and, per body, the orientations R (body → world) and/or the body-frame
+/// angular velocities ω (what a gyroscope on the body measures). Either list
+/// of a body may be empty (that column group was not recorded); when present
+/// it has one entry per time.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// One body's recorded motion.
+struct BodySamples {
+  std::string name;
+  std::vector<SO3d> orientation;                    ///< R(t_k); empty when not recorded
+  std::vector<Eigen::Vector3d> angular_velocity;    ///< ω(t_k), body frame; empty when not recorded
+
+  bool hasOrientation() const { return !orientation.empty(); }
+  bool hasAngularVelocity() const { return !angular_velocity.empty(); }
+};
+
+/// The two bodies of a joint: `main` (body 1, the frame of `axis_main`) and
+/// `secondary` (body 2), sampled at the same times.
+struct JointSamples {
+  std::string source;  ///< where the samples came from (file name), for messages
+  std::vector<double> time;
+  BodySamples main;
+  BodySamples secondary;
+
+  int size() const { return static_cast<int>(time.size()); }
+  bool hasOrientations() const { return main.hasOrientation() && secondary.hasOrientation(); }
+  bool hasAngularVelocities() const {
+    return main.hasAngularVelocity() && secondary.hasAngularVelocity();
+  }
+};
+
+}  // namespace calibration
+}  // namespace lieflow

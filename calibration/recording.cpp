@@ -1,0 +1,232 @@
+#include "calibration/recording.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+constexpr std::array<const char*, 4> kQuaternionSuffixes = {"qw", "qx", "qy", "qz"};
+constexpr std::array<const char*, 3> kRateSuffixes = {"wx", "wy", "wz"};
+/// Body columns of the trajectory CSV that calibration does not use; they
+/// still make their prefix a body.
+constexpr std::array<const char*, 6> kOtherBodySuffixes = {"x", "y", "z", "vx", "vy", "vz"};
+
+template <std::size_t N>
+bool contains(const std::array<const char*, N>& list, const std::string& s) {
+  for (const char* item : list)
+    if (s == item) return true;
+  return false;
+}
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  const auto last = s.find_last_not_of(" \t");
+  return s.substr(first, last - first + 1);
+}
+
+std::vector<std::string> splitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::stringstream s(line);
+  while (std::getline(s, cell, ',')) cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') cells.push_back("");
+  return cells;
+}
+
+std::string where(const std::string& source, int line) {
+  return source + ", line " + std::to_string(line);
+}
+
+std::string where(const std::string& source, int line, const std::string& column) {
+  return where(source, line) + ", column " + column;
+}
+
+/// Column indices of one body's groups (−1 where absent).
+struct BodyColumns {
+  std::string name;
+  std::array<int, 4> quaternion{-1, -1, -1, -1};
+  std::array<int, 3> rate{-1, -1, -1};
+};
+
+/// Checks that a column group is complete or absent, naming what is missing.
+template <std::size_t N>
+bool completeGroup(const std::string& source, const std::string& body, const std::array<int, N>& cols,
+                   const std::array<const char*, N>& suffixes, const char* what) {
+  int present = 0;
+  for (int c : cols) present += c >= 0;
+  if (present == 0) return false;
+  if (present < static_cast<int>(N)) {
+    std::string all, missing;
+    for (std::size_t i = 0; i < N; ++i) {
+      all += std::string(i ? "," : "") + body + "." + suffixes[i];
+      if (cols[i] < 0) missing += std::string(missing.empty() ? "" : ", ") + body + "." + suffixes[i];
+    }
+    throw InvalidInput(where(source, 1), "column " + missing + " missing: body '" + body + "' has part of its " +
+                                             what + " (" + all + ")");
+  }
+  return true;
+}
+
+}  // namespace
+
+const BodySamples* Recording::body(const std::string& name) const {
+  for (const BodySamples& b : bodies)
+    if (b.name == name) return &b;
+  return nullptr;
+}
+
+std::string Recording::bodyList() const {
+  std::string out;
+  for (const BodySamples& b : bodies) out += (out.empty() ? "" : ", ") + b.name;
+  return out.empty() ? "none" : out;
+}
+
+Recording parseRecording(std::istream& in, const std::string& source) {
+  Recording rec;
+  rec.source = source;
+  std::string line;
+  if (!std::getline(in, line)) throw InvalidInput(source, "empty file (expected a header row starting with t)");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const std::vector<std::string> header = splitCells(line);
+
+  // Header: `t`, body columns grouped by prefix, everything else ignored.
+  int time_col = -1;
+  std::vector<BodyColumns> body_cols;
+  std::map<std::string, int> seen;
+  for (int c = 0; c < static_cast<int>(header.size()); ++c) {
+    const std::string& name = header[c];
+    if (name.empty()) throw InvalidInput(where(source, 1), "column " + std::to_string(c + 1) + " has no name");
+    if (seen.count(name))
+      throw InvalidInput(where(source, 1), "column " + name + " appears twice (columns " +
+                                               std::to_string(seen[name] + 1) + " and " + std::to_string(c + 1) +
+                                               ")");
+    seen[name] = c;
+    if (name == "t") {
+      time_col = c;
+      continue;
+    }
+    const auto dot = name.rfind('.');
+    if (dot == std::string::npos || dot == 0) continue;
+    const std::string prefix = name.substr(0, dot), suffix = name.substr(dot + 1);
+    const bool quaternion = contains(kQuaternionSuffixes, suffix);
+    const bool rate = contains(kRateSuffixes, suffix);
+    if (!quaternion && !rate && !contains(kOtherBodySuffixes, suffix)) continue;
+    auto it = body_cols.begin();
+    while (it != body_cols.end() && it->name != prefix) ++it;
+    if (it == body_cols.end()) {
+      body_cols.push_back(BodyColumns{prefix, {-1, -1, -1, -1}, {-1, -1, -1}});
+      it = body_cols.end() - 1;
+    }
+    for (std::size_t i = 0; i < kQuaternionSuffixes.size(); ++i)
+      if (suffix == kQuaternionSuffixes[i]) it->quaternion[i] = c;
+    for (std::size_t i = 0; i < kRateSuffixes.size(); ++i)
+      if (suffix == kRateSuffixes[i]) it->rate[i] = c;
+  }
+  if (time_col < 0) throw InvalidInput(where(source, 1), "no column t (the header must name a time column t)");
+
+  std::vector<bool> has_q, has_w;
+  for (const BodyColumns& b : body_cols) {
+    has_q.push_back(completeGroup(source, b.name, b.quaternion, kQuaternionSuffixes, "orientation"));
+    has_w.push_back(completeGroup(source, b.name, b.rate, kRateSuffixes, "angular velocity"));
+    rec.bodies.push_back(BodySamples{b.name, {}, {}});
+  }
+
+  // Rows.
+  const std::size_t ncols = header.size();
+  std::vector<double> values(ncols);
+  int line_number = 1, first_blank = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (trim(line).empty()) {
+      if (!first_blank) first_blank = line_number;
+      continue;
+    }
+    if (first_blank) throw InvalidInput(where(source, first_blank), "empty row (missing values)");
+    const std::vector<std::string> cells = splitCells(line);
+    if (cells.size() != ncols)
+      throw InvalidInput(where(source, line_number), "expected " + std::to_string(ncols) +
+                                                         " values (the header's columns), found " +
+                                                         std::to_string(cells.size()));
+    for (std::size_t c = 0; c < ncols; ++c) {
+      const std::string& cell = cells[c];
+      if (cell.empty()) throw InvalidInput(where(source, line_number, header[c]), "missing value");
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (end == cell.c_str() || *end != '\0')
+        throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not a number");
+      if (!std::isfinite(v))
+        throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not finite");
+      values[c] = v;
+    }
+    const double t = values[time_col];
+    if (!rec.time.empty() && !(t > rec.time.back())) {
+      std::ostringstream reason;
+      reason.precision(17);
+      reason << "time " << t << " does not increase (previous row: " << rec.time.back() << ")";
+      throw InvalidInput(where(source, line_number, "t"), reason.str());
+    }
+    rec.time.push_back(t);
+    for (std::size_t b = 0; b < body_cols.size(); ++b) {
+      const BodyColumns& cols = body_cols[b];
+      BodySamples& body = rec.bodies[b];
+      if (has_q[b]) {
+        const Eigen::Quaterniond q(values[cols.quaternion[0]], values[cols.quaternion[1]],
+                                   values[cols.quaternion[2]], values[cols.quaternion[3]]);
+        const double norm = q.norm();
+        if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+          std::ostringstream reason;
+          reason << "quaternion (" << cols.name << ".qw, .qx, .qy, .qz) has norm " << norm << ", not within "
+                 << kQuaternionNormTolerance << " of 1";
+          throw InvalidInput(where(source, line_number, cols.name + ".qw"), reason.str());
+        }
+        body.orientation.push_back(SO3d(q.normalized()));
+      }
+      if (has_w[b])
+        body.angular_velocity.emplace_back(values[cols.rate[0]], values[cols.rate[1]], values[cols.rate[2]]);
+    }
+  }
+  if (rec.time.empty()) throw InvalidInput(source, "no data rows after the header");
+  return rec;
+}
+
+Recording readRecording(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InvalidInput(path, "cannot open the recording for reading");
+  return parseRecording(in, path);
+}
+
+JointSamples selectJoint(const Recording& recording, std::string main, std::string secondary) {
+  const std::string& source = recording.source;
+  if (main.empty() || secondary.empty()) {
+    if (recording.bodies.size() != 2)
+      throw InvalidInput(source, "the recording has " + std::to_string(recording.bodies.size()) + " bodies (" +
+                                     recording.bodyList() + "): name them with --main and --secondary");
+    const std::string& first = recording.bodies[0].name;
+    const std::string& second = recording.bodies[1].name;
+    if (main.empty()) main = secondary == first ? second : first;
+    if (secondary.empty()) secondary = main == first ? second : first;
+  }
+  for (const std::string* name : {&main, &secondary})
+    if (!recording.body(*name))
+      throw InvalidInput(source, "no body '" + *name + "' in the recording (bodies: " + recording.bodyList() + ")");
+  if (main == secondary) throw InvalidInput(source, "main and secondary are the same body '" + main + "'");
+  JointSamples joint;
+  joint.source = source;
+  joint.time = recording.time;
+  joint.main = *recording.body(main);
+  joint.secondary = *recording.body(secondary);
+  return joint;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

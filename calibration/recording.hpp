@@ -1,0 +1,52 @@
+/// \file
+/// The recording CSV of ../shared/DESIGN.md ("Trajectory and recording CSV"):
+/// one header row, then one row per time. Columns: `t`; per body B any of the
+/// groups `B.qw,B.qx,B.qy,B.qz` (Hamilton quaternion, R maps body → world) and
+/// `B.wx,B.wy,B.wz` (angular velocity in the body frame), and the other
+/// trajectory columns (`B.x`, `J.phi`, `energy`, ...), which are checked but not
+/// used. Bodies are discovered from the column prefixes of the body columns.
+///
+/// Every value must be present, numeric and finite; `t` must increase; a
+/// quaternion must be unit to kQuaternionNormTolerance (it is then normalized).
+/// Violations throw lieflow::InvalidInput naming the file, line and column.
+#pragma once
+
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "calibration/joint_samples.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// A quaternion in a recording may deviate this much from unit norm (data
+/// exported with 6 significant digits are off by ~1e-6); it is normalized.
+constexpr double kQuaternionNormTolerance = 1e-3;
+
+/// All bodies of one recording, in the order their columns first appear.
+struct Recording {
+  std::string source;
+  std::vector<double> time;
+  std::vector<BodySamples> bodies;
+
+  /// The body of that name, or nullptr.
+  const BodySamples* body(const std::string& name) const;
+  /// "A, B, C" for messages.
+  std::string bodyList() const;
+};
+
+/// Parses a recording from `in`; `source` names it in error messages.
+Recording parseRecording(std::istream& in, const std::string& source);
+
+/// Reads the recording file at `path` (InvalidInput if it cannot be opened).
+Recording readRecording(const std::string& path);
+
+/// The joint between bodies `main` and `secondary`. An empty name may be
+/// left out when the recording has exactly two bodies: it is then the body
+/// the other name does not take (main = the first body in column order).
+/// Unknown or equal names throw InvalidInput.
+JointSamples selectJoint(const Recording& recording, std::string main, std::string secondary);
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,69 @@
+/// \file
+/// A kind of residual of a two-axis fit (one block per sample, on the two
+/// unit-axis parameter blocks), as the solver of two_axis_solver.hpp sees it.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/problem.h>
+
+namespace lieflow {
+namespace calibration {
+
+class ResidualKind {
+ public:
+  virtual ~ResidualKind() = default;
+
+  virtual const std::string& name() const = 0;
+  /// Unit of the residual ("rad/s", "rad").
+  virtual const std::string& unit() const = 0;
+  /// Independent noise components in one block (a 3-vector residual that
+  /// noise moves only within a plane has 2).
+  virtual int noiseDof() const = 0;
+  virtual int blockCount() const = 0;
+
+  /// Adds one block per sample on (axis1, axis2), each with `loss`, its
+  /// residuals multiplied by *weight (read at every evaluation, so the solver
+  /// can re-weight without rebuilding the problem). Appends the block ids.
+  virtual void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight,
+                         double* axis1, double* axis2, std::vector<ceres::ResidualBlockId>* ids) const = 0;
+};
+
+/// The residual kind of a functor with members `const double* weight` and
+/// `template <class T> bool operator()(const T* axis1, const T* axis2, T* r)`
+/// returning kResiduals residuals; one functor per sample, differentiated by
+/// ceres::AutoDiffCostFunction.
+template <typename Functor, int kResiduals>
+class SampleResidualKind final : public ResidualKind {
+ public:
+  SampleResidualKind(std::string name, std::string unit, int noise_dof, std::vector<Functor> samples)
+      : name_(std::move(name)), unit_(std::move(unit)), noise_dof_(noise_dof), samples_(std::move(samples)) {}
+
+  const std::string& name() const override { return name_; }
+  const std::string& unit() const override { return unit_; }
+  int noiseDof() const override { return noise_dof_; }
+  int blockCount() const override { return static_cast<int>(samples_.size()); }
+
+  void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight, double* axis1,
+                 double* axis2, std::vector<ceres::ResidualBlockId>* ids) const override {
+    ids->reserve(ids->size() + samples_.size());
+    for (const Functor& sample : samples_) {
+      auto* functor = new Functor(sample);
+      functor->weight = weight;
+      ids->push_back(problem->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3>(functor), loss, axis1, axis2));
+    }
+  }
+
+ private:
+  std::string name_;
+  std::string unit_;
+  int noise_dof_;
+  std::vector<Functor> samples_;
+};
+
+}  // namespace calibration
+}  // namespace lieflow

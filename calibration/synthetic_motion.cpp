@@ -1,0 +1,149 @@
+#include "calibration/synthetic_motion.hpp"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "calibration/unit_axis.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+Eigen::Vector3d randomUnit(std::mt19937& gen) {
+  std::normal_distribution<double> normal;
+  Eigen::Vector3d v;
+  do {
+    v = Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
+  } while (v.norm() < 1e-6);
+  return v.normalized();
+}
+
+SineSum<Eigen::Vector3d> randomRotationAngles(std::mt19937& gen) {
+  std::uniform_real_distribution<double> amplitude(-1.2, 1.2), frequency(0.3, 0.9), phase(0.0, kTwoPi);
+  SineSum<Eigen::Vector3d> s;
+  s.offset = Eigen::Vector3d(amplitude(gen), amplitude(gen), amplitude(gen));
+  for (int k = 0; k < 3; ++k) {
+    s.amplitude.emplace_back(amplitude(gen), amplitude(gen), amplitude(gen));
+    s.frequency_hz.push_back(frequency(gen));
+    s.phase.push_back(phase(gen));
+  }
+  return s;
+}
+
+SineSum<double> randomJointAngle(std::mt19937& gen) {
+  std::uniform_real_distribution<double> amplitude(0.5, 1.0), frequency(0.2, 0.7), phase(0.0, kTwoPi);
+  SineSum<double> s;
+  s.offset = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    s.amplitude.push_back(amplitude(gen));
+    s.frequency_hz.push_back(frequency(gen));
+    s.phase.push_back(phase(gen));
+  }
+  return s;
+}
+
+}  // namespace
+
+template <typename V>
+V SineSum<V>::value(double t) const {
+  V x = offset;
+  for (std::size_t k = 0; k < amplitude.size(); ++k)
+    x += amplitude[k] * std::sin(kTwoPi * frequency_hz[k] * t + phase[k]);
+  return x;
+}
+
+template <typename V>
+V SineSum<V>::derivative(double t) const {
+  V x = offset * 0.0;
+  for (std::size_t k = 0; k < amplitude.size(); ++k)
+    x += amplitude[k] * (kTwoPi * frequency_hz[k] * std::cos(kTwoPi * frequency_hz[k] * t + phase[k]));
+  return x;
+}
+
+template struct SineSum<double>;
+template struct SineSum<Eigen::Vector3d>;
+
+SO3d SmoothRotation::orientation(double t) const { return SO3d::exp(angle.value(t)); }
+
+Eigen::Vector3d SmoothRotation::bodyRate(double t) const {
+  return SO3d::Jr(angle.value(t)) * angle.derivative(t);
+}
+
+TwoBodyState HingeMotion::at(double t) const {
+  TwoBodyState s;
+  s.R1 = main.orientation(t);
+  s.w1 = main.bodyRate(t);
+  const SO3d E = SO3d::exp(angle.value(t) * axis_main);
+  s.R2 = s.R1 * E * mount;
+  s.w2 = mount.inverse() * (E.inverse() * s.w1) + angle.derivative(t) * axisSecondary();
+  return s;
+}
+
+TwoBodyState UniversalMotion::at(double t) const {
+  TwoBodyState s;
+  s.R1 = main.orientation(t);
+  s.w1 = main.bodyRate(t);
+  const SO3d E1 = SO3d::exp(angle1.value(t) * axis1_main);
+  const SO3d E2 = SO3d::exp(angle2.value(t) * axis2_secondary);
+  s.R2 = s.R1 * E1 * mount * E2;
+  s.w2 = E2.inverse() * (mount.inverse() * (E1.inverse() * (s.w1 + angle1.derivative(t) * axis1_main))) +
+         angle2.derivative(t) * axis2_secondary;
+  return s;
+}
+
+HingeMotion randomHingeMotion(std::mt19937& gen) {
+  HingeMotion m;
+  m.main.angle = randomRotationAngles(gen);
+  m.angle = randomJointAngle(gen);
+  m.axis_main = randomUnit(gen);
+  m.mount = SO3d::random(gen);
+  return m;
+}
+
+UniversalMotion randomUniversalMotion(std::mt19937& gen) {
+  UniversalMotion m;
+  m.main.angle = randomRotationAngles(gen);
+  m.angle1 = randomJointAngle(gen);
+  m.angle2 = randomJointAngle(gen);
+  m.axis1_main = randomUnit(gen);
+  m.axis2_secondary = randomUnit(gen);
+  // C takes a₂ to a direction u ⟂ a₁, then turns about u.
+  std::uniform_real_distribution<double> angle(-3.14159, 3.14159);
+  const Eigen::Vector3d e = orthogonalUnit(m.axis1_main);
+  const Eigen::Vector3d u = SO3d::exp(angle(gen) * m.axis1_main) * e;
+  const SO3d align(Eigen::Quaterniond::FromTwoVectors(m.axis2_secondary, u));
+  m.mount = SO3d::exp(angle(gen) * u) * align;
+  return m;
+}
+
+JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, const RecordingNoise& noise,
+                          std::mt19937& gen) {
+  std::normal_distribution<double> normal;
+  auto gaussian = [&](double sigma) {
+    return Eigen::Vector3d(sigma * normal(gen), sigma * normal(gen), sigma * normal(gen));
+  };
+  JointSamples out;
+  out.source = "synthetic";
+  out.main.name = "main";
+  out.secondary.name = "secondary";
+  for (int k = 0; k < n; ++k) {
+    const double t = k / rate_hz;
+    const TwoBodyState s = motion.at(t);
+    out.time.push_back(t);
+    if (noise.orientations) {
+      out.main.orientation.push_back((s.R1 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
+      out.secondary.orientation.push_back((s.R2 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
+    }
+    if (noise.rates) {
+      out.main.angular_velocity.push_back(s.w1 + gaussian(noise.rate_sigma));
+      out.secondary.angular_velocity.push_back(s.w2 + gaussian(noise.rate_sigma));
+    }
+  }
+  return out;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,97 @@
+/// \file
+/// Analytic two-body joint motions and their noisy recordings, the ground
+/// truth of the calibration tests and benchmarks.
+///
+/// The main body turns as R₁(t) = exp(θ(t)) with θ a sum of sines, so its body
+/// rate is ω₁ = Jr(θ) θ̇ exactly (README "Conventions": Ṙ = R ω^, and
+/// d/dt exp(θ) = exp(θ) (Jr(θ)θ̇)^). The secondary body follows the joint:
+///   hinge:      R₂ = R₁ exp(φ j₁) C,            C j₂ = j₁,
+///               ω₂ = Cᵀ exp(−φ j₁) ω₁ + φ̇ j₂;
+///   universal:  R₂ = R₁ exp(φ₁ a₁) C exp(φ₂ a₂), C a₂ ⟂ a₁,
+///               ω₂ = exp(−φ₂a₂) Cᵀ exp(−φ₁a₁) (ω₁ + φ̇₁ a₁) + φ̇₂ a₂.
+/// (Differentiate R₂ and use exp(φa)ᵀ a = a.) Recordings add Gaussian noise:
+/// ω + n with n ~ N(0, σ_ω² I), and R exp(η) with η ~ N(0, σ_R² I).
+#pragma once
+
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "calibration/joint_samples.hpp"
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// x(t) = offset + Σₖ amplitudeₖ sin(2π frequencyₖ t + phaseₖ) and its derivative.
+template <typename V>
+struct SineSum {
+  V offset;
+  std::vector<V> amplitude;
+  std::vector<double> frequency_hz;
+  std::vector<double> phase;
+
+  V value(double t) const;
+  V derivative(double t) const;
+};
+
+/// R(t) = exp(θ(t)).
+struct SmoothRotation {
+  SineSum<Eigen::Vector3d> angle;
+  SO3d orientation(double t) const;
+  Eigen::Vector3d bodyRate(double t) const;  ///< Jr(θ) θ̇
+};
+
+/// Both bodies' exact state at time t.
+struct TwoBodyState {
+  SO3d R1, R2;
+  Eigen::Vector3d w1, w2;
+};
+
+class JointMotion {
+ public:
+  virtual ~JointMotion() = default;
+  virtual TwoBodyState at(double t) const = 0;
+};
+
+struct HingeMotion final : JointMotion {
+  SmoothRotation main;
+  SineSum<double> angle;     ///< φ(t)
+  Eigen::Vector3d axis_main; ///< j₁
+  SO3d mount;                ///< C
+
+  Eigen::Vector3d axisSecondary() const { return mount.inverse() * axis_main; }  ///< j₂ = Cᵀ j₁
+  TwoBodyState at(double t) const override;
+};
+
+struct UniversalMotion final : JointMotion {
+  SmoothRotation main;
+  SineSum<double> angle1, angle2;  ///< φ₁(t), φ₂(t)
+  Eigen::Vector3d axis1_main;      ///< a₁
+  Eigen::Vector3d axis2_secondary; ///< a₂
+  SO3d mount;                      ///< C, with C a₂ ⟂ a₁
+
+  TwoBodyState at(double t) const override;
+};
+
+/// A varied motion: the main body turns about all axes (about 1 rad and
+/// 1–2 rad/s), the joint angle swings by about ±1.5 rad at 0.2–0.7 Hz;
+/// random axes and mount.
+HingeMotion randomHingeMotion(std::mt19937& gen);
+/// The same for a universal joint, both angles swinging.
+UniversalMotion randomUniversalMotion(std::mt19937& gen);
+
+struct RecordingNoise {
+  double rate_sigma = 0.0;         ///< rad/s, per gyroscope axis
+  double orientation_sigma = 0.0;  ///< rad, per axis of η in R exp(η)
+  bool orientations = true;        ///< record B.qw..B.qz
+  bool rates = true;               ///< record B.wx..B.wz
+};
+
+/// n samples at `rate_hz` from t = 0, bodies named "main" and "secondary".
+JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, const RecordingNoise& noise,
+                          std::mt19937& gen);
+
+}  // namespace calibration
+}  // namespace lieflow

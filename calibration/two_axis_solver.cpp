@@ -1,0 +1,294 @@
+#include "calibration/two_axis_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <ceres/covariance.h>
+#include <ceres/loss_function.h>
+#include <ceres/solver.h>
+#include <ceres/sphere_manifold.h>
+
+#include "calibration/unit_axis.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+/// Median of the χ² distribution with d = 1, 2, 3 degrees of freedom.
+double chiSquareMedian(int dof) {
+  switch (dof) {
+    case 1: return 0.45493642311957283;
+    case 2: return 1.3862943611198906;  // 2 ln 2
+    case 3: return 2.3659738843753377;
+    default: throw std::logic_error("chiSquareMedian: 1 to 3 noise components per sample");
+  }
+}
+
+double median(std::vector<double> v) {
+  const std::size_t n = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + n, v.end());
+  if (v.size() % 2) return v[n];
+  const double upper = v[n];
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + n));
+}
+
+std::unique_ptr<ceres::LossFunction> makeLoss(const AxisFitOptions& options) {
+  switch (options.loss) {
+    case RobustLoss::kHuber: return std::make_unique<ceres::HuberLoss>(options.loss_scale);
+    case RobustLoss::kCauchy: return std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+    case RobustLoss::kNone: break;
+  }
+  return nullptr;
+}
+
+/// The problem: parameter blocks, residual blocks per kind and their weights.
+class AxisProblem {
+ public:
+  AxisProblem(const std::vector<const ResidualKind*>& kinds, const AxisFitOptions& options)
+      : kinds_(kinds), weights_(kinds.size(), 1.0), ids_(kinds.size()), loss_(makeLoss(options)),
+        problem_(problemOptions()) {
+    for (std::size_t k = 0; k < kinds_.size(); ++k)
+      kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, &ids_[k]);
+    problem_.SetManifold(axis1_, &sphere_);
+    problem_.SetManifold(axis2_, &sphere_);
+  }
+
+  ceres::Problem& problem() { return problem_; }
+  double* axis1() { return axis1_; }
+  double* axis2() { return axis2_; }
+  std::size_t kindCount() const { return kinds_.size(); }
+  const ResidualKind& kind(std::size_t k) const { return *kinds_[k]; }
+  double weight(std::size_t k) const { return weights_[k]; }
+  void setWeight(std::size_t k, double w) { weights_[k] = w; }
+
+  void setAxes(const AxisPair& axes) {
+    Eigen::Map<Eigen::Vector3d> a1(axis1_), a2(axis2_);
+    a1 = axes.axis1.normalized();
+    a2 = axes.axis2.normalized();
+  }
+  AxisPair axes() const {
+    return {Eigen::Map<const Eigen::Vector3d>(axis1_), Eigen::Map<const Eigen::Vector3d>(axis2_)};
+  }
+
+  /// Unweighted squared norm of every block of kind k at the current axes.
+  std::vector<double> blockSquaredNorms(std::size_t k) {
+    ceres::Problem::EvaluateOptions eval;
+    eval.residual_blocks = ids_[k];
+    eval.apply_loss_function = false;
+    std::vector<double> r;
+    problem_.Evaluate(eval, nullptr, &r, nullptr, nullptr);
+    const std::size_t blocks = ids_[k].size(), per_block = blocks ? r.size() / blocks : 0;
+    const double w2 = weights_[k] * weights_[k];
+    std::vector<double> q(blocks, 0.0);
+    for (std::size_t b = 0; b < blocks; ++b)
+      for (std::size_t i = 0; i < per_block; ++i) q[b] += r[b * per_block + i] * r[b * per_block + i] / w2;
+    return q;
+  }
+
+  /// Every residual block, kind by kind, in sample order.
+  std::vector<ceres::ResidualBlockId> allBlocks() const {
+    std::vector<ceres::ResidualBlockId> all;
+    for (const auto& ids : ids_) all.insert(all.end(), ids.begin(), ids.end());
+    return all;
+  }
+
+  /// Residuals in one block of kind k.
+  int residualsPerBlock(std::size_t k) const {
+    return ids_[k].empty() ? 0 : problem_.GetCostFunctionForResidualBlock(ids_[k].front())->num_residuals();
+  }
+
+  /// Total noise components m.
+  int noiseComponents() const {
+    int m = 0;
+    for (const ResidualKind* k : kinds_) m += k->blockCount() * k->noiseDof();
+    return m;
+  }
+
+ private:
+  static ceres::Problem::Options problemOptions() {
+    ceres::Problem::Options o;
+    o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return o;
+  }
+
+  std::vector<const ResidualKind*> kinds_;
+  std::vector<double> weights_;
+  std::vector<std::vector<ceres::ResidualBlockId>> ids_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+  ceres::SphereManifold<3> sphere_;
+  double axis1_[3] = {1.0, 0.0, 0.0};
+  double axis2_[3] = {1.0, 0.0, 0.0};
+  ceres::Problem problem_;
+};
+
+/// σ̂ of kind k from its residuals at the current axes: the median form
+/// (robust) or the RMS form with kind k's share of the 4 parameters.
+double noiseScale(AxisProblem& p, std::size_t k, bool robust) {
+  const std::vector<double> q = p.blockSquaredNorms(k);
+  if (q.empty()) return kNoiseScaleFloor;
+  const int d = p.kind(k).noiseDof();
+  double variance;
+  if (robust) {
+    variance = median(q) / chiSquareMedian(d);
+  } else {
+    double sum = 0.0;
+    for (double x : q) sum += x;
+    const double mk = static_cast<double>(q.size()) * d;
+    variance = sum / std::max(1.0, mk - 4.0 * mk / p.noiseComponents());
+  }
+  return std::max(std::sqrt(variance), kNoiseScaleFloor);
+}
+
+ceres::Solver::Options solverOptions(const AxisFitOptions& options) {
+  ceres::Solver::Options o;
+  o.linear_solver_type = ceres::DENSE_QR;
+  o.max_num_iterations = options.max_iterations;
+  o.function_tolerance = options.function_tolerance;
+  o.gradient_tolerance = options.gradient_tolerance;
+  o.parameter_tolerance = options.parameter_tolerance;
+  o.logging_type = ceres::SILENT;
+  o.minimizer_progress_to_stdout = false;
+  o.num_threads = 1;
+  return o;
+}
+
+int iterationsOf(const ceres::Solver::Summary& s) {
+  return std::max(0, s.num_successful_steps) + std::max(0, s.num_unsuccessful_steps);
+}
+
+/// H = JᵀJ of the whitened residuals per rad² of axis rotation, the noise's
+/// share H_noise = ⅙ Σ Δ²Jₖᵀ Δ²Jₖ (second differences over consecutive samples
+/// of one kind; identifiability.hpp), and the cost.
+void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost) {
+  ceres::Problem::EvaluateOptions eval;
+  eval.parameter_blocks = {p.axis1(), p.axis2()};
+  eval.residual_blocks = p.allBlocks();
+  ceres::CRSMatrix J;
+  p.problem().Evaluate(eval, cost, nullptr, nullptr, &J);
+  if (J.num_cols != 4) throw std::logic_error("two-axis fit: expected a Jacobian in the 4 tangent coordinates");
+  // Tangent coordinates δ turn an axis by ‖δ‖/2: ∂r/∂θ = 2 ∂r/∂δ.
+  auto row = [&](int r) {
+    Eigen::Vector4d j = Eigen::Vector4d::Zero();
+    for (int e = J.rows[r]; e < J.rows[r + 1]; ++e) j[J.cols[e]] = kSphereTangentPerRadian * J.values[e];
+    return j;
+  };
+  Eigen::Matrix4d h = Eigen::Matrix4d::Zero(), hn = Eigen::Matrix4d::Zero();
+  for (int r = 0; r < J.num_rows; ++r) h.selfadjointView<Eigen::Lower>().rankUpdate(row(r));
+  int begin = 0;
+  for (std::size_t k = 0; k < p.kindCount(); ++k) {
+    const int per_block = p.residualsPerBlock(k);
+    const int end = begin + p.kind(k).blockCount() * per_block;
+    for (int r = begin + per_block; r + per_block < end; ++r)
+      hn.selfadjointView<Eigen::Lower>().rankUpdate(row(r + per_block) - 2.0 * row(r) + row(r - per_block), 1.0 / 6.0);
+    begin = end;
+  }
+  *H = h.selfadjointView<Eigen::Lower>();
+  *H_noise = hn.selfadjointView<Eigen::Lower>();
+}
+
+}  // namespace
+
+TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
+                             const AxisFitOptions& options, const IdentifiabilityContext& context) {
+  if (kinds.empty() || starts.empty()) throw std::logic_error("solveTwoAxes: needs residuals and a start");
+  AxisProblem p(kinds, options);
+  const bool robust = options.loss != RobustLoss::kNone;
+
+  // 1. Noise scales at the first start.
+  p.setAxes(starts.front().axes);
+  for (std::size_t k = 0; k < p.kindCount(); ++k) p.setWeight(k, 1.0 / noiseScale(p, k, true));
+
+  // 2. Every start; the lowest cost wins.
+  const ceres::Solver::Options solver = solverOptions(options);
+  TwoAxisSolution out;
+  ceres::Solver::Summary best;
+  AxisPair best_axes = starts.front().axes;
+  int best_start = -1;
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    p.setAxes(starts[s].axes);
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &p.problem(), &summary);
+    if (best_start < 0 || summary.final_cost < best.final_cost) {
+      best = summary;
+      best_axes = p.axes();
+      best_start = static_cast<int>(s);
+    }
+  }
+  p.setAxes(best_axes);
+  out.summary.starts = static_cast<int>(starts.size());
+  out.summary.start = starts[best_start].origin;
+  out.summary.iterations = iterationsOf(best);
+
+  // 3. Re-weighting.
+  if (p.kindCount() > 1 || robust) {
+    for (int round = 0; round < kMaxReweightings; ++round) {
+      double change = 0.0;
+      std::vector<double> scales(p.kindCount());
+      for (std::size_t k = 0; k < p.kindCount(); ++k) {
+        scales[k] = noiseScale(p, k, robust);
+        change = std::max(change, std::abs(scales[k] * p.weight(k) - 1.0));
+      }
+      if (change <= kReweightTolerance) break;
+      for (std::size_t k = 0; k < p.kindCount(); ++k) p.setWeight(k, 1.0 / scales[k]);
+      ceres::Solve(solver, &p.problem(), &best);
+      out.summary.iterations += iterationsOf(best);
+      ++out.summary.reweightings;
+    }
+  }
+  out.axes = p.axes();
+  out.summary.converged = best.termination_type == ceres::CONVERGENCE;
+  out.summary.message = best.message;
+
+  // Residual statistics.
+  for (std::size_t k = 0; k < p.kindCount(); ++k) {
+    const std::vector<double> q = p.blockSquaredNorms(k);
+    double sum = 0.0;
+    for (double x : q) sum += x;
+    ResidualStats stats;
+    stats.kind = p.kind(k).name();
+    stats.unit = p.kind(k).unit();
+    stats.samples = static_cast<int>(q.size());
+    stats.noise_dof = p.kind(k).noiseDof();
+    stats.rms = q.empty() ? 0.0 : std::sqrt(sum / (static_cast<double>(q.size()) * stats.noise_dof));
+    stats.noise_scale = 1.0 / p.weight(k);
+    out.summary.residuals.push_back(stats);
+  }
+  out.summary.rms_residual = out.summary.residuals.front().rms;
+
+  // 4. Identifiability.
+  double cost = 0.0;
+  Eigen::Matrix4d H, H_noise;
+  informationAtAxes(p, &H, &H_noise, &cost);
+  const int m = p.noiseComponents();
+  const double s2 = m > 4 ? 2.0 * cost / (m - 4) : 0.0;
+  out.summary.reduced_chi_square = s2;
+  out.information = analyseInformation(H, H_noise, s2);
+  requireIdentifiable(out.information, options, context);
+
+  // 5. Covariance (Ceres: tangent coordinates, unit noise).
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.num_threads = 1;
+  ceres::Covariance covariance(cov_options);
+  const std::vector<const double*> blocks = {p.axis1(), p.axis2()};
+  if (!covariance.Compute(blocks, &p.problem()))
+    throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> tangent;
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c1, c2;
+  covariance.GetCovarianceMatrixInTangentSpace(blocks, tangent.data());
+  covariance.GetCovarianceBlock(p.axis1(), p.axis1(), c1.data());
+  covariance.GetCovarianceBlock(p.axis2(), p.axis2(), c2.data());
+  const double to_angle = 1.0 / (kSphereTangentPerRadian * kSphereTangentPerRadian);
+  out.covariance = s2 * to_angle * Eigen::Matrix4d(tangent);
+  out.covariance1 = s2 * Eigen::Matrix3d(c1);
+  out.covariance2 = s2 * Eigen::Matrix3d(c2);
+  out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
+  out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
+  return out;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

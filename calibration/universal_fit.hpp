@@ -1,0 +1,43 @@
+/// \file
+/// `lieflow calibrate universal`: the two axes of a universal joint, a₁ in the
+/// main body's frame and a₂ in the secondary's, from
+///
+///  - orientations: OrientationUniversalResidual ((R₁a₁)·(R₂a₂) = 0), started
+///    from the closed form universalAxesFromOrientations;
+///  - orientations and gyroscopes: that and RelativeRateUniversalResidual
+///    (the relative angular velocity lies in span{R₁a₁, R₂a₂}), each weighted
+///    by its estimated noise.
+///
+/// Gyroscopes alone are refused (NotIdentifiable): the joint leaves the
+/// bodies 4 relative degrees of freedom per sample (φ₁, φ₂, φ̇₁, φ̇₂) against 3
+/// measured relative rates, so there is no instantaneous constraint; the axes
+/// would need the joint angles integrated over time, which this fit does not
+/// do. Each axis's sign is a convention (largest-magnitude component positive):
+/// the constraints are even in a₁ and in a₂ separately.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "calibration/fit_types.hpp"
+#include "calibration/identifiability.hpp"
+#include "calibration/joint_samples.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+struct UniversalFit {
+  Eigen::Vector3d axis1_main;       ///< a₁, unit, main body frame
+  Eigen::Vector3d axis2_secondary;  ///< a₂, unit, secondary body frame
+  double sigma1_deg = 0.0;          ///< 1σ angle of a₁ (RMS angular error)
+  double sigma2_deg = 0.0;
+  Eigen::Matrix4d covariance;       ///< rad², axis angles (a₁'s two, then a₂'s)
+  AxisInformation information;
+  AxisFitSummary summary;
+};
+
+/// Throws lieflow::InvalidInput when columns are missing, NotIdentifiable
+/// when the data cannot determine the axes (including gyroscopes only).
+UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options = AxisFitOptions());
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,57 @@
+/// \file
+/// Residuals of a universal (Cardan) joint with unit axis a₁ fixed in the main
+/// body and a₂ fixed in the secondary body. The kinematics: R₂ = R₁ exp(φ₁ a₁)
+/// C exp(φ₂ a₂) with C a₂ ⟂ a₁, so the two axes stay perpendicular in the world,
+/// (R₁a₁)·(R₂a₂) = 0, and the relative angular velocity R₂ω₂ − R₁ω₁ =
+/// φ̇₁ R₁a₁ + φ̇₂ R₂a₂ lies in the plane they span.
+///
+/// Gyroscopes alone give no instantaneous constraint (the span's normal
+/// depends on the unmeasured φ₁), so these residuals need orientations.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "calibration/mixed_scalar.hpp"
+#include "liegroup/scalar.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// Orientations: a₁ · (R₁ᵀR₂ a₂) = 0, in rad (the departure of the world axes
+/// from perpendicular), 1 noise component per sample.
+struct OrientationUniversalResidual {
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
+  const double* weight = nullptr;
+
+  explicit OrientationUniversalResidual(const Eigen::Matrix3d& r12) : R12(r12) {}
+
+  template <typename T>
+  bool operator()(const T* a1_data, const T* a2_data, T* r) const {
+    const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
+    r[0] = *weight * a1.dot(mixed::mul(R12, Vector3<T>(a2)));
+    return true;
+  }
+};
+
+/// Orientations and gyroscopes: u · (a₁ × R₁ᵀR₂a₂) = 0 with u = R₁ᵀR₂ω₂ − ω₁ the
+/// relative angular velocity in body 1's frame (in the span of a₁ and R₁ᵀR₂a₂),
+/// in rad/s, 1 noise component per sample.
+struct RelativeRateUniversalResidual {
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
+  Eigen::Vector3d u;    ///< R₁ᵀR₂ω₂ − ω₁
+  const double* weight = nullptr;
+
+  RelativeRateUniversalResidual(const Eigen::Matrix3d& r12, const Eigen::Vector3d& relative_rate)
+      : R12(r12), u(relative_rate) {}
+
+  template <typename T>
+  bool operator()(const T* a1_data, const T* a2_data, T* r) const {
+    const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
+    const Vector3<T> normal = Vector3<T>(a1).cross(mixed::mul(R12, Vector3<T>(a2)));
+    r[0] = *weight * mixed::dot(u, normal);
+    return true;
+  }
+};
+
+}  // namespace calibration
+}  // namespace lieflow

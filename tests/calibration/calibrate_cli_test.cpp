@@ -1,0 +1,183 @@
+/// \file
+/// `lieflow calibrate` as users see it: the JSON keys of ../shared/DESIGN.md
+/// and their values against the truth of a synthetic recording written as a
+/// CSV, and the exit statuses (1 not identifiable, 2 bad input or usage, the
+/// spring fit not offered).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "calibration/synthetic_motion.hpp"
+#include "calibration_test_helpers.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+const std::string kLieflow = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow";
+
+struct Outcome {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+std::string testStem() {
+  return testing::TempDir() + "lieflow_calibrate_" + testing::UnitTest::GetInstance()->current_test_info()->name();
+}
+
+/// Runs `lieflow ARGS`, output files named after the running test (ctest
+/// runs tests in parallel processes).
+Outcome run(const std::string& args) {
+  const std::string out_file = testStem() + "_out.txt", err_file = testStem() + "_err.txt";
+  const int raw = std::system((kLieflow + " " + args + " >" + out_file + " 2>" + err_file).c_str());
+  auto slurp = [](const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out_file), slurp(err_file)};
+}
+
+/// Writes the samples as a recording CSV (17 significant digits), bodies A and B.
+std::string writeRecording(const JointSamples& s, const std::string& suffix = "") {
+  const std::string path = testStem() + suffix + ".csv";
+  std::ofstream f(path);
+  f << "t";
+  for (const char* b : {"A", "B"}) {
+    if (s.hasOrientations())
+      for (const char* c : {"qw", "qx", "qy", "qz"}) f << "," << b << "." << c;
+    if (s.hasAngularVelocities())
+      for (const char* c : {"wx", "wy", "wz"}) f << "," << b << "." << c;
+  }
+  f << "\n";
+  char buf[32];
+  auto put = [&](double x) {
+    std::snprintf(buf, sizeof buf, ",%.17g", x);
+    f << buf;
+  };
+  for (int k = 0; k < s.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%.17g", s.time[k]);
+    f << buf;
+    for (const BodySamples* b : {&s.main, &s.secondary}) {
+      if (b->hasOrientation()) {
+        const Eigen::Quaterniond& q = b->orientation[k].quaternion();
+        for (double x : {q.w(), q.x(), q.y(), q.z()}) put(x);
+      }
+      if (b->hasAngularVelocity())
+        for (int i = 0; i < 3; ++i) put(b->angular_velocity[k][i]);
+    }
+    f << "\n";
+  }
+  return path;
+}
+
+Eigen::Vector3d vector3(const nlohmann::json& j) { return Eigen::Vector3d(j[0], j[1], j[2]); }
+
+TEST(CalibCli, HingeFromGyroscopesPrintsTheDesignKeys) {
+  std::mt19937 gen(71);
+  const HingeMotion m = randomHingeMotion(gen);
+  const std::string path = writeRecording(recordMotion(m, 1000, 100.0, RecordingNoise{0.01, 0.0, false, true}, gen));
+  const Outcome o = run("calibrate hinge " + path);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  for (const char* key : {"axis_main", "axis_secondary", "axis_sigma_deg", "rms_residual", "iterations", "converged",
+                          "message"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_LE(test::lineErrorDeg(vector3(j["axis_main"]), m.axis_main), 0.1);
+  EXPECT_LE(test::lineErrorDeg(vector3(j["axis_secondary"]), m.axisSecondary()), 0.1);
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_GT(j["iterations"].get<int>(), 0);
+  EXPECT_EQ(j["main"], "A");
+  EXPECT_EQ(j["secondary"], "B");
+  EXPECT_EQ(j["data"], "gyroscopes");
+  EXPECT_EQ(j["samples"], 1000);
+  EXPECT_GT(j["axis_sigma_deg"].get<double>(), 0.0);
+  EXPECT_LT(j["axis_sigma_deg"].get<double>(), 0.1);
+
+  // Swapping the bodies swaps the axes.
+  const Outcome swapped = run("calibrate hinge " + path + " --main B --secondary A");
+  ASSERT_EQ(swapped.status, 0) << swapped.err;
+  const nlohmann::json k = nlohmann::json::parse(swapped.out);
+  EXPECT_LE(test::lineErrorDeg(vector3(k["axis_main"]), m.axisSecondary()), 0.1);
+}
+
+TEST(CalibCli, UniversalFromOrientationsAndGyroscopes) {
+  std::mt19937 gen(72);
+  const UniversalMotion m = randomUniversalMotion(gen);
+  const std::string path =
+      writeRecording(recordMotion(m, 1000, 100.0, RecordingNoise{0.01, 0.5 / kRadToDeg, true, true}, gen));
+  const Outcome o = run("calibrate universal " + path + " --loss huber");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  for (const char* key : {"axis1_main", "axis2_secondary", "axis1_main_sigma_deg", "axis2_secondary_sigma_deg",
+                          "rms_residual", "iterations", "converged", "message"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_LE(test::lineErrorDeg(vector3(j["axis1_main"]), m.axis1_main), 0.2);
+  EXPECT_LE(test::lineErrorDeg(vector3(j["axis2_secondary"]), m.axis2_secondary), 0.2);
+  EXPECT_EQ(j["data"], "orientations+gyroscopes");
+}
+
+TEST(CalibCli, NotIdentifiableExitsOne) {
+  std::mt19937 gen(73);
+  HingeMotion m = randomHingeMotion(gen);
+  m.main.angle.amplitude.clear();
+  m.angle.amplitude.clear();  // nothing moves
+  const std::string path = writeRecording(recordMotion(m, 500, 100.0, RecordingNoise{0.01, 0.0, false, true}, gen));
+  const Outcome o = run("calibrate hinge " + path);
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.err.find("not identifiable: "), std::string::npos) << o.err;
+  EXPECT_TRUE(o.out.empty()) << o.out;
+
+  std::mt19937 gen2(74);
+  const UniversalMotion u = randomUniversalMotion(gen2);
+  const std::string gyro_only =
+      writeRecording(recordMotion(u, 500, 100.0, RecordingNoise{0.01, 0.0, false, true}, gen2), "_gyro");
+  const Outcome g = run("calibrate universal " + gyro_only);
+  EXPECT_EQ(g.status, 1);
+  EXPECT_NE(g.err.find("not identifiable: a universal joint's axes need both bodies' orientations"),
+            std::string::npos)
+      << g.err;
+}
+
+TEST(CalibCli, BadInputAndUsageExitTwo) {
+  const std::string bad = testStem() + "_bad.csv";
+  std::ofstream(bad) << "t,A.wx,A.wy,A.wz,B.wx,B.wy,B.wz\n0,1,2,3,4,5,6\n0.01,1,2,x,4,5,6\n";
+  Outcome o = run("calibrate hinge " + bad);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find(bad + ", line 3, column A.wz: 'x' is not a number"), std::string::npos) << o.err;
+
+  const std::string three = testStem() + "_three.csv";
+  std::ofstream(three) << "t,A.wx,A.wy,A.wz,B.wx,B.wy,B.wz,C.wx,C.wy,C.wz\n0,1,2,3,4,5,6,7,8,9\n";
+  o = run("calibrate hinge " + three);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--main and --secondary"), std::string::npos) << o.err;
+  o = run("calibrate hinge " + three + " --main A --secondary D");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("no body 'D'"), std::string::npos) << o.err;
+
+  o = run("calibrate spring " + three);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("unknown calibration 'spring' (available: hinge, universal)"), std::string::npos) << o.err;
+  EXPECT_EQ(run("calibrate").status, 2);
+  EXPECT_EQ(run("calibrate hinge").status, 2);
+  EXPECT_EQ(run("calibrate hinge " + three + " --loss frobnicate").status, 2);
+  EXPECT_EQ(run("calibrate hinge " + three + " --start-main 1,0,0").status, 2);
+  EXPECT_EQ(run("calibrate hinge /nonexistent/recording.csv").status, 2);
+
+  o = run("calibrate --help");
+  EXPECT_EQ(o.status, 0);
+  EXPECT_NE(o.out.find("hinge|universal"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace calibration
+}  // namespace lieflow
