@@ -1,9 +1,10 @@
 #include "joints/multibody/kkt_assembly.hpp"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <utility>
-
+#include <variant>
 
 namespace lieflow {
 namespace multibody {

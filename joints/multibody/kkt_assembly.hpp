@@ -29,7 +29,14 @@
 /// sharing a row group (joint, prescribed coordinate, gear) and the J and Jᵀ
 /// blocks of each group; built once per topology, values refilled in place.
 /// Its size and the nonzeros of its LU factors grow linearly along chains
-/// and trees.
+/// and trees (measured on revolute chains: ≈ 265–320 LU nonzeros per body at
+/// N = 20…1000).
+///
+/// Joint angles: advance() unwraps them near φ + J_φ(y) dq, the first-order
+/// prediction along the increment, so that a Newton iterate that turns a
+/// joint by more than π (the predictor of a stiff spring at h ω ≫ 1) keeps
+/// the turn instead of wrapping it back (the spring would otherwise pull
+/// towards a wrong multiple of 2π).
 #pragma once
 
 #include <array>
@@ -47,9 +54,11 @@ namespace multibody {
 
 struct KktAssemblyOptions {
   /// Include the geometric stiffness ∂(Jᵀλ)/∂δq of the constraint forces in
-  /// K_t (one-sided differences; cost ~ 6 Jacobian evaluations per joint
-  /// and Newton iteration). Without it Newton converges linearly at a rate
-  /// ~ β h² |λ| ℓ / I (large reactions: fast spin, heavy loads).
+  /// K_t (one-sided differences: 6 evaluations of all Jacobian blocks per
+  /// Newton iteration along a chain, ~1/3 of an iteration's time at 1000
+  /// bodies). Without it Newton converges linearly at a rate ~ β h² |λ| ℓ / I
+  /// (large reactions: fast spin, heavy loads; measured on the 1000 rad/s
+  /// rotor with a blade: 3–4 instead of 2 iterations per step).
   bool geometric_stiffness = true;
 };
 
@@ -73,7 +82,7 @@ class KktAssembly {
 
   static Eigen::VectorXd velocity(const State& y) { return y.velocities(); }
   /// (q exp(dq), u): positions moved by dq (δp world, δθ body), velocities
-  /// replaced, joint angles re-unwrapped near y's.
+  /// replaced, joint angles unwrapped near y's plus J_φ(y) dq.
   static State advance(const State& y, const Eigen::VectorXd& dq, const Eigen::VectorXd& u);
   static bool identical(const State& a, const State& b);
 
