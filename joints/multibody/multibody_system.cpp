@@ -255,12 +255,8 @@ MultibodyGroupState MultibodySystem::makeState(const MultibodyState& bodies) con
   State y;
   y.bodies = bodies;
   y.system = this;
+  // Principal values: unwrapped around 0.
   y.angles.assign(2 * model_.joints.size(), 0.0);
-  for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
-      y.angles[2 * k + i] = 0.0;
-    }
-  // Principal values: unwrap around 0.
   rebaseAngles(&y);
   return y;
 }

@@ -138,10 +138,11 @@ class MultibodySystem {
   /// The row sets, for generic steppers (integrators/constrained_lgvi.hpp).
   using RowSet = ::lieflow::multibody::RowSet;
 
-  /// Checks the drives (one pair per joint; springs, dashpots and drives only
-  /// on revolute/universal coordinates; k, c finite ≥ 0; a coordinate is not
-  /// both prescribed and loaded by an applied moment... see the .cpp) and the
-  /// gears' bodies. Throws InvalidInput naming "joints[k] (name).field".
+  /// Checks the drives (one pair per joint; springs, dashpots, moments and
+  /// prescribed motion only on revolute/universal coordinates; k, c finite
+  /// ≥ 0; rest angles finite) and the gears' bodies (known, distinct, nodes
+  /// not the ground, a rack with translational coordinates). Throws
+  /// InvalidInput naming the joint and field.
   MultibodySystem(MultibodyModel model, std::vector<std::array<CoordinateDrive, 2>> drives,
                   std::vector<Gear> gears = {});
 
