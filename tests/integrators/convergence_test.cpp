@@ -13,6 +13,7 @@
 #include "integrators/integrate.hpp"
 #include "integrators/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
+#include "tests/order_slope.hpp"
 
 #ifdef LIEFLOW_HAVE_CERES
 #include <ceres/jet.h>
@@ -20,6 +21,8 @@
 
 namespace lieflow {
 namespace {
+
+using testing_support::logLogSlope;
 
 template <typename T>
 RigidBodyParameters<T> torquedTop() {
@@ -63,20 +66,6 @@ double error(const RotorState<double>& a, const RotorState<double>& b) {
 }
 double orientationError(const RotorState<double>& a, const RotorState<double>& b) {
   return (a.R.inverse() * b.R).log().norm();
-}
-
-/// Least-squares slope of log(err) against log(h).
-double slope(const std::vector<double>& hs, const std::vector<double>& errs) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(hs.size());
-  for (std::size_t i = 0; i < hs.size(); ++i) {
-    const double x = std::log(hs[i]), y = std::log(errs[i]);
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 struct OrderCase {
@@ -127,8 +116,8 @@ TEST_P(ConvergenceOrder, MeasuredSlopeMatchesTheory) {
     total.push_back(error(y, ref));
     orientation.push_back(orientationError(y, ref));
   }
-  const double s_total = slope(c.steps, total);
-  const double s_orientation = slope(c.steps, orientation);
+  const double s_total = logLogSlope(c.steps, total);
+  const double s_orientation = logLogSlope(c.steps, orientation);
   RecordProperty("slope", std::to_string(s_total));
   EXPECT_NEAR(s_total, c.order, 0.15) << c.name << " errors " << total.front() << " .. " << total.back();
   // Orientation alone converges at the full order too (MuJoCo 2.2's RK4 was
@@ -168,8 +157,8 @@ TEST(ConvergenceOrder, FreeBodyWithTranslationIsFourthOrderWithCf4AndRkmk4) {
     e_rk4.push_back(err(solve(RkmkStepper<FreeBodyState<double>>(ButcherTableau::rk4()), sys, y0, 1.0, h), ref));
     e_cf4.push_back(err(solve(CommutatorFree4Stepper<FreeBodyState<double>>(), sys, y0, 1.0, h), ref));
   }
-  EXPECT_NEAR(slope(hs, e_rk4), 4.0, 0.15);
-  EXPECT_NEAR(slope(hs, e_cf4), 4.0, 0.15);
+  EXPECT_NEAR(logLogSlope(hs, e_rk4), 4.0, 0.15);
+  EXPECT_NEAR(logLogSlope(hs, e_cf4), 4.0, 0.15);
 }
 
 TEST(Integrate, LastStepLandsOnTEndAndCountsSteps) {

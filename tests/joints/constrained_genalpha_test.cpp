@@ -23,6 +23,8 @@
 #include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
 #include "joints/multibody/multibody_system.hpp"
+#include "tests/joints/pendulum_fixture.hpp"
+#include "tests/order_slope.hpp"
 
 namespace lieflow {
 namespace multibody {
@@ -33,20 +35,8 @@ using Eigen::Vector3d;
 using Stepper = ConstrainedGeneralizedAlphaStepper<MultibodySystem>;
 using constraints::BodyPose;
 using constraints::BodyVelocity;
-
-/// Least-squares slope of log(err) against log(h).
-double logLogSlope(const std::vector<double>& h, const std::vector<double>& err) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(h.size());
-  for (std::size_t i = 0; i < h.size(); ++i) {
-    const double x = std::log(h[i]), y = std::log(err[i]);
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
+using lieflow::testing_support::logLogSlope;
+using testing_support::Pendulum;
 
 Stepper makeStepper(double rho_inf, int max_iterations = 20, double tolerance = 1e-10) {
   ConstrainedGeneralizedAlphaOptions o;
@@ -57,53 +47,6 @@ Stepper makeStepper(double rho_inf, int max_iterations = 20, double tolerance = 
 }
 
 // ---- pendulum -------------------------------------------------------------------
-
-// A compound pendulum (as in multibody_dynamics_test.cpp): rod of mass m, CoM
-// at distance L below the hinge, hinge axis y through the origin;
-// θ̈ = −(m g L / I_o) sin θ, I_o = I_yy + m L².
-struct Pendulum {
-  double m = 1.3, L = 0.7, Iyy = 0.05, g = 9.81;
-  MultibodyState s0;
-  MultibodySystem system;
-  MultibodySystem::State y0;
-  static MultibodySystem build(double m, double L, double Iyy, double g, double theta0, MultibodyState* s) {
-    MultibodyModel model;
-    model.gravity = Vector3d(0, 0, -g);
-    model.addBody(RigidBody{"rod", m, Vector3d(0.04, Iyy, 0.03).asDiagonal(), false});
-    const SO3d R = SO3d::exp(theta0 * Vector3d::UnitY());
-    const BodyPose<double> pose{R, R * Vector3d(0, 0, -L)};
-    model.addJoint(Joint{"hinge", kGround, 0,
-                         constraints::assembleRevoluteJoint<double>(constraints::groundPose<double>(), pose,
-                                                                    Vector3d::Zero(), Vector3d(0, 0, L),
-                                                                    Vector3d::UnitY(), Vector3d::UnitY())});
-    s->poses = {pose};
-    s->velocities = {BodyVelocity<double>{}};
-    return MultibodySystem(model, {});
-  }
-  explicit Pendulum(double theta0) : system(build(m, L, Iyy, g, theta0, &s0)), y0(system.makeState(s0)) {}
-  double kappa() const { return m * g * L / (Iyy + m * L * L); }
-};
-
-// Classical RK4 on θ̈ = −κ sin θ with a tiny step: the 1-D reference.
-double pendulumReference(double theta0, double kappa, double T) {
-  const int n = 100000;
-  const double h = T / n;
-  double th = theta0, om = 0.0;
-  auto f = [&](double a, double b, double* da, double* db) {
-    *da = b;
-    *db = -kappa * std::sin(a);
-  };
-  for (int i = 0; i < n; ++i) {
-    double k1a, k1b, k2a, k2b, k3a, k3b, k4a, k4b;
-    f(th, om, &k1a, &k1b);
-    f(th + 0.5 * h * k1a, om + 0.5 * h * k1b, &k2a, &k2b);
-    f(th + 0.5 * h * k2a, om + 0.5 * h * k2b, &k3a, &k3b);
-    f(th + h * k3a, om + h * k3b, &k4a, &k4b);
-    th += h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a);
-    om += h / 6 * (k1b + 2 * k2b + 2 * k3b + k4b);
-  }
-  return th;
-}
 
 struct RunResult {
   RunSummary summary;
@@ -125,7 +68,7 @@ RunResult run(Stepper& stepper, const MultibodySystem& system, const MultibodyGr
 TEST(ConstrainedGenAlpha, PendulumSecondOrderAgainstOneDimensionalReference) {
   const double theta0 = 1.2, T = 2.0;
   Pendulum P(theta0);
-  const double ref = pendulumReference(theta0, P.kappa(), T);
+  const double ref = P.reference(T, 100000);
   for (double rho : {1.0, 0.5}) {
     std::vector<double> hs, errs;
     for (double h : {0.02, 0.01, 0.005}) {

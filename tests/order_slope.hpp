@@ -1,0 +1,26 @@
+// Measured convergence order: the least-squares slope of log(error) against
+// log(h), shared by the convergence tests.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+namespace lieflow {
+namespace testing_support {
+
+inline double logLogSlope(const std::vector<double>& h, const std::vector<double>& err) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const double x = std::log(h[i]), y = std::log(err[i]);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace testing_support
+}  // namespace lieflow
