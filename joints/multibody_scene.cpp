@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 #include "liegroup/invalid_input.hpp"
 
@@ -15,10 +16,6 @@ namespace {
 constexpr double kAssemblyTolerance = 1e-6;
 /// The initial projections stop at this max |Φ| (metres, radians).
 constexpr double kInitialProjectionTolerance = 1e-13;
-
-bool isGear(const std::string& type) {
-  return type == "gear" || type == "rack_pinion" || type == "differential";
-}
 
 constraints::NodeAxes<double> nodeAxes(const NodeAxesDescription& d, const std::string& prefix) {
   return d.has_t ? constraints::makeNodeAxes<double>(d.r, d.s, d.t, prefix)
@@ -60,7 +57,8 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     s.velocities.push_back(constraints::BodyVelocity<double>{b.rotation_only ? Eigen::Vector3d::Zero() : b.velocity,
                                                              b.angular_velocity});
   }
-  auto body = [&](const std::string& name) { return name == "ground" ? kGround : scene.bodyIndex(name); };
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
   auto pose = [&](int i) { return i == kGround ? constraints::groundPose<double>() : s.poses[i]; };
 
   std::vector<std::array<multibody::CoordinateDrive, 2>> drives;
@@ -69,7 +67,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     const JointDescription& j = scene.joints[k];
     const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
     const std::string& prefix = label;
-    if (isGear(j.type)) {
+    if (j.isGear()) {
       multibody::Gear g;
       g.name = label;
       g.bodies = {{body(j.carrier), body(j.main), body(j.secondary), kGround}};

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -84,6 +85,9 @@ struct JointDescription {
   std::string carrier = "ground";
   std::string tertiary;
   NodeAxesDescription axes_main, axes_secondary, axes_tertiary;
+
+  /// gear, rack_pinion or differential (velocity rows between a carrier and nodes).
+  bool isGear() const { return type == "gear" || type == "rack_pinion" || type == "differential"; }
 };
 
 /// The integrator a scene asks for: a name of `lieflow integrators`, a step
@@ -109,8 +113,11 @@ struct SceneDescription {
   /// One line on what the scene shows (built-in scenes).
   std::string description;
 
-  /// Index of the body with this name, or -1.
+  /// Index of the body with this name, or -1 (a linear search; code that
+  /// looks up every joint's bodies builds bodyIndices() once instead).
   int bodyIndex(const std::string& body_name) const;
+  /// Body name → index, for all bodies.
+  std::unordered_map<std::string, int> bodyIndices() const;
 };
 
 /// Parses and validates a scene from JSON text. Throws InvalidInput whose

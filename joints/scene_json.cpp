@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
@@ -358,6 +359,12 @@ int SceneDescription::bodyIndex(const std::string& body_name) const {
   return -1;
 }
 
+std::unordered_map<std::string, int> SceneDescription::bodyIndices() const {
+  std::unordered_map<std::string, int> index;
+  for (std::size_t i = 0; i < bodies.size(); ++i) index.emplace(bodies[i].name, static_cast<int>(i));
+  return index;
+}
+
 SceneDescription parseScene(const std::string& json_text, const std::string& source) {
   json root;
   try {
@@ -374,12 +381,12 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
 
   const json& bodies = r.array("bodies");
   if (bodies.empty()) r.fail("bodies", "a scene needs at least one body");
+  std::unordered_map<std::string, int> body_index;  // (linear in the bodies: chain-N has up to 1e5)
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     scene.bodies.push_back(readBody(bodies[i], static_cast<int>(i), source));
-    for (std::size_t k = 0; k < i; ++k)
-      if (scene.bodies[k].name == scene.bodies[i].name)
-        throw InvalidInput(source + ": bodies[" + std::to_string(i) + "].name",
-                           "duplicate body name '" + scene.bodies[i].name + "'");
+    if (!body_index.emplace(scene.bodies[i].name, static_cast<int>(i)).second)
+      throw InvalidInput(source + ": bodies[" + std::to_string(i) + "].name",
+                         "duplicate body name '" + scene.bodies[i].name + "'");
   }
 
   if (r.has("joints")) {
@@ -387,13 +394,12 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
     for (std::size_t i = 0; i < joints.size(); ++i) {
       JointDescription j = readJoint(joints[i], static_cast<int>(i), source);
       const std::string field = source + ": joints[" + std::to_string(i) + "]";
-      const bool gear = j.type == "gear" || j.type == "rack_pinion" || j.type == "differential";
       std::vector<std::pair<std::string, const std::string*>> named = {{"main", &j.main},
                                                                         {"secondary", &j.secondary}};
-      if (gear) named.emplace_back("carrier", &j.carrier);
+      if (j.isGear()) named.emplace_back("carrier", &j.carrier);
       if (j.type == "differential") named.emplace_back("tertiary", &j.tertiary);
       for (const auto& nb : named)
-        if (*nb.second != "ground" && scene.bodyIndex(*nb.second) < 0)
+        if (*nb.second != "ground" && !body_index.count(*nb.second))
           throw InvalidInput(field + "." + nb.first, "unknown body '" + *nb.second + "'");
       for (std::size_t a = 0; a < named.size(); ++a)
         for (std::size_t b = 0; b < a; ++b)
