@@ -1,0 +1,169 @@
+/// \file
+/// One rigid body on a revolute (N = 1) or universal (N = 2) joint to the
+/// ground, in the joint coordinates φ ∈ ℝᴺ: the reduced model that
+/// `lieflow calibrate spring` integrates with ceres::Jet scalars (the
+/// maximal-coordinate MultibodySystem is double-only and carries 5 or 4
+/// constraint rows that this body does not need).
+///
+/// Kinematics. Both joints of joints/constraints/ give the body's orientation
+/// as a product of exponentials with constant rotations P_k and unit axes x_k,
+///   R(φ) = P₀ exp(φ_{c₀} x₀) P₁ … exp(φ_{c_{N−1}} x_{N−1}) P_N
+/// (revolute, body secondary: R = exp(φ a) R_ref; body main: R = R_ref⁻¹ exp(−φ a);
+/// universal: R = exp(φ₁e₁) exp(φ₂e₂) R_ref, or R_ref⁻¹ exp(−φ₂e₂) exp(−φ₁e₁)).
+/// With Z_k = exp(φ x_k) P_{k+1} ⋯ P_N the part right of factor k, the body
+/// angular velocity is ω = G φ̇, column G_k = Z_kᵀ x_k (for factor k), and
+/// dG_k/dt = Σ_{j>k} φ̇_{c_j} G_k × G_j (only factors to the right turn G_k).
+///
+/// Dynamics (Lagrange; the ideal joint's reaction does no work on G φ̇).
+/// About the fixed pivot o, with J_o = J_c + m(‖c‖²I − ccᵀ) and c the centre
+/// of mass from o (body axes; Euler's equation about a fixed point):
+///   M(φ) φ̈ = Gᵀ(c × Rᵀ m g − ω × J_o ω − J_o Ġ φ̇) + Q,   M = Gᵀ J_o G,
+///   Q_i = −k_i (φ_i − φ₀ᵢ) − c_i φ̇_i + M_i(t)   (spring, dashpot, applied moment
+/// on coordinate i: a joint moment does virtual work M δφ, README "Joints").
+/// A rotation-only body turns about its centre of mass (c = 0) and its weight
+/// is carried by its support, as in the multibody path.
+///
+/// State: VectorState<T, N> (x = φ, v = φ̇), so every Lie-group stepper of
+/// integrators/ advances it (on ℝᴺ × ℝᴺ exp is the identity).
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "integrators/vector_state.hpp"
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+
+/// The double-precision description of the body and joint (built from a scene
+/// by grounded_joint_scene.hpp).
+template <int N>
+struct GroundedJointModel {
+  static_assert(N == 1 || N == 2, "a revolute (1) or universal (2) joint");
+  /// R(φ) = P[0] exp(φ[coordinate[0]] axis[0]) P[1] … P[N].
+  std::array<Eigen::Matrix3d, N + 1> P;
+  std::array<Eigen::Vector3d, N> axis;   ///< x_k, unit
+  std::array<int, N> coordinate;         ///< c_k: which joint coordinate factor k turns
+  double mass = 1.0;
+  Eigen::Matrix3d inertia_pivot = Eigen::Matrix3d::Identity();  ///< J_o, body axes
+  Eigen::Vector3d com_from_pivot = Eigen::Vector3d::Zero();     ///< c, body axes
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();            ///< g acting on the body (0 if carried)
+  /// Applied joint moments M_i(t) (empty: none).
+  std::array<std::function<double(double)>, N> moment;
+
+  /// R(φ) (body → world).
+  Eigen::Matrix3d orientation(const Eigen::Matrix<double, N, 1>& phi) const;
+};
+
+/// Spring and dashpot of each coordinate, in the scalar of the fit.
+template <typename T, int N>
+struct GroundedJointForces {
+  std::array<T, N> stiffness, rest_angle, damping;
+};
+
+template <typename T, int N>
+class GroundedJointSystem {
+ public:
+  using Scalar = T;
+  using State = VectorState<T, N>;
+  using Tangent = typename State::Tangent;
+  using Vector = Eigen::Matrix<T, N, 1>;
+
+  GroundedJointSystem(const GroundedJointModel<N>& model, const GroundedJointForces<T, N>& forces)
+      : model_(model), forces_(forces) {}
+
+  const GroundedJointModel<N>& model() const { return model_; }
+  const GroundedJointForces<T, N>& forces() const { return forces_; }
+
+  /// f(t, y) = (φ̇, φ̈).
+  void velocity(const T& t, const State& y, Tangent* f) const {
+    const Kinematics k = kinematics(y.x);
+    const Matrix3<T> J = model_.inertia_pivot.template cast<T>();
+    const Vector3<T> omega = k.G * y.v;
+    // J_o Ġ φ̇ with Ġ_k = Σ_{j>k} φ̇_{c_j} G_k × G_j (factor order).
+    Vector3<T> gdot_v = Vector3<T>::Zero();
+    for (int a = 0; a < N; ++a)
+      for (int b = a + 1; b < N; ++b)
+        gdot_v += (y.v[model_.coordinate[a]] * y.v[model_.coordinate[b]]) *
+                  k.G.col(model_.coordinate[a]).cross(k.G.col(model_.coordinate[b]));
+    Vector rhs = k.G.transpose() * (gravityTorque(k.R) - omega.cross(J * omega) - J * gdot_v);
+    const double time = scalarValue(t);
+    for (int i = 0; i < N; ++i) {
+      rhs[i] += -forces_.stiffness[i] * (y.x[i] - forces_.rest_angle[i]) - forces_.damping[i] * y.v[i];
+      if (model_.moment[i]) rhs[i] += T(model_.moment[i](time));
+    }
+    const Eigen::Matrix<T, N, N> M = k.G.transpose() * J * k.G;
+    f->template head<N>() = y.v;
+    f->template tail<N>() = M.inverse() * rhs;  // N ≤ 2: closed-form inverse
+  }
+
+  /// M(φ) = Gᵀ J_o G.
+  Eigen::Matrix<T, N, N> massMatrix(const Vector& phi) const {
+    const Kinematics k = kinematics(phi);
+    return k.G.transpose() * model_.inertia_pivot.template cast<T>() * k.G;
+  }
+
+  /// The generalized gravity moments Gᵀ (c × Rᵀ m g) at φ.
+  Vector gravityForce(const Vector& phi) const {
+    const Kinematics k = kinematics(phi);
+    return k.G.transpose() * gravityTorque(k.R);
+  }
+
+  /// ½ φ̇ᵀ M φ̇ − m gᵀ R c + Σ ½ k (φ − φ₀)²  (conserved without dashpots and
+  /// applied moments).
+  T energy(const T& /*t*/, const State& y) const {
+    const Kinematics k = kinematics(y.x);
+    const Vector3<T> omega = k.G * y.v;
+    T e = T(0.5) * omega.dot(model_.inertia_pivot.template cast<T>() * omega);
+    e -= (model_.mass * model_.gravity).template cast<T>().dot(k.R * model_.com_from_pivot.template cast<T>());
+    for (int i = 0; i < N; ++i) {
+      const T d = y.x[i] - forces_.rest_angle[i];
+      e += T(0.5) * forces_.stiffness[i] * d * d;
+    }
+    return e;
+  }
+
+  /// Body angular velocity ω = G(φ) φ̇ (body frame).
+  Vector3<T> angularVelocity(const State& y) const { return kinematics(y.x).G * y.v; }
+
+ private:
+  struct Kinematics {
+    Matrix3<T> R;                 ///< R(φ)
+    Eigen::Matrix<T, 3, N> G;     ///< column i: the body-frame axis of coordinate i
+  };
+
+  /// c × Rᵀ m g (body frame).
+  Vector3<T> gravityTorque(const Matrix3<T>& R) const {
+    const Vector3<T> weight = (model_.mass * model_.gravity).template cast<T>();
+    return model_.com_from_pivot.template cast<T>().cross(R.transpose() * weight);
+  }
+
+  Kinematics kinematics(const Vector& phi) const {
+    Kinematics k;
+    Matrix3<T> Z = model_.P[N].template cast<T>();
+    for (int f = N - 1; f >= 0; --f) {
+      const Vector3<T> x = model_.axis[f].template cast<T>();
+      Z = SO3<T>::exp(phi[model_.coordinate[f]] * x).matrix() * Z;
+      k.G.col(model_.coordinate[f]) = Z.transpose() * x;
+      if (f > 0) Z = model_.P[f].template cast<T>() * Z;
+    }
+    k.R = model_.P[0].template cast<T>() * Z;
+    return k;
+  }
+
+  const GroundedJointModel<N>& model_;  ///< must outlive the system
+  GroundedJointForces<T, N> forces_;
+};
+
+template <int N>
+Eigen::Matrix3d GroundedJointModel<N>::orientation(const Eigen::Matrix<double, N, 1>& phi) const {
+  Eigen::Matrix3d R = P[0];
+  for (int f = 0; f < N; ++f) R = R * SO3d::exp(phi[coordinate[f]] * axis[f]).matrix() * P[f + 1];
+  return R;
+}
+
+}  // namespace lieflow
