@@ -1,11 +1,14 @@
 /// \file
-/// `lieflow calibrate hinge|universal RECORDING.csv ...`: fits a joint's axes
-/// to a recording and prints one JSON object (../shared/DESIGN.md). Exit 1
-/// when the data cannot identify the axes or the solver does not converge
-/// (the JSON is still printed then), 2 on bad input.
+/// `lieflow calibrate hinge|universal|spring RECORDING.csv ...`: fits a
+/// joint's axes, or a joint coordinate's spring and dashpot, to a recording
+/// and prints one JSON object (../shared/DESIGN.md). Exit 1 when the data
+/// cannot identify the parameters or the solver does not converge (the JSON
+/// is still printed then), 2 on bad input.
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
+#include <vector>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -15,7 +18,10 @@
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/recording.hpp"
+#include "calibration/spring_fit.hpp"
 #include "calibration/universal_fit.hpp"
+#include "joints/grounded_joint_scene.hpp"
+#include "joints/scene.hpp"
 
 namespace lieflow {
 namespace app {
@@ -27,16 +33,21 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kUsage =
     "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
+    "       lieflow calibrate spring RECORDING.csv --scene SCENE [--joint J] [options]\n"
     "\n"
-    "Fits a joint's axes to a recording (the trajectory CSV: t and, per body B, any of\n"
-    "B.qw,B.qx,B.qy,B.qz and B.wx,B.wy,B.wz) and prints one JSON object.\n"
+    "Fits a joint's axes, or a joint coordinate's spring and dashpot, to a recording (the\n"
+    "trajectory CSV: t and, per body B, any of B.qw,B.qx,B.qy,B.qz and B.wx,B.wy,B.wz; per\n"
+    "joint J, J.phi or J.phi1,J.phi2) and prints one JSON object.\n"
     "  hinge      the revolute axis in both bodies' frames: axis_main, axis_secondary,\n"
     "             axis_sigma_deg (from gyroscopes, orientations or both)\n"
     "  universal  both axes of a universal joint: axis1_main, axis2_secondary and their\n"
     "             _sigma_deg (needs orientations; gyroscopes are used too when present)\n"
-    "Only hinge and universal are available (the spring fit is not yet).\n"
-    "Always: rms_residual, iterations, converged, message; sigmas are 1-sigma RMS angles.\n"
+    "  spring     stiffness, damping, rest_angle (and their _sigma) of a revolute or universal\n"
+    "             joint coordinate from its recorded angle; the body, its inertia, gravity and\n"
+    "             the joint's geometry come from the scene (one body on the joint to ground)\n"
+    "Always: rms_residual, iterations, converged, message; axis sigmas are 1-sigma RMS angles.\n"
     "\n"
+    "hinge and universal:\n"
     "  --main A, --secondary B   the joint's bodies; with exactly two bodies in the recording\n"
     "                            they may be omitted (main: the first in column order)\n"
     "  --use auto|gyroscopes|orientations|both   data to fit (default auto: all both bodies have)\n"
@@ -47,6 +58,18 @@ constexpr const char* kUsage =
     "  --max-iterations N        Levenberg-Marquardt iterations (default 100)\n"
     "  --max-sigma-deg S         largest 1-sigma of an axis direction accepted (default 5)\n"
     "  --min-samples N           fewest samples accepted (default 20)\n"
+    "spring:\n"
+    "  --scene SCENE             JSON file or built-in scene with the body and the joint\n"
+    "  --joint J                 the joint (default: the scene's only revolute/universal joint)\n"
+    "  --coordinate 1|2          which coordinate of a universal joint (default 1)\n"
+    "  --fit-rest-angle          fit the rest angle too (default: held at the scene's)\n"
+    "  --stiffness-start K --damping-start C --rest-angle-start A\n"
+    "                            starts (default: from the recorded angle's oscillation)\n"
+    "  --shooting multiple|single  multiple shooting, then single (default), or single only\n"
+    "  --segments N              multiple-shooting segments (default: a quarter period each)\n"
+    "  --integrator NAME         rkmk-euler, rkmk-heun, rkmk3 or rkmk4 (default rkmk4)\n"
+    "  --substeps N              integration steps per sample (default: h*omega <= 0.1)\n"
+    "  --max-iterations N, --min-samples N\n"
     "exit status: 0 success, 1 not identifiable or no convergence, 2 bad input\n";
 
 Eigen::Vector3d parseAxis(const Arguments& args, const std::string& flag) {
@@ -111,24 +134,118 @@ int finish(const Json& j, const AxisFitSummary& s, const std::string& what) {
   return kSuccess;
 }
 
+std::optional<double> optionalNumber(const Arguments& args, const std::string& flag) {
+  if (!args.has(flag)) return std::nullopt;
+  const std::string text = args.value(flag, "");
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError(flag + ": '" + text + "' is not a number");
+  return v;
+}
+
+int runSpring(const Arguments& args, const std::string& recording_path) {
+  if (!args.has("--scene"))
+    throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
+  for (const char* flag : {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
+                           "--start-secondary", "--max-sigma-deg"})
+    if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate hinge|universal, not spring");
+  calibration::SpringFitOptions o;
+  const int coordinate = args.positiveInt("--coordinate", 1);
+  if (coordinate > 2) throw UsageError("--coordinate: 1 or 2");
+  o.coordinate = coordinate - 1;
+  o.fit_rest_angle = args.has("--fit-rest-angle");
+  o.stiffness_start = optionalNumber(args, "--stiffness-start");
+  o.damping_start = optionalNumber(args, "--damping-start");
+  o.rest_angle_start = optionalNumber(args, "--rest-angle-start");
+  o.shooting = calibration::parseShooting(args.value("--shooting", "multiple"), "--shooting");
+  o.segments = args.has("--segments") ? args.positiveInt("--segments", 1) : 0;
+  o.integrator = args.value("--integrator", o.integrator);
+  o.substeps = args.has("--substeps") ? args.positiveInt("--substeps", 1) : 0;
+  o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
+  o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+
+  const SceneDescription scene = loadScene(args.value("--scene", ""));
+  const GroundedJointScene joint = groundedJointScene(scene, args.value("--joint", ""));
+  if (o.coordinate >= joint.coordinates)
+    throw UsageError("--coordinate 2: joint '" + joint.joint_name + "' is revolute (one coordinate)");
+  const calibration::Recording recording = calibration::readRecording(recording_path);
+  const calibration::SpringData data = calibration::selectSpringData(recording, joint, o.coordinate);
+  const std::string what = "calibrate spring " + recording_path;
+  try {
+    const calibration::SpringFit fit = calibration::fitSpring(joint, data, o);
+    Json j;
+    j["stiffness"] = fit.stiffness;
+    j["stiffness_sigma"] = fit.stiffness_sigma;
+    j["damping"] = fit.damping;
+    j["damping_sigma"] = fit.damping_sigma;
+    j["rest_angle"] = fit.rest_angle;
+    j["rest_angle_sigma"] = fit.rest_angle_sigma;
+    j["rms_residual"] = fit.rms_residual;
+    j["iterations"] = fit.iterations;
+    j["converged"] = fit.converged;
+    j["message"] = fit.message;
+    j["joint"] = joint.joint_name;
+    j["body"] = joint.body_name;
+    j["coordinate"] = o.coordinate + 1;
+    j["column"] = data.column[o.coordinate];
+    j["samples"] = fit.samples;
+    j["rms_residual_unit"] = "rad";
+    j["fitted"] = o.fit_rest_angle ? Json::array({"stiffness", "damping", "rest_angle", "initial state"})
+                                   : Json::array({"stiffness", "damping", "initial state"});
+    j["held_fixed"] = fit.held_fixed;
+    j["inertia"] = fit.inertia;
+    j["natural_frequency"] = fit.natural_frequency;
+    j["damping_ratio"] = fit.damping_ratio;
+    j["correlation_stiffness_damping"] = fit.correlation_stiffness_damping;
+    j["initial_state"] = std::vector<double>(fit.initial_state.data(), fit.initial_state.data() + fit.initial_state.size());
+    j["start"] = fit.start;
+    j["start_values"] = {{"stiffness", fit.start_stiffness}, {"damping", fit.start_damping},
+                         {"rest_angle", fit.start_rest_angle}};
+    j["shooting"] = fit.shooting;
+    j["segments"] = fit.segments;
+    j["multiple_shooting_iterations"] = fit.multiple_shooting_iterations;
+    j["single_shooting_iterations"] = fit.single_shooting_iterations;
+    j["max_continuity_defect"] = fit.max_continuity_defect;
+    j["integrator"] = fit.integrator;
+    j["substeps"] = fit.substeps;
+    j["seconds"] = fit.seconds;
+    std::cout << j.dump() << "\n";
+    if (!fit.converged) {
+      std::cerr << "lieflow: " << what << ": the solver did not converge: " << fit.message << "\n";
+      return kComputationFailed;
+    }
+    return kSuccess;
+  } catch (const calibration::NotIdentifiable& e) {
+    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
+    return kComputationFailed;
+  }
+}
+
 }  // namespace
 
 int runCalibrate(int argc, char** argv) {
   const Arguments args(argc, argv,
                        {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
-                        "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples"},
-                       {});
+                        "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",
+                        "--joint", "--coordinate", "--stiffness-start", "--damping-start", "--rest-angle-start",
+                        "--shooting", "--segments", "--integrator", "--substeps"},
+                       {"--fit-rest-angle"});
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
   }
   const std::vector<std::string>& pos = args.positional();
   if (pos.empty())
-    throw UsageError("calibrate needs hinge or universal and a RECORDING.csv (see lieflow calibrate --help)");
+    throw UsageError("calibrate needs hinge, universal or spring and a RECORDING.csv (see lieflow calibrate --help)");
   const std::string& kind = pos[0];
-  if (kind != "hinge" && kind != "universal")
-    throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal)");
+  if (kind != "hinge" && kind != "universal" && kind != "spring")
+    throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal, spring)");
   if (pos.size() != 2) throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv");
+  if (kind == "spring") return runSpring(args, pos[1]);
+  for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
+                           "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
+                           "--fit-rest-angle"})
+    if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   const AxisFitOptions options = fitOptions(args);
   const calibration::Recording recording = calibration::readRecording(pos[1]);
   const calibration::JointSamples joint =

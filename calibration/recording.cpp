@@ -84,6 +84,12 @@ const BodySamples* Recording::body(const std::string& name) const {
   return nullptr;
 }
 
+const std::vector<double>* Recording::column(const std::string& name) const {
+  for (const ScalarColumn& c : scalars)
+    if (c.name == name) return &c.values;
+  return nullptr;
+}
+
 std::string Recording::bodyList() const {
   std::string out;
   for (const BodySamples& b : bodies) out += (out.empty() ? "" : ", ") + b.name;
@@ -101,6 +107,7 @@ Recording parseRecording(std::istream& in, const std::string& source) {
   // Header: `t`, body columns grouped by prefix, everything else ignored.
   int time_col = -1;
   std::vector<BodyColumns> body_cols;
+  std::vector<int> scalar_cols;
   std::map<std::string, int> seen;
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     const std::string& name = header[c];
@@ -115,11 +122,15 @@ Recording parseRecording(std::istream& in, const std::string& source) {
       continue;
     }
     const auto dot = name.rfind('.');
-    if (dot == std::string::npos || dot == 0) continue;
-    const std::string prefix = name.substr(0, dot), suffix = name.substr(dot + 1);
+    const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
+    const std::string suffix = dot == std::string::npos ? "" : name.substr(dot + 1);
     const bool quaternion = contains(kQuaternionSuffixes, suffix);
     const bool rate = contains(kRateSuffixes, suffix);
-    if (!quaternion && !rate && !contains(kOtherBodySuffixes, suffix)) continue;
+    if (prefix.empty() || (!quaternion && !rate && !contains(kOtherBodySuffixes, suffix))) {
+      scalar_cols.push_back(c);
+      rec.scalars.push_back(ScalarColumn{name, {}});
+      continue;
+    }
     auto it = body_cols.begin();
     while (it != body_cols.end() && it->name != prefix) ++it;
     if (it == body_cols.end()) {
@@ -176,6 +187,7 @@ Recording parseRecording(std::istream& in, const std::string& source) {
       throw InvalidInput(where(source, line_number, "t"), reason.str());
     }
     rec.time.push_back(t);
+    for (std::size_t s = 0; s < scalar_cols.size(); ++s) rec.scalars[s].values.push_back(values[scalar_cols[s]]);
     for (std::size_t b = 0; b < body_cols.size(); ++b) {
       const BodyColumns& cols = body_cols[b];
       BodySamples& body = rec.bodies[b];

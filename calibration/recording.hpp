@@ -4,7 +4,10 @@
 /// groups `B.qw,B.qx,B.qy,B.qz` (Hamilton quaternion, R maps body → world) and
 /// `B.wx,B.wy,B.wz` (angular velocity in the body frame), and the other
 /// trajectory columns (`B.x`, `J.phi`, `energy`, ...), which are checked but not
-/// used. Bodies are discovered from the column prefixes of the body columns.
+/// used by the axis fits. Bodies are discovered from the column prefixes of the
+/// body columns; the columns that are neither `t` nor body columns (`J.phi`,
+/// `energy`, ...) are kept by name for the fits that use them (the spring fit
+/// reads the joint angles).
 ///
 /// Every value must be present, numeric and finite; `t` must increase; a
 /// quaternion must be unit to kQuaternionNormTolerance (it is then normalized).
@@ -24,11 +27,21 @@ namespace calibration {
 /// exported with 6 significant digits are off by ~1e-6); it is normalized.
 constexpr double kQuaternionNormTolerance = 1e-3;
 
+/// One recorded column that is not `t` and not a body column.
+struct ScalarColumn {
+  std::string name;
+  std::vector<double> values;  ///< one per time
+};
+
 /// All bodies of one recording, in the order their columns first appear.
 struct Recording {
   std::string source;
   std::vector<double> time;
   std::vector<BodySamples> bodies;
+  std::vector<ScalarColumn> scalars;  ///< in column order
+
+  /// The scalar column of that name, or nullptr.
+  const std::vector<double>* column(const std::string& name) const;
 
   /// The body of that name, or nullptr.
   const BodySamples* body(const std::string& name) const;

@@ -62,7 +62,7 @@ struct GroundedJointModel {
 /// Spring and dashpot of each coordinate, in the scalar of the fit.
 template <typename T, int N>
 struct GroundedJointForces {
-  std::array<T, N> stiffness, rest_angle, damping;
+  std::array<T, N> stiffness{}, rest_angle{}, damping{};
 };
 
 template <typename T, int N>

@@ -1,0 +1,320 @@
+#include "calibration/spring_fit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <sstream>
+
+#include <ceres/ceres.h>
+
+#include "calibration/fit_types.hpp"
+#include "calibration/spring_residuals.hpp"
+#include "calibration/spring_start.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+/// Samples per multiple-shooting segment, at least.
+constexpr int kMinSegmentSamples = 4;
+/// Central-difference step for the gravity stiffness (rad).
+constexpr double kGravityStiffnessStep = 1e-5;
+
+std::string format(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+ButcherTableau tableauNamed(const std::string& name) {
+  if (name == "rkmk-euler") return ButcherTableau::euler();
+  if (name == "rkmk-heun") return ButcherTableau::heun();
+  if (name == "rkmk3") return ButcherTableau::kutta3();
+  if (name == "rkmk4") return ButcherTableau::rk4();
+  throw InvalidInput("--integrator", "'" + name +
+                                         "': calibrate spring integrates the reduced joint model with an explicit "
+                                         "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
+}
+
+/// −∂Q_g/∂φ_i at φ (the gravity stiffness of coordinate i).
+double gravityStiffness(const GroundedJointScene& joint, int i, const Eigen::Vector2d& phi) {
+  Eigen::Vector2d plus = phi, minus = phi;
+  plus[i] += kGravityStiffnessStep;
+  minus[i] -= kGravityStiffnessStep;
+  return -(joint.gravityMoment(i, plus) - joint.gravityMoment(i, minus)) / (2.0 * kGravityStiffnessStep);
+}
+
+void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool sparse) {
+  o->minimizer_type = ceres::TRUST_REGION;
+  o->trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o->max_num_iterations = options.max_iterations;
+  o->function_tolerance = options.function_tolerance;
+  o->gradient_tolerance = options.gradient_tolerance;
+  o->parameter_tolerance = options.parameter_tolerance;
+  o->num_threads = 1;
+  o->logging_type = ceres::SILENT;
+  o->minimizer_progress_to_stdout = false;
+  o->linear_solver_type = ceres::DENSE_QR;
+  if (sparse) {
+    if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+      o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      o->sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
+      o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      o->sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+    }
+  }
+}
+
+/// θ = (k, c, φ₀): k, c ≥ 0; φ₀ held unless fitted.
+void addTheta(ceres::Problem* problem, double* theta, bool fit_rest_angle) {
+  problem->AddParameterBlock(theta, 3, fit_rest_angle ? nullptr : new ceres::SubsetManifold(3, {2}));
+  problem->SetParameterLowerBound(theta, 0, 0.0);
+  problem->SetParameterLowerBound(theta, 1, 0.0);
+}
+
+template <int N>
+ceres::CostFunction* segmentCost(const SpringProblemData<N>* p, int first, int last, bool final, double w_angle,
+                                 double w_rate) {
+  auto* functor = new SpringSegmentCost<N>(p, first, last, final, w_angle, w_rate);
+  const int m = functor->residualCount();
+  if (final) return new ceres::AutoDiffCostFunction<SpringSegmentCost<N>, ceres::DYNAMIC, 3, 2 * N>(functor, m);
+  return new ceres::AutoDiffCostFunction<SpringSegmentCost<N>, ceres::DYNAMIC, 3, 2 * N, 2 * N>(functor, m);
+}
+
+template <int N>
+SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& model, const SpringData& data,
+              const SpringFitOptions& o) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  SpringFit out;
+  const int n = data.size();
+  const int ic = o.coordinate;
+  const int free_params = 2 + (o.fit_rest_angle ? 1 : 0) + 2 * N;
+  out.samples = n;
+  if (n < std::max(o.min_samples, free_params + 2))
+    throw NotIdentifiable(std::to_string(n) + " samples; at least " +
+                          std::to_string(std::max(o.min_samples, free_params + 2)) + " are needed");
+
+  SpringProblemData<N> p;
+  p.model = &model;
+  p.data = &data;
+  for (int i = 0; i < N; ++i) {
+    p.scene_forces.stiffness[i] = joint.drives[i].stiffness;
+    p.scene_forces.damping[i] = joint.drives[i].damping;
+    p.scene_forces.rest_angle[i] = joint.drives[i].rest_angle;
+  }
+  p.coordinate = ic;
+  p.tableau = tableauNamed(o.integrator);
+  out.integrator = o.integrator;
+
+  // --- Start -----------------------------------------------------------
+  const multibody::CoordinateDrive& scene = joint.drives[ic];
+  const bool need_estimate = !o.stiffness_start || !o.damping_start || (o.fit_rest_angle && !o.rest_angle_start);
+  const SpringStart est = need_estimate ? estimateSpringStart(joint, data, ic) : SpringStart{};
+  double theta[3];
+  std::string from_data, from_scene, given;
+  auto pick = [&](const std::optional<double>& option, double estimate, double scene_value, bool scene_ok,
+                  const char* name) {
+    if (option) {
+      given += std::string(given.empty() ? "" : ", ") + name;
+      return *option;
+    }
+    if (est.found) {
+      from_data += std::string(from_data.empty() ? "" : ", ") + name;
+      return estimate;
+    }
+    if (!scene_ok)
+      throw NotIdentifiable("no start for the " + std::string(name) + ": " + est.why +
+                            "; give --stiffness-start and --damping-start");
+    from_scene += std::string(from_scene.empty() ? "" : ", ") + name;
+    return scene_value;
+  };
+  theta[0] = pick(o.stiffness_start, est.stiffness, scene.stiffness, scene.stiffness > 0.0, "stiffness");
+  theta[1] = pick(o.damping_start, est.damping, scene.damping, scene.stiffness > 0.0, "damping");
+  if (o.fit_rest_angle)
+    theta[2] = pick(o.rest_angle_start, est.rest_angle, scene.rest_angle, true, "rest_angle");
+  else
+    theta[2] = o.rest_angle_start ? *o.rest_angle_start : scene.rest_angle;
+  if (!(theta[0] >= 0.0) || !(theta[1] >= 0.0))
+    throw InvalidInput("--stiffness-start/--damping-start", "starts must be >= 0");
+  out.start_stiffness = theta[0];
+  out.start_damping = theta[1];
+  out.start_rest_angle = theta[2];
+  if (!given.empty()) out.start = "given (" + given + ")";
+  if (!from_data.empty())
+    out.start += std::string(out.start.empty() ? "" : "; ") + "from the recorded angle (" + from_data +
+                 ": lagged AR(2) recurrence, period " + format(est.period) + " s)";
+  if (!from_scene.empty()) out.start += std::string(out.start.empty() ? "" : "; ") + "the scene's (" + from_scene + ")";
+  if (out.start.empty()) out.start = "given";
+
+  // --- Frequencies: sub-steps, segments, defect weights -------------------
+  Eigen::Vector2d mean_angle = joint.initial_angle;
+  for (int i = 0; i < N; ++i)
+    if (data.has(i)) mean_angle[i] = std::accumulate(data.angle[i].begin(), data.angle[i].end(), 0.0) / n;
+  double omega = 0.0, omega_max = 0.0;
+  for (int i = 0; i < N; ++i) {
+    const double k = (i == ic ? theta[0] : joint.drives[i].stiffness) + gravityStiffness(joint, i, mean_angle);
+    const double w = std::sqrt(std::max(k, 0.0) / joint.inertiaAbout(i, mean_angle));
+    if (i == ic) omega = std::max(w, est.natural_frequency);
+    omega_max = std::max(omega_max, std::max(w, i == ic ? est.natural_frequency : 0.0));
+  }
+  const double duration = data.time.back() - data.time.front();
+  if (!(omega > 0.0)) omega = 2.0 * kPi / duration;  // no restoring moment: one "period" per record
+  double max_interval = 0.0;
+  for (int j = 0; j + 1 < n; ++j) max_interval = std::max(max_interval, data.time[j + 1] - data.time[j]);
+  out.substeps = o.substeps > 0 ? o.substeps
+                                : std::max(1, static_cast<int>(std::ceil(std::sqrt(3.0) * omega_max * max_interval /
+                                                                          kStepTimesFrequency)));
+  p.substeps = out.substeps;
+  const double period = 2.0 * kPi / omega;
+  int segments = 1;
+  if (o.shooting == Shooting::kMultiple) {
+    segments = o.segments > 0 ? o.segments : static_cast<int>(std::lround(duration / (0.25 * period)));
+    segments = std::max(1, std::min(segments, (n - 1) / kMinSegmentSamples));
+  }
+  out.segments = segments;
+  out.shooting = shootingName(o.shooting);
+  const double mean_dt = duration / (n - 1);
+  const int half_width = std::max(2, static_cast<int>(std::lround(period / (16.0 * mean_dt))));
+
+  // Segment boundaries and initial states from local quadratics.
+  std::vector<int> bound(segments + 1);
+  for (int s = 0; s <= segments; ++s) bound[s] = static_cast<int>(std::lround(static_cast<double>(s) * (n - 1) / segments));
+  std::vector<Eigen::Matrix<double, 2 * N, 1>> state(segments);
+  for (int s = 0; s < segments; ++s)
+    for (int i = 0; i < N; ++i) {
+      const Eigen::Vector2d xv = data.has(i) ? localAngleAndRate(data, i, bound[s], half_width)
+                                             : Eigen::Vector2d(joint.initial_angle[i], joint.initial_rate[i]);
+      state[s][i] = xv[0];
+      state[s][N + i] = xv[1];
+    }
+
+  std::ostringstream message;
+  // --- 1. Multiple shooting ----------------------------------------------
+  if (segments > 1) {
+    ceres::Problem::Options po;
+    ceres::Problem problem(po);
+    addTheta(&problem, theta, o.fit_rest_angle);
+    for (int s = 0; s < segments; ++s) {
+      const bool last = s + 1 == segments;
+      ceres::CostFunction* cost =
+          segmentCost<N>(&p, bound[s], bound[s + 1], last, o.continuity_weight, o.continuity_weight / omega);
+      if (last)
+        problem.AddResidualBlock(cost, nullptr, theta, state[s].data());
+      else
+        problem.AddResidualBlock(cost, nullptr, theta, state[s].data(), state[s + 1].data());
+    }
+    ceres::Solver::Options so;
+    configure(&so, o, true);
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    out.multiple_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
+    // The defects left by the soft continuity.
+    for (int s = 0; s + 1 < segments; ++s) {
+      SpringSegmentCost<N> cost(&p, bound[s], bound[s + 1], false, 1.0, 1.0);
+      std::vector<double> r(cost.residualCount());
+      if (cost(theta, state[s].data(), state[s + 1].data(), r.data()))
+        for (int i = 0; i < N; ++i)
+          out.max_continuity_defect = std::max(out.max_continuity_defect, std::abs(r[r.size() - 2 * N + 2 * i]));
+    }
+    message << "multiple shooting (" << segments << " segments, " << out.multiple_shooting_iterations
+            << " iterations): " << summary.message << "; ";
+  }
+
+  // --- 2. Single shooting from there ---------------------------------------
+  Eigen::Matrix<double, 2 * N, 1> s0 = state[0];
+  ceres::Problem problem;
+  addTheta(&problem, theta, o.fit_rest_angle);
+  problem.AddResidualBlock(segmentCost<N>(&p, 0, n - 1, true, 0.0, 0.0), nullptr, theta, s0.data());
+  ceres::Solver::Options so;
+  configure(&so, o, false);
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  out.single_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out.iterations = out.multiple_shooting_iterations + out.single_shooting_iterations;
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  message << "single shooting (" << out.single_shooting_iterations << " iterations): " << summary.message;
+  out.message = message.str();
+  out.stiffness = theta[0];
+  out.damping = theta[1];
+  out.rest_angle = theta[2];
+  out.initial_state = s0;
+  const int m = n * data.measured();
+  out.rms_residual = std::sqrt(2.0 * summary.final_cost / m);
+
+  // --- Identifiability and covariance ------------------------------------
+  double motion = 0.0;
+  for (int j = 0; j < n; ++j) motion += std::pow(data.angle[ic][j] - mean_angle[ic], 2);
+  motion = std::sqrt(motion / n);
+  if (motion < o.min_motion_to_noise * out.rms_residual)
+    throw NotIdentifiable("the joint angle barely moves: RMS " + format(motion) + " rad about its mean against " +
+                          format(out.rms_residual) + " rad of residual");
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.num_threads = 1;
+  ceres::Covariance covariance(co);
+  const std::vector<std::pair<const double*, const double*>> blocks = {{theta, theta}};
+  if (!covariance.Compute(blocks, &problem))
+    throw NotIdentifiable("the covariance of (stiffness, damping" + std::string(o.fit_rest_angle ? ", rest_angle" : "") +
+                          ") is rank deficient: the recorded motion does not separate them");
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> C;
+  covariance.GetCovarianceBlock(theta, theta, C.data());
+  const double s2 = m > free_params ? 2.0 * summary.final_cost / (m - free_params) : 0.0;
+  out.covariance = s2 * Eigen::Matrix3d(C);
+  out.stiffness_sigma = std::sqrt(std::max(out.covariance(0, 0), 0.0));
+  out.damping_sigma = std::sqrt(std::max(out.covariance(1, 1), 0.0));
+  out.rest_angle_sigma = o.fit_rest_angle ? std::sqrt(std::max(out.covariance(2, 2), 0.0)) : 0.0;
+  if (out.stiffness_sigma > 0.0 && out.damping_sigma > 0.0)
+    out.correlation_stiffness_damping = out.covariance(0, 1) / (out.stiffness_sigma * out.damping_sigma);
+  if (!(out.stiffness_sigma <= o.max_relative_sigma * out.stiffness))
+    throw NotIdentifiable("the recording does not determine the stiffness: k = " + format(out.stiffness) + " ± " +
+                          format(out.stiffness_sigma) + " N m/rad (1 sigma)");
+
+  // --- What the numbers mean ---------------------------------------------
+  out.inertia = joint.inertiaAbout(ic, mean_angle);
+  const double k_eff = out.stiffness + gravityStiffness(joint, ic, mean_angle);
+  out.natural_frequency = std::sqrt(std::max(k_eff, 0.0) / out.inertia);
+  out.damping_ratio = out.natural_frequency > 0.0 ? out.damping / (2.0 * out.inertia * out.natural_frequency) : 0.0;
+  out.held_fixed.push_back("inertia of body '" + joint.body_name + "' (scene mass, inertia and anchor): " +
+                           format(out.inertia) + " kg m^2 about the coordinate at its mean angle; the data determine " +
+                           "k/I and c/I");
+  if (model.mass > 0.0 && model.gravity.squaredNorm() > 0.0)
+    out.held_fixed.push_back("gravity moment (scene gravity, mass and centre of mass): stiffness " +
+                             format(gravityStiffness(joint, ic, mean_angle)) + " N m/rad at the mean angle");
+  if (!o.fit_rest_angle) out.held_fixed.push_back("rest_angle " + format(out.rest_angle) + " rad (scene)");
+  for (int i = 0; i < N; ++i) {
+    if (i != ic && (joint.drives[i].stiffness != 0.0 || joint.drives[i].damping != 0.0))
+      out.held_fixed.push_back("coordinate " + std::to_string(i + 1) + " spring " + format(joint.drives[i].stiffness) +
+                               " N m/rad and dashpot " + format(joint.drives[i].damping) + " N m s/rad (scene)");
+    if (joint.drives[i].moment)
+      out.held_fixed.push_back("applied moment on coordinate " + std::to_string(i + 1) + " (scene)");
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return out;
+}
+
+}  // namespace
+
+const char* shootingName(Shooting s) { return s == Shooting::kMultiple ? "multiple" : "single"; }
+
+Shooting parseShooting(const std::string& text, const std::string& field) {
+  if (text == "multiple") return Shooting::kMultiple;
+  if (text == "single") return Shooting::kSingle;
+  throw InvalidInput(field, "'" + text + "' is not multiple or single");
+}
+
+SpringFit fitSpring(const GroundedJointScene& joint, const SpringData& data, const SpringFitOptions& options) {
+  if (options.coordinate < 0 || options.coordinate >= joint.coordinates)
+    throw InvalidInput("--coordinate", "joint '" + joint.joint_name + "' has " + std::to_string(joint.coordinates) +
+                                           " coordinate(s)");
+  if (joint.coordinates == 1) return fit<1>(joint, joint.revolute, data, options);
+  return fit<2>(joint, joint.universal, data, options);
+}
+
+}  // namespace calibration
+}  // namespace lieflow
