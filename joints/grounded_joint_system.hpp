@@ -74,13 +74,26 @@ class GroundedJointSystem {
   using Vector = Eigen::Matrix<T, N, 1>;
 
   GroundedJointSystem(const GroundedJointModel<N>& model, const GroundedJointForces<T, N>& forces)
-      : model_(model), forces_(forces) {}
+      : model_(model), forces_(forces) {
+    if constexpr (N == 1) hinge_ = HingeConstants(model);
+  }
 
   const GroundedJointModel<N>& model() const { return model_; }
   const GroundedJointForces<T, N>& forces() const { return forces_; }
 
   /// f(t, y) = (φ̇, φ̈).
   void velocity(const T& t, const State& y, Tangent* f) const {
+    if constexpr (N == 1) {  // the closed form of HingeConstants
+      using std::cos;
+      using std::sin;
+      const T phi = y.x[0];
+      T moment = T(hinge_.gravity_const) + T(hinge_.gravity_cos) * cos(phi) + T(hinge_.gravity_sin) * sin(phi) -
+                 forces_.stiffness[0] * (phi - forces_.rest_angle[0]) - forces_.damping[0] * y.v[0];
+      if (model_.moment[0]) moment += T(model_.moment[0](scalarValue(t)));
+      (*f)[0] = y.v[0];
+      (*f)[1] = moment / T(hinge_.inertia);
+      return;
+    }
     const Kinematics k = kinematics(y.x);
     const Matrix3<T> J = model_.inertia_pivot.template cast<T>();
     const Vector3<T> omega = k.G * y.v;
@@ -131,6 +144,27 @@ class GroundedJointSystem {
   Vector3<T> angularVelocity(const State& y) const { return kinematics(y.x).G * y.v; }
 
  private:
+  /// A hinge (N = 1) in closed form. G = P₁ᵀx is constant in the body, so
+  /// M = GᵀJ_oG is constant and ω × J_oω has no component along G; the
+  /// gravity moment (c × Rᵀ W)·G = (P₀ᵀW)·exp(φx)u with W = m g and
+  /// u = P₁(G × c) is, by Rodrigues' formula,
+  ///   Q_g(φ) = a·x (x·u) + cos φ a·(u − x(x·u)) + sin φ a·(x × u),  a = P₀ᵀW.
+  struct HingeConstants {
+    HingeConstants() = default;
+    explicit HingeConstants(const GroundedJointModel<N>& m) {
+      const Eigen::Vector3d& x = m.axis[0];
+      const Eigen::Vector3d G = m.P[1].transpose() * x;
+      inertia = G.dot(m.inertia_pivot * G);
+      const Eigen::Vector3d u = m.P[1] * G.cross(m.com_from_pivot);
+      const Eigen::Vector3d a = m.P[0].transpose() * (m.mass * m.gravity);
+      const Eigen::Vector3d u_par = x * x.dot(u);
+      gravity_const = a.dot(u_par);
+      gravity_cos = a.dot(u - u_par);
+      gravity_sin = a.dot(x.cross(u));
+    }
+    double inertia = 1.0, gravity_const = 0.0, gravity_cos = 0.0, gravity_sin = 0.0;
+  };
+
   struct Kinematics {
     Matrix3<T> R;                 ///< R(φ)
     Eigen::Matrix<T, 3, N> G;     ///< column i: the body-frame axis of coordinate i
@@ -157,6 +191,7 @@ class GroundedJointSystem {
 
   const GroundedJointModel<N>& model_;  ///< must outlive the system
   GroundedJointForces<T, N> forces_;
+  HingeConstants hinge_;
 };
 
 template <int N>
