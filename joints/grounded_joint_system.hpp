@@ -95,7 +95,7 @@ class GroundedJointSystem {
       return;
     }
     const Kinematics k = kinematics(y.x);
-    const Matrix3<T> J = model_.inertia_pivot.template cast<T>();
+    const Eigen::Matrix3d& J = model_.inertia_pivot;
     const Vector3<T> omega = k.G * y.v;
     // J_o Ġ φ̇ with Ġ_k = Σ_{j>k} φ̇_{c_j} G_k × G_j (factor order).
     Vector3<T> gdot_v = Vector3<T>::Zero();
@@ -103,13 +103,16 @@ class GroundedJointSystem {
       for (int b = a + 1; b < N; ++b)
         gdot_v += (y.v[model_.coordinate[a]] * y.v[model_.coordinate[b]]) *
                   k.G.col(model_.coordinate[a]).cross(k.G.col(model_.coordinate[b]));
-    Vector rhs = k.G.transpose() * (gravityTorque(k.R) - omega.cross(J * omega) - J * gdot_v);
+    const Vector3<T> J_omega = J * omega;
+    const Vector3<T> J_gdot_v = J * gdot_v;
+    Vector rhs = k.G.transpose() * (gravityTorque(k) - omega.cross(J_omega) - J_gdot_v);
     const double time = scalarValue(t);
     for (int i = 0; i < N; ++i) {
       rhs[i] += -forces_.stiffness[i] * (y.x[i] - forces_.rest_angle[i]) - forces_.damping[i] * y.v[i];
       if (model_.moment[i]) rhs[i] += T(model_.moment[i](time));
     }
-    const Eigen::Matrix<T, N, N> M = k.G.transpose() * J * k.G;
+    const Eigen::Matrix<T, 3, N> JG = J * k.G;
+    const Eigen::Matrix<T, N, N> M = k.G.transpose() * JG;
     f->template head<N>() = y.v;
     f->template tail<N>() = M.inverse() * rhs;  // N ≤ 2: closed-form inverse
   }
@@ -117,22 +120,23 @@ class GroundedJointSystem {
   /// M(φ) = Gᵀ J_o G.
   Eigen::Matrix<T, N, N> massMatrix(const Vector& phi) const {
     const Kinematics k = kinematics(phi);
-    return k.G.transpose() * model_.inertia_pivot.template cast<T>() * k.G;
+    const Eigen::Matrix<T, 3, N> JG = model_.inertia_pivot * k.G;
+    return k.G.transpose() * JG;
   }
 
   /// The generalized gravity moments Gᵀ (c × Rᵀ m g) at φ.
   Vector gravityForce(const Vector& phi) const {
     const Kinematics k = kinematics(phi);
-    return k.G.transpose() * gravityTorque(k.R);
+    return k.G.transpose() * gravityTorque(k);
   }
 
   /// ½ φ̇ᵀ M φ̇ − m gᵀ R c + Σ ½ k (φ − φ₀)²  (conserved without dashpots and
-  /// applied moments).
+  /// applied moments); m gᵀ R c = (Rᵀ m g)·c.
   T energy(const T& /*t*/, const State& y) const {
     const Kinematics k = kinematics(y.x);
     const Vector3<T> omega = k.G * y.v;
-    T e = T(0.5) * omega.dot(model_.inertia_pivot.template cast<T>() * omega);
-    e -= (model_.mass * model_.gravity).template cast<T>().dot(k.R * model_.com_from_pivot.template cast<T>());
+    const Vector3<T> J_omega = model_.inertia_pivot * omega;
+    T e = T(0.5) * omega.dot(J_omega) - k.weight.dot(model_.com_from_pivot.template cast<T>());
     for (int i = 0; i < N; ++i) {
       const T d = y.x[i] - forces_.rest_angle[i];
       e += T(0.5) * forces_.stiffness[i] * d * d;
@@ -165,27 +169,47 @@ class GroundedJointSystem {
     double inertia = 1.0, gravity_const = 0.0, gravity_cos = 0.0, gravity_sin = 0.0;
   };
 
+  /// Everything the equations need from R(φ), without forming R: the
+  /// columns of G and the weight in the body frame. Only vectors are turned
+  /// (Rodrigues), so a Jet evaluation costs a few dozen Jet operations.
   struct Kinematics {
-    Matrix3<T> R;                 ///< R(φ)
-    Eigen::Matrix<T, 3, N> G;     ///< column i: the body-frame axis of coordinate i
+    Eigen::Matrix<T, 3, N> G;  ///< column i: the body-frame axis of coordinate i
+    Vector3<T> weight;         ///< Rᵀ m g, body frame
   };
 
-  /// c × Rᵀ m g (body frame).
-  Vector3<T> gravityTorque(const Matrix3<T>& R) const {
-    const Vector3<T> weight = (model_.mass * model_.gravity).template cast<T>();
-    return model_.com_from_pivot.template cast<T>().cross(R.transpose() * weight);
+  /// exp(θ x) v = v + sin θ (x × v) + 2 sin²(θ/2) x × (x × v)  (x unit; no
+  /// 1 − cos θ cancellation).
+  static Vector3<T> rotate(const T& theta, const Eigen::Vector3d& axis, const Vector3<T>& v) {
+    using std::sin;
+    const Vector3<T> x = axis.template cast<T>();
+    const Vector3<T> xv = x.cross(v);
+    const T half = sin(T(0.5) * theta);
+    return v + sin(theta) * xv + (T(2) * half * half) * x.cross(xv);
   }
 
+  /// c × Rᵀ m g (body frame).
+  Vector3<T> gravityTorque(const Kinematics& k) const {
+    return model_.com_from_pivot.template cast<T>().cross(k.weight);
+  }
+
+  /// With E_f = exp(φ_{c_f} x_f):  Rᵀ W = P_Nᵀ E_{N−1}ᵀ ⋯ P₁ᵀ E₀ᵀ P₀ᵀ W and
+  /// G_f = Z_fᵀ x_f = P_Nᵀ E_{N−1}ᵀ ⋯ E_{f+1}ᵀ P_{f+1}ᵀ x_f.
   Kinematics kinematics(const Vector& phi) const {
     Kinematics k;
-    Matrix3<T> Z = model_.P[N].template cast<T>();
-    for (int f = N - 1; f >= 0; --f) {
-      const Vector3<T> x = model_.axis[f].template cast<T>();
-      Z = SO3<T>::exp(phi[model_.coordinate[f]] * x).matrix() * Z;
-      k.G.col(model_.coordinate[f]) = Z.transpose() * x;
-      if (f > 0) Z = model_.P[f].template cast<T>() * Z;
+    Vector3<T> w = (model_.P[0].transpose() * (model_.mass * model_.gravity)).template cast<T>();
+    for (int f = 0; f < N; ++f) {
+      const Vector3<T> turned = rotate(-phi[model_.coordinate[f]], model_.axis[f], w);
+      w = model_.P[f + 1].transpose() * turned;
     }
-    k.R = model_.P[0].template cast<T>() * Z;
+    k.weight = w;
+    for (int f = 0; f < N; ++f) {
+      Vector3<T> v = (model_.P[f + 1].transpose() * model_.axis[f]).template cast<T>();
+      for (int g = f + 1; g < N; ++g) {
+        const Vector3<T> turned = rotate(-phi[model_.coordinate[g]], model_.axis[g], v);
+        v = model_.P[g + 1].transpose() * turned;
+      }
+      k.G.col(model_.coordinate[f]) = v;
+    }
     return k;
   }
 

@@ -1,8 +1,8 @@
 /// \file
 /// `lieflow calibrate` as users see it: the JSON keys of ../shared/DESIGN.md
 /// and their values against the truth of a synthetic recording written as a
-/// CSV, and the exit statuses (1 not identifiable, 2 bad input or usage, the
-/// spring fit not offered).
+/// CSV, and the exit statuses (1 not identifiable, 2 bad input or usage); the
+/// spring fit on a recording written by `lieflow simulate` itself.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -164,9 +164,25 @@ TEST(CalibCli, BadInputAndUsageExitTwo) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("no body 'D'"), std::string::npos) << o.err;
 
+  o = run("calibrate frobnicate " + three);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("unknown calibration 'frobnicate' (available: hinge, universal, spring)"), std::string::npos)
+      << o.err;
   o = run("calibrate spring " + three);
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("unknown calibration 'spring' (available: hinge, universal)"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("needs --scene"), std::string::npos) << o.err;
+  o = run("calibrate spring " + three + " --scene spring-hinge");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("no column hinge.phi"), std::string::npos) << o.err;
+  o = run("calibrate spring " + three + " --scene double-pendulum --joint elbow");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("joins"), std::string::npos) << o.err;
+  o = run("calibrate spring " + three + " --scene spring-hinge --joint nope");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("no joint 'nope'"), std::string::npos) << o.err;
+  EXPECT_EQ(run("calibrate spring " + three + " --scene spring-hinge --coordinate 2").status, 2);
+  EXPECT_EQ(run("calibrate spring " + three + " --scene spring-hinge --main A").status, 2);
+  EXPECT_EQ(run("calibrate hinge " + three + " --scene spring-hinge").status, 2);
   EXPECT_EQ(run("calibrate").status, 2);
   EXPECT_EQ(run("calibrate hinge").status, 2);
   EXPECT_EQ(run("calibrate hinge " + three + " --loss frobnicate").status, 2);
@@ -176,6 +192,42 @@ TEST(CalibCli, BadInputAndUsageExitTwo) {
   o = run("calibrate --help");
   EXPECT_EQ(o.status, 0);
   EXPECT_NE(o.out.find("hinge|universal"), std::string::npos);
+}
+
+/// The recording `lieflow simulate` writes for the built-in free-decay scene,
+/// fitted back: the DESIGN keys, the truth (k = 12, c = 0.1) within 4σ and
+/// 1 %, and a recording without motion refused with exit 1.
+TEST(CalibCli, SpringFromASimulatedRecording) {
+  const std::string rec = testStem() + ".csv";
+  Outcome o = run("simulate spring-hinge --every 10 --noise-angle 0.01 --seed 4 --out " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = run("calibrate spring " + rec + " --scene spring-hinge --fit-rest-angle");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  for (const char* key : {"stiffness", "damping", "rest_angle", "stiffness_sigma", "damping_sigma", "rest_angle_sigma",
+                          "rms_residual", "iterations", "converged", "message", "held_fixed"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_LT(std::abs(j["stiffness"].get<double>() - 12.0), 4.0 * j["stiffness_sigma"].get<double>());
+  EXPECT_LT(std::abs(j["damping"].get<double>() - 0.1), 4.0 * j["damping_sigma"].get<double>());
+  EXPECT_LT(std::abs(j["rest_angle"].get<double>() - 0.1), 4.0 * j["rest_angle_sigma"].get<double>());
+  EXPECT_LT(std::abs(j["stiffness"].get<double>() / 12.0 - 1.0), 0.01);
+  EXPECT_NEAR(j["rms_residual"].get<double>(), 0.01, 0.001);
+
+  // The bar resting at its equilibrium: the angle carries only noise.
+  const std::string still = testStem() + "_still.csv";
+  std::ofstream f(still);
+  f << "t,hinge.phi\n";
+  std::mt19937 gen(2);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  for (int k = 0; k <= 1000; ++k) f << 0.01 * k << "," << 0.0324 + noise(gen) << "\n";
+  f.close();
+  o = run("calibrate spring " + still + " --scene spring-hinge");
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.err.find("not identifiable"), std::string::npos) << o.err;
+  o = run("calibrate spring " + still + " --scene spring-hinge --stiffness-start 12 --damping-start 0.1");
+  EXPECT_EQ(o.status, 1);
+  EXPECT_NE(o.err.find("not identifiable: the joint angle barely moves"), std::string::npos) << o.err;
 }
 
 }  // namespace
