@@ -271,13 +271,19 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   out.rest_angle_sigma = o.fit_rest_angle ? std::sqrt(std::max(out.covariance(2, 2), 0.0)) : 0.0;
   if (out.stiffness_sigma > 0.0 && out.damping_sigma > 0.0)
     out.correlation_stiffness_damping = out.covariance(0, 1) / (out.stiffness_sigma * out.damping_sigma);
-  if (!(out.stiffness_sigma <= o.max_relative_sigma * out.stiffness))
+  // k is determined when its σ is small against the whole restoring
+  // stiffness the motion shows (spring plus gravity: a pendulum without a
+  // spring determines k ≈ 0 well).
+  const double k_gravity = gravityStiffness(joint, ic, mean_angle);
+  const double k_scale = std::max(out.stiffness, out.stiffness + k_gravity);
+  if (!(out.stiffness_sigma <= o.max_relative_sigma * k_scale))
     throw NotIdentifiable("the recording does not determine the stiffness: k = " + format(out.stiffness) + " ± " +
-                          format(out.stiffness_sigma) + " N m/rad (1 sigma)");
+                          format(out.stiffness_sigma) + " N m/rad (1 sigma) against a restoring stiffness of " +
+                          format(k_scale) + " N m/rad");
 
   // --- What the numbers mean ---------------------------------------------
   out.inertia = joint.inertiaAbout(ic, mean_angle);
-  const double k_eff = out.stiffness + gravityStiffness(joint, ic, mean_angle);
+  const double k_eff = out.stiffness + k_gravity;
   out.natural_frequency = std::sqrt(std::max(k_eff, 0.0) / out.inertia);
   out.damping_ratio = out.natural_frequency > 0.0 ? out.damping / (2.0 * out.inertia * out.natural_frequency) : 0.0;
   out.held_fixed.push_back("inertia of body '" + joint.body_name + "' (scene mass, inertia and anchor): " +
@@ -285,7 +291,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
                            "k/I and c/I");
   if (model.mass > 0.0 && model.gravity.squaredNorm() > 0.0)
     out.held_fixed.push_back("gravity moment (scene gravity, mass and centre of mass): stiffness " +
-                             format(gravityStiffness(joint, ic, mean_angle)) + " N m/rad at the mean angle");
+                             format(k_gravity) + " N m/rad at the mean angle");
   if (!o.fit_rest_angle) out.held_fixed.push_back("rest_angle " + format(out.rest_angle) + " rad (scene)");
   for (int i = 0; i < N; ++i) {
     if (i != ic && (joint.drives[i].stiffness != 0.0 || joint.drives[i].damping != 0.0))

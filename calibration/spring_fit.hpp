@@ -66,7 +66,8 @@ struct SpringFitOptions {
   double function_tolerance = 1e-12;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;
-  // Identifiability: fewer samples, a 1σ of k above max_relative_sigma·k, or
+  // Identifiability: fewer samples, a 1σ of k above max_relative_sigma times
+  // the restoring stiffness (k plus gravity's), or
   // a recorded motion whose RMS about equilibrium is below
   // min_motion_to_noise times the residual RMS, throw NotIdentifiable.
   int min_samples = 20;
