@@ -60,7 +60,8 @@ constexpr const char* kUsage =
     "  --min-samples N           fewest samples accepted (default 20)\n"
     "spring:\n"
     "  --scene SCENE             JSON file or built-in scene with the body and the joint\n"
-    "  --joint J                 the joint (default: the scene's only revolute/universal joint)\n"
+    "  --joint J                 the joint (default: the one between --main and --secondary if\n"
+    "                            given, else the scene's only revolute/universal joint)\n"
     "  --coordinate 1|2          which coordinate of a universal joint (default 1)\n"
     "  --fit-rest-angle          fit the rest angle too (default: held at the scene's)\n"
     "  --stiffness-start K --damping-start C --rest-angle-start A\n"
@@ -143,11 +144,35 @@ std::optional<double> optionalNumber(const Arguments& args, const std::string& f
   return v;
 }
 
+/// The joint to fit: --joint, or the scene's revolute/universal joint between
+/// --main and --secondary (either may be given alone), or "" (the scene's only
+/// one, resolved by groundedJointScene).
+std::string jointBetween(const SceneDescription& scene, const std::string& joint, const std::string& main,
+                         const std::string& secondary) {
+  if (!joint.empty() || (main.empty() && secondary.empty())) {
+    if (!joint.empty())
+      for (const JointDescription& j : scene.joints)
+        if (j.name == joint && ((!main.empty() && j.main != main) || (!secondary.empty() && j.secondary != secondary)))
+          throw UsageError("--joint " + joint + " joins '" + j.main + "' (main) and '" + j.secondary +
+                           "' (secondary), not the bodies given by --main/--secondary");
+    return joint;
+  }
+  std::vector<std::string> found;
+  for (const JointDescription& j : scene.joints)
+    if ((j.type == "revolute" || j.type == "universal") && (main.empty() || j.main == main) &&
+        (secondary.empty() || j.secondary == secondary))
+      found.push_back(j.name);
+  if (found.size() != 1)
+    throw UsageError(std::to_string(found.size()) + " revolute or universal joints of " + scene.source +
+                     " have main '" + (main.empty() ? "*" : main) + "' and secondary '" +
+                     (secondary.empty() ? "*" : secondary) + "': name the joint with --joint");
+  return found.front();
+}
+
 int runSpring(const Arguments& args, const std::string& recording_path) {
   if (!args.has("--scene"))
     throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
-  for (const char* flag : {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
-                           "--start-secondary", "--max-sigma-deg"})
+  for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate hinge|universal, not spring");
   calibration::SpringFitOptions o;
   const int coordinate = args.positiveInt("--coordinate", 1);
@@ -165,7 +190,8 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
 
   const SceneDescription scene = loadScene(args.value("--scene", ""));
-  const GroundedJointScene joint = groundedJointScene(scene, args.value("--joint", ""));
+  const GroundedJointScene joint = groundedJointScene(
+      scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
   if (o.coordinate >= joint.coordinates)
     throw UsageError("--coordinate 2: joint '" + joint.joint_name + "' is revolute (one coordinate)");
   const calibration::Recording recording = calibration::readRecording(recording_path);

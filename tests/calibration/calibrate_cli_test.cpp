@@ -181,7 +181,9 @@ TEST(CalibCli, BadInputAndUsageExitTwo) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("no joint 'nope'"), std::string::npos) << o.err;
   EXPECT_EQ(run("calibrate spring " + three + " --scene spring-hinge --coordinate 2").status, 2);
-  EXPECT_EQ(run("calibrate spring " + three + " --scene spring-hinge --main A").status, 2);
+  o = run("calibrate spring " + three + " --scene spring-hinge --main A");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("0 revolute or universal joints"), std::string::npos) << o.err;
   EXPECT_EQ(run("calibrate hinge " + three + " --scene spring-hinge").status, 2);
   EXPECT_EQ(run("calibrate").status, 2);
   EXPECT_EQ(run("calibrate hinge").status, 2);
@@ -201,7 +203,7 @@ TEST(CalibCli, SpringFromASimulatedRecording) {
   const std::string rec = testStem() + ".csv";
   Outcome o = run("simulate spring-hinge --every 10 --noise-angle 0.01 --seed 4 --out " + rec);
   ASSERT_EQ(o.status, 0) << o.err;
-  o = run("calibrate spring " + rec + " --scene spring-hinge --fit-rest-angle");
+  o = run("calibrate spring " + rec + " --scene spring-hinge --fit-rest-angle --main ground --secondary bar");
   ASSERT_EQ(o.status, 0) << o.err;
   const nlohmann::json j = nlohmann::json::parse(o.out);
   for (const char* key : {"stiffness", "damping", "rest_angle", "stiffness_sigma", "damping_sigma", "rest_angle_sigma",

@@ -7,6 +7,7 @@
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "calibration/recording.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -48,6 +49,13 @@ TEST(CalibRecording, DiscoversBodiesAndTheirColumnGroups) {
   EXPECT_FALSE(r.bodies[1].hasOrientation());
   EXPECT_EQ(r.bodies[1].angular_velocity[0], Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(r.bodyList(), "a, b");
+  // The other columns are kept by name (the spring fit reads j.phi).
+  ASSERT_EQ(r.scalars.size(), 2u);
+  ASSERT_NE(r.column("j.phi"), nullptr);
+  EXPECT_EQ(*r.column("j.phi"), (std::vector<double>{0.5, 0.6}));
+  EXPECT_EQ(r.column("energy")->size(), 2u);
+  EXPECT_EQ(r.column("a.wx"), nullptr);  // body columns are not scalars
+  EXPECT_EQ(r.column("nope"), nullptr);
 }
 
 TEST(CalibRecording, NormalizesNearUnitQuaternions) {
