@@ -64,6 +64,7 @@ constexpr const char* kUsage =
     "                            given, else the scene's only revolute/universal joint)\n"
     "  --coordinate 1|2          which coordinate of a universal joint (default 1)\n"
     "  --fit-rest-angle          fit the rest angle too (default: held at the scene's)\n"
+    "  --hold-damping            hold the damping at --damping-start or the scene's\n"
     "  --stiffness-start K --damping-start C --rest-angle-start A\n"
     "                            starts (default: from the recorded angle's oscillation)\n"
     "  --shooting multiple|single  multiple shooting, then single (default), or single only\n"
@@ -179,6 +180,7 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   if (coordinate > 2) throw UsageError("--coordinate: 1 or 2");
   o.coordinate = coordinate - 1;
   o.fit_rest_angle = args.has("--fit-rest-angle");
+  o.hold_damping = args.has("--hold-damping");
   o.stiffness_start = optionalNumber(args, "--stiffness-start");
   o.damping_start = optionalNumber(args, "--damping-start");
   o.rest_angle_start = optionalNumber(args, "--rest-angle-start");
@@ -216,8 +218,11 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
     j["column"] = data.column[o.coordinate];
     j["samples"] = fit.samples;
     j["rms_residual_unit"] = "rad";
-    j["fitted"] = o.fit_rest_angle ? Json::array({"stiffness", "damping", "rest_angle", "initial state"})
-                                   : Json::array({"stiffness", "damping", "initial state"});
+    Json fitted = Json::array({"stiffness"});
+    if (!o.hold_damping) fitted.push_back("damping");
+    if (o.fit_rest_angle) fitted.push_back("rest_angle");
+    fitted.push_back("initial state");
+    j["fitted"] = fitted;
     j["held_fixed"] = fit.held_fixed;
     j["inertia"] = fit.inertia;
     j["natural_frequency"] = fit.natural_frequency;
@@ -255,7 +260,7 @@ int runCalibrate(int argc, char** argv) {
                         "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",
                         "--joint", "--coordinate", "--stiffness-start", "--damping-start", "--rest-angle-start",
                         "--shooting", "--segments", "--integrator", "--substeps"},
-                       {"--fit-rest-angle"});
+                       {"--fit-rest-angle", "--hold-damping"});
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
@@ -270,7 +275,7 @@ int runCalibrate(int argc, char** argv) {
   if (kind == "spring") return runSpring(args, pos[1]);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
-                           "--fit-rest-angle"})
+                           "--fit-rest-angle", "--hold-damping"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   const AxisFitOptions options = fitOptions(args);
   const calibration::Recording recording = calibration::readRecording(pos[1]);

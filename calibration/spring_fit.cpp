@@ -6,6 +6,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <vector>
 
 #include <ceres/ceres.h>
 
@@ -71,9 +72,12 @@ void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool 
   }
 }
 
-/// θ = (k, c, φ₀): k, c ≥ 0; φ₀ held unless fitted.
-void addTheta(ceres::Problem* problem, double* theta, bool fit_rest_angle) {
-  problem->AddParameterBlock(theta, 3, fit_rest_angle ? nullptr : new ceres::SubsetManifold(3, {2}));
+/// θ = (k, c, φ₀): k, c ≥ 0; c held if asked, φ₀ held unless fitted.
+void addTheta(ceres::Problem* problem, double* theta, const SpringFitOptions& o) {
+  std::vector<int> held;
+  if (o.hold_damping) held.push_back(1);
+  if (!o.fit_rest_angle) held.push_back(2);
+  problem->AddParameterBlock(theta, 3, held.empty() ? nullptr : new ceres::SubsetManifold(3, held));
   problem->SetParameterLowerBound(theta, 0, 0.0);
   problem->SetParameterLowerBound(theta, 1, 0.0);
 }
@@ -94,7 +98,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   SpringFit out;
   const int n = data.size();
   const int ic = o.coordinate;
-  const int free_params = 2 + (o.fit_rest_angle ? 1 : 0) + 2 * N;
+  const int free_params = 1 + (o.hold_damping ? 0 : 1) + (o.fit_rest_angle ? 1 : 0) + 2 * N;
   out.samples = n;
   if (n < std::max(o.min_samples, free_params + 2))
     throw NotIdentifiable(std::to_string(n) + " samples; at least " +
@@ -114,7 +118,8 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
 
   // --- Start -----------------------------------------------------------
   const multibody::CoordinateDrive& scene = joint.drives[ic];
-  const bool need_estimate = !o.stiffness_start || !o.damping_start || (o.fit_rest_angle && !o.rest_angle_start);
+  const bool need_estimate = !o.stiffness_start || (!o.damping_start && !o.hold_damping) ||
+                             (o.fit_rest_angle && !o.rest_angle_start);
   const SpringStart est = need_estimate ? estimateSpringStart(joint, data, ic) : SpringStart{};
   double theta[3];
   std::string from_data, from_scene, given;
@@ -135,7 +140,10 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
     return scene_value;
   };
   theta[0] = pick(o.stiffness_start, est.stiffness, scene.stiffness, scene.stiffness > 0.0, "stiffness");
-  theta[1] = pick(o.damping_start, est.damping, scene.damping, scene.stiffness > 0.0, "damping");
+  if (o.hold_damping)
+    theta[1] = o.damping_start ? *o.damping_start : scene.damping;
+  else
+    theta[1] = pick(o.damping_start, est.damping, scene.damping, scene.stiffness > 0.0, "damping");
   if (o.fit_rest_angle)
     theta[2] = pick(o.rest_angle_start, est.rest_angle, scene.rest_angle, true, "rest_angle");
   else
@@ -199,7 +207,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   if (segments > 1) {
     ceres::Problem::Options po;
     ceres::Problem problem(po);
-    addTheta(&problem, theta, o.fit_rest_angle);
+    addTheta(&problem, theta, o);
     for (int s = 0; s < segments; ++s) {
       const bool last = s + 1 == segments;
       ceres::CostFunction* cost =
@@ -229,7 +237,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   // --- 2. Single shooting from there ---------------------------------------
   Eigen::Matrix<double, 2 * N, 1> s0 = state[0];
   ceres::Problem problem;
-  addTheta(&problem, theta, o.fit_rest_angle);
+  addTheta(&problem, theta, o);
   problem.AddResidualBlock(segmentCost<N>(&p, 0, n - 1, true, 0.0, 0.0), nullptr, theta, s0.data());
   ceres::Solver::Options so;
   configure(&so, o, false);
@@ -260,14 +268,15 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   ceres::Covariance covariance(co);
   const std::vector<std::pair<const double*, const double*>> blocks = {{theta, theta}};
   if (!covariance.Compute(blocks, &problem))
-    throw NotIdentifiable("the covariance of (stiffness, damping" + std::string(o.fit_rest_angle ? ", rest_angle" : "") +
+    throw NotIdentifiable("the covariance of (stiffness" + std::string(o.hold_damping ? "" : ", damping") +
+                          std::string(o.fit_rest_angle ? ", rest_angle" : "") +
                           ") is rank deficient: the recorded motion does not separate them");
   Eigen::Matrix<double, 3, 3, Eigen::RowMajor> C;
   covariance.GetCovarianceBlock(theta, theta, C.data());
   const double s2 = m > free_params ? 2.0 * summary.final_cost / (m - free_params) : 0.0;
   out.covariance = s2 * Eigen::Matrix3d(C);
   out.stiffness_sigma = std::sqrt(std::max(out.covariance(0, 0), 0.0));
-  out.damping_sigma = std::sqrt(std::max(out.covariance(1, 1), 0.0));
+  out.damping_sigma = o.hold_damping ? 0.0 : std::sqrt(std::max(out.covariance(1, 1), 0.0));
   out.rest_angle_sigma = o.fit_rest_angle ? std::sqrt(std::max(out.covariance(2, 2), 0.0)) : 0.0;
   if (out.stiffness_sigma > 0.0 && out.damping_sigma > 0.0)
     out.correlation_stiffness_damping = out.covariance(0, 1) / (out.stiffness_sigma * out.damping_sigma);
@@ -292,7 +301,12 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   if (model.mass > 0.0 && model.gravity.squaredNorm() > 0.0)
     out.held_fixed.push_back("gravity moment (scene gravity, mass and centre of mass): stiffness " +
                              format(k_gravity) + " N m/rad at the mean angle");
-  if (!o.fit_rest_angle) out.held_fixed.push_back("rest_angle " + format(out.rest_angle) + " rad (scene)");
+  if (o.hold_damping)
+    out.held_fixed.push_back("damping " + format(out.damping) + " N m s/rad (" +
+                             (o.damping_start ? "--damping-start" : "scene") + ")");
+  if (!o.fit_rest_angle)
+    out.held_fixed.push_back("rest_angle " + format(out.rest_angle) + " rad (" +
+                             (o.rest_angle_start ? "--rest-angle-start" : "scene") + ")");
   for (int i = 0; i < N; ++i) {
     if (i != ic && (joint.drives[i].stiffness != 0.0 || joint.drives[i].damping != 0.0))
       out.held_fixed.push_back("coordinate " + std::to_string(i + 1) + " spring " + format(joint.drives[i].stiffness) +

@@ -48,6 +48,8 @@ struct SpringFitOptions {
   /// The fitted coordinate: 0 (revolute; universal φ₁) or 1 (universal φ₂).
   int coordinate = 0;
   bool fit_rest_angle = false;
+  /// Hold the damping at --damping-start (or the scene's) instead of fitting it.
+  bool hold_damping = false;
   /// Starts; when unset, from the recorded angle (spring_start.hpp), else
   /// from the scene's spring and dashpot.
   std::optional<double> stiffness_start, damping_start, rest_angle_start;

@@ -131,6 +131,32 @@ TEST_F(SpringHinge, SingleShootingReachesTheSameEstimate) {
   EXPECT_NEAR(single.damping, multiple.damping, 1e-6 * kTrueDamping);
 }
 
+/// The probe: damping held, stiffness started at 0.5× (and 3×) the
+/// truth; both shootings reach k within 1 %, multiple shooting in fewer
+/// iterations (measured 7 against 17 from 0.5×, 7 against 126 from 3×).
+TEST_F(SpringHinge, HeldDampingFromHalfTheStiffness) {
+  const SpringData data = withNoise(*clean_, 0.01, 9);
+  for (const double k0 : {6.0, 36.0}) {
+    SpringFitOptions o;
+    o.hold_damping = true;
+    o.damping_start = kTrueDamping;
+    o.stiffness_start = k0;
+    const SpringFit multiple = fitSpring(*joint_, data, o);
+    o.shooting = Shooting::kSingle;
+    const SpringFit single = fitSpring(*joint_, data, o);
+    for (const SpringFit* f : {&multiple, &single}) {
+      EXPECT_TRUE(f->converged) << f->message;
+      EXPECT_LT(std::abs(f->stiffness / kTrueStiffness - 1.0), 0.01) << k0 << " " << f->shooting;
+      EXPECT_EQ(f->damping, kTrueDamping);
+      EXPECT_EQ(f->damping_sigma, 0.0);
+    }
+    EXPECT_LE(multiple.iterations, single.iterations);
+    bool held = false;
+    for (const std::string& h : multiple.held_fixed) held |= h.rfind("damping 0.1 N m s/rad", 0) == 0;
+    EXPECT_TRUE(held);
+  }
+}
+
 /// Over 60 noise realizations the error is within 3σ in ≥ 95 % of them, and
 /// the mean of (error/σ)² — 1 for an honest σ — is near 1 (measured here:
 /// 60/60 covered, 1.46 and 0.92; over 400 realizations 399/400, 1.01 and 0.97).
