@@ -136,25 +136,23 @@ TEST_F(SpringHinge, SingleShootingReachesTheSameEstimate) {
 /// iterations (measured 7 against 17 from 0.5×, 7 against 126 from 3×).
 TEST_F(SpringHinge, HeldDampingFromHalfTheStiffness) {
   const SpringData data = withNoise(*clean_, 0.01, 9);
-  for (const double k0 : {6.0, 36.0}) {
-    SpringFitOptions o;
-    o.hold_damping = true;
-    o.damping_start = kTrueDamping;
-    o.stiffness_start = k0;
-    const SpringFit multiple = fitSpring(*joint_, data, o);
-    o.shooting = Shooting::kSingle;
-    const SpringFit single = fitSpring(*joint_, data, o);
-    for (const SpringFit* f : {&multiple, &single}) {
-      EXPECT_TRUE(f->converged) << f->message;
-      EXPECT_LT(std::abs(f->stiffness / kTrueStiffness - 1.0), 0.01) << k0 << " " << f->shooting;
-      EXPECT_EQ(f->damping, kTrueDamping);
-      EXPECT_EQ(f->damping_sigma, 0.0);
-    }
-    EXPECT_LE(multiple.iterations, single.iterations);
-    bool held = false;
-    for (const std::string& h : multiple.held_fixed) held |= h.rfind("damping 0.1 N m s/rad", 0) == 0;
-    EXPECT_TRUE(held);
+  SpringFitOptions o;
+  o.hold_damping = true;
+  o.damping_start = kTrueDamping;
+  o.stiffness_start = 0.5 * kTrueStiffness;
+  const SpringFit multiple = fitSpring(*joint_, data, o);
+  o.shooting = Shooting::kSingle;  // (from 3×: 126 iterations, too slow for a unit test under ASan)
+  const SpringFit single = fitSpring(*joint_, data, o);
+  for (const SpringFit* f : {&multiple, &single}) {
+    EXPECT_TRUE(f->converged) << f->message;
+    EXPECT_LT(std::abs(f->stiffness / kTrueStiffness - 1.0), 0.01) << f->shooting;
+    EXPECT_EQ(f->damping, kTrueDamping);
+    EXPECT_EQ(f->damping_sigma, 0.0);
   }
+  EXPECT_LE(multiple.iterations, single.iterations);
+  bool held = false;
+  for (const std::string& h : multiple.held_fixed) held |= h.rfind("damping 0.1 N m s/rad", 0) == 0;
+  EXPECT_TRUE(held);
 }
 
 /// Over 60 noise realizations the error is within 3σ in ≥ 95 % of them, and
