@@ -74,7 +74,7 @@ struct SpringFitOptions {
   // min_motion_to_noise times the residual RMS, throw NotIdentifiable.
   int min_samples = 20;
   double max_relative_sigma = 0.5;
-  double min_motion_to_noise = 3.0;
+  double min_motion_to_noise = 1.5;
 };
 
 /// h·ω bound of the automatic step (rkmk4's relative frequency error is then
