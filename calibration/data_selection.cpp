@@ -1,5 +1,8 @@
 #include "calibration/data_selection.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -71,6 +74,39 @@ std::vector<Eigen::Vector3d> relativeRates(const JointSamples& samples, const st
   for (std::size_t k = 0; k < u.size(); ++k)
     u[k] = R12[k] * samples.secondary.angular_velocity[k] - samples.main.angular_velocity[k];
   return u;
+}
+
+namespace {
+
+/// 1.4826 · median |Δᵏx| / √var over all components of the order-k
+/// differences of x (k = 2 or 3), var the variance that unit white noise of
+/// the underlying signal gives them (20 for third differences of it).
+double robustDifferenceScale(const std::vector<Eigen::Vector3d>& x, int order, double var) {
+  if (x.size() < static_cast<std::size_t>(order) + 1) return 0.0;
+  std::vector<double> d;
+  d.reserve(3 * (x.size() - order));
+  for (std::size_t k = 0; k + order < x.size(); ++k) {
+    const Eigen::Vector3d diff = order == 3 ? Eigen::Vector3d(x[k + 3] - 3.0 * x[k + 2] + 3.0 * x[k + 1] - x[k])
+                                            : Eigen::Vector3d(x[k + 2] - 2.0 * x[k + 1] + x[k]);
+    for (int i = 0; i < 3; ++i) d.push_back(std::abs(diff[i]));
+  }
+  const std::size_t n = d.size() / 2;
+  std::nth_element(d.begin(), d.begin() + n, d.end());
+  return 1.482602218505602 * d[n] / std::sqrt(var);
+}
+
+}  // namespace
+
+double orientationNoiseFromDifferences(const std::vector<SO3d>& R) {
+  if (R.size() < 4) return 0.0;
+  std::vector<Eigen::Vector3d> increments;
+  increments.reserve(R.size() - 1);
+  for (std::size_t k = 0; k + 1 < R.size(); ++k) increments.push_back((R[k].inverse() * R[k + 1]).log());
+  return robustDifferenceScale(increments, 2, 20.0);
+}
+
+double whiteNoiseFromDifferences(const std::vector<Eigen::Vector3d>& x) {
+  return robustDifferenceScale(x, 3, 20.0);
 }
 
 }  // namespace calibration

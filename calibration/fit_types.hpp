@@ -61,6 +61,35 @@ struct AxisFitOptions {
   int min_samples = 20;
   double max_sigma_deg = 5.0;
   double min_motion_to_noise = 1.0;
+
+  /// A second local minimum (from another start) whose axes lie more than
+  /// distinct_minimum_sigmas σ from the best's, and whose cost exceeds the
+  /// best's by less than this Δχ² = 2Δcost/s² (s² the reduced chi-square of
+  /// the best), makes the fit throw NotIdentifiable: the data fit two axis
+  /// pairs equally well, and a σ from the curvature at one of them would be a
+  /// confident wrong answer. χ²₄ at 99 % (4 axis angles).
+  double ambiguity_chi_square = 13.28;
+  double distinct_minimum_sigmas = 3.0;
+
+  /// σ describes the error only where the cost is quadratic over the region
+  /// it claims. Δχ² at ±quadratic_check_sigmas σ along each principal
+  /// direction of the covariance is compared with its quadratic value (9 at
+  /// 3σ): more than 1 + quadratic_tolerance times it (a curved valley; short
+  /// recordings give 2–27 times, with errors of 10–30 σ) makes the fit throw
+  /// NotIdentifiable; less (a cost flatter than the Gauss–Newton curvature,
+  /// e.g. at large noise) widens σ in that direction to the cost's actual
+  /// rise (two_axis_solver.hpp). 0 switches the check off.
+  double quadratic_tolerance = 0.5;
+  double quadratic_check_sigmas = 3.0;
+
+  /// When the noise of a residual kind can be estimated independently of the
+  /// fit (the gyroscopes' white noise, from third differences of the recorded
+  /// rates: data_selection.hpp), a fitted residual scale (median form) above
+  /// this multiple of it marks the fit as not converged (converged = false,
+  /// the message says why): the fit stopped in a local minimum, or the model
+  /// does not describe the data (a gyroscope bias, another kind of joint,
+  /// low-pass-filtered or otherwise correlated noise). 0 switches the check off.
+  double max_residual_to_noise = 2.0;
 };
 
 /// Per kind of residual: what it is, how many samples, and its size.
@@ -71,6 +100,12 @@ struct ResidualStats {
   int noise_dof = 0;       ///< independent noise components per block
   double rms = 0.0;        ///< RMS of the residual per noise component, in `unit`
   double noise_scale = 0.0;  ///< σ̂ the fit weighted this kind by, in `unit`
+  /// The noise the residual should have, estimated without the fit (from the
+  /// recorded signals' third differences), in `unit`; 0 when not available.
+  double independent_noise = 0.0;
+  /// The residual's scale at the solution (median form, robust) over
+  /// independent_noise; 0 when not available. ≈ 1 when the model fits.
+  double residual_to_noise = 0.0;
 };
 
 /// How a fit went.
@@ -83,8 +118,17 @@ struct AxisFitSummary {
   int iterations = 0;       ///< Levenberg–Marquardt iterations of the accepted solution
   bool converged = false;   ///< ceres::CONVERGENCE (a tolerance was met)
   std::string message;      ///< Ceres' reason for stopping
-  int starts = 0;           ///< starting points tried
+  int starts = 0;           ///< starting points refined by Ceres
   std::string start;        ///< the one the solution came from
+  int search_starts = 0;    ///< starts of the global search before the refinement (0: none)
+  int minima = 0;           ///< distinct local minima the refinement ended in
+  /// Δχ² = 2Δcost/s² of the best other distinct minimum (−1: none found).
+  double runner_up_delta_chi_square = -1.0;
+  /// Δχ² at ±quadratic_check_sigmas σ along the principal directions of the
+  /// covariance over its quadratic prediction, least and largest (1 and 1
+  /// for a quadratic cost; 0 when not checked).
+  double quadratic_ratio_min = 0.0;
+  double quadratic_ratio_max = 0.0;
   int reweightings = 0;     ///< re-solves after re-estimating the noise scales
   double seconds = 0.0;     ///< wall time of the whole fit
 };

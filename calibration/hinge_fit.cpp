@@ -1,12 +1,15 @@
 #include "calibration/hinge_fit.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <vector>
 
 #include "calibration/data_selection.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_residuals.hpp"
+#include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
@@ -19,6 +22,11 @@ namespace {
 constexpr const char* kRateHint =
     "from gyroscopes alone each body must turn about directions other than the hinge axis (a body at rest, "
     "or motion only about the hinge axis itself, leaves its axis undetermined)";
+/// Minima of the global search that Ceres refines, at most: the best, and
+/// those within kRefineChiSquare (Δχ² against the best's noise estimate) that
+/// could rival it in the ambiguity check (two_axis_solver.hpp).
+constexpr int kMaxRefinedMinima = 4;
+constexpr double kRefineChiSquare = 30.0;
 constexpr const char* kOrientationHint =
     "the joint must move: the relative orientation of the two bodies has to turn about the hinge";
 
@@ -33,6 +41,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
       data.orientations ? relativeOrientations(samples) : std::vector<Eigen::Matrix3d>();
   std::vector<std::unique_ptr<ResidualKind>> kinds;
   std::vector<NamedStart> starts;
+  int search_starts = 0;
   IdentifiabilityContext context;
   context.axis1 = "the axis in the main body '" + samples.main.name + "'";
   context.axis2 = "the axis in the secondary body '" + samples.secondary.name + "'";
@@ -53,12 +62,28 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     for (std::size_t k = 0; k < w1.size(); ++k) blocks.emplace_back(w1[k], w2[k]);
     kinds.push_back(std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(
         "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)", "rad/s", 1, std::move(blocks)));
+    kinds.back()->setIndependentNoise(
+        std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
+        "the third differences of the recorded angular velocities");
     if (!data.orientations) {
+      // The closed form and a grid of starts, descended cheaply (hinge_search.hpp);
+      // Ceres refines the best minimum and those that could rival it.
       const std::vector<AxisPair> closed_form = hingeStartsFromRates(w1, w2);
-      for (std::size_t i = 0; i < closed_form.size(); ++i)
-        starts.push_back({closed_form[i], i == 0 ? std::string("closed form (gyroscopes)")
-                                                 : "closed form (gyroscopes), near-null alternative " +
-                                                       std::to_string(i)});
+      const std::vector<HingeMinimum> minima = hingeMinimaFromRates(w1, w2, closed_form);
+      search_starts = static_cast<int>(closed_form.size()) + kGridStarts;
+      const auto origin = [&](int start) {
+        if (start < 0 || start >= static_cast<int>(closed_form.size()))
+          return "grid start " + std::to_string(start - static_cast<int>(closed_form.size()) + 1) + " of " +
+                 std::to_string(kGridStarts);
+        return start == 0 ? std::string("closed form (gyroscopes)")
+                          : "closed form (gyroscopes), near-null alternative " + std::to_string(start);
+      };
+      const double s2 = minima.empty() ? 0.0 : minima.front().cost / std::max(1, samples.size() - 4);
+      for (std::size_t i = 0; i < minima.size() && static_cast<int>(i) < kMaxRefinedMinima; ++i) {
+        const bool rival = s2 > 0.0 && (minima[i].cost - minima.front().cost) / s2 <= kRefineChiSquare;
+        if (i == 0 || rival) starts.push_back({minima[i].axes, origin(minima[i].start)});
+      }
+      if (starts.empty()) starts.push_back({closed_form.front(), origin(0)});
       context.hint = kRateHint;
     }
   }
@@ -94,6 +119,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   fit.covariance = solution.covariance;
   fit.information = solution.information;
   fit.summary = solution.summary;
+  fit.summary.search_starts = search_starts;
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();

@@ -3,8 +3,11 @@
 /// frames, j₁ (main) and j₂ (secondary), from the columns the recording has:
 ///
 ///  - gyroscopes only: GyroHingeResidual (Seel et al. 2012's constraint in
-///    Sampson form), started from the closed form of hingeAxesFromRates; the
-///    relative sign from hingeRelativeSign;
+///    Sampson form), started from the minima of a global search
+///    (hinge_search.hpp: the closed forms of hingeStartsFromRates and a grid
+///    of 36 axis pairs, descended cheaply; Ceres refines the best and those
+///    within Δχ² ≤ 30 of it, at most 4, for the solver's ambiguity check);
+///    the relative sign from hingeRelativeSign;
 ///  - orientations only: OrientationHingeResidual, started from the exact
 ///    least-squares solution hingeAxesFromOrientations;
 ///  - both: OrientationHingeResidual and GyroHingeResidual, each weighted by
@@ -12,6 +15,10 @@
 ///    constraint involves no orientation, so the two kinds have independent,
 ///    homoscedastic noise; a relative-rate residual R₁ᵀR₂ω₂ − ω₁ ∥ j₁ would
 ///    carry orientation noise scaled by ‖ω‖, which one weight cannot whiten.)
+///
+/// With gyroscopes, their white noise is estimated from the rates' own third
+/// differences (whiteNoiseFromDifferences, RMS of both bodies') and the fitted
+/// residual is checked against it (AxisFitOptions::max_residual_to_noise).
 ///
 /// Reported signs: R₁j₁ = R₂j₂ (from the data where they tell), and the
 /// largest-magnitude component of j₁ positive (the hinge's own direction is a

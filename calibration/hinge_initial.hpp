@@ -1,6 +1,7 @@
 /// \file
-/// Closed-form hinge axes that start the refinement inside the basin of the
-/// global minimum (no random start, no local minimum).
+/// Closed-form hinge axes. For rich motions they start the refinement inside
+/// the basin of the global minimum; short recordings can have several
+/// basins, so the fit also descends from a grid (hinge_search.hpp).
 #pragma once
 
 #include <vector>

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/loss_function.h>
 #include <ceres/problem.h>
 
 namespace lieflow {
@@ -30,6 +31,27 @@ class ResidualKind {
   /// can re-weight without rebuilding the problem). Appends the block ids.
   virtual void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight,
                          double* axis1, double* axis2, std::vector<ceres::ResidualBlockId>* ids) const = 0;
+
+  /// Ceres' cost of all blocks, ½ Σ ρ(‖r‖²) (ρ(s) = s without a loss), at the
+  /// given axes and weight, calling the functors directly (cheaper than
+  /// ceres::Problem::Evaluate, which builds a program on every call).
+  virtual double cost(const double* axis1, const double* axis2, const double* weight,
+                      const ceres::LossFunction* loss) const = 0;
+
+  /// The noise scale this kind's residual should have (its unit), estimated
+  /// from the data without the fit, or 0 when unknown. The solver compares the
+  /// fitted residual with it (AxisFitOptions::max_residual_to_noise).
+  double independentNoise() const { return independent_noise_; }
+  /// How it was estimated, for the message ("the gyroscopes' third differences").
+  const std::string& independentNoiseSource() const { return independent_noise_source_; }
+  void setIndependentNoise(double sigma, std::string source) {
+    independent_noise_ = sigma;
+    independent_noise_source_ = std::move(source);
+  }
+
+ private:
+  double independent_noise_ = 0.0;
+  std::string independent_noise_source_;
 };
 
 /// The residual kind of a functor with members `const double* weight` and
@@ -46,6 +68,24 @@ class SampleResidualKind final : public ResidualKind {
   const std::string& unit() const override { return unit_; }
   int noiseDof() const override { return noise_dof_; }
   int blockCount() const override { return static_cast<int>(samples_.size()); }
+
+  double cost(const double* axis1, const double* axis2, const double* weight,
+              const ceres::LossFunction* loss) const override {
+    double total = 0.0, r[kResiduals], rho[3];
+    for (const Functor& sample : samples_) {
+      Functor f(sample);
+      f.weight = weight;
+      f(axis1, axis2, r);
+      double s = 0.0;
+      for (int i = 0; i < kResiduals; ++i) s += r[i] * r[i];
+      if (loss) {
+        loss->Evaluate(s, rho);
+        s = rho[0];
+      }
+      total += 0.5 * s;
+    }
+    return total;
+  }
 
   void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight, double* axis1,
                  double* axis2, std::vector<ceres::ResidualBlockId>* ids) const override {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -9,6 +11,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/solver.h>
 #include <ceres/sphere_manifold.h>
+#include <Eigen/Eigenvalues>
 
 #include "calibration/unit_axis.hpp"
 
@@ -32,6 +35,12 @@ double median(std::vector<double> v) {
   if (v.size() % 2) return v[n];
   const double upper = v[n];
   return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + n));
+}
+
+std::string number(double x, const char* format) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
 }
 
 std::unique_ptr<ceres::LossFunction> makeLoss(const AxisFitOptions& options) {
@@ -106,6 +115,23 @@ class AxisProblem {
     return m;
   }
 
+  /// SphereManifold's PlusJacobian at x (3×2, row-major).
+  void plusJacobian(const double* x, double* jacobian) const { sphere_.PlusJacobian(x, jacobian); }
+
+  /// The cost (with the loss) at the axes moved by the tangent step δ (4 tangent coordinates).
+  double costAt(const AxisPair& base, const Eigen::Vector4d& delta) {
+    const AxisPair saved = axes();
+    const double b1[3] = {base.axis1.x(), base.axis1.y(), base.axis1.z()};
+    const double b2[3] = {base.axis2.x(), base.axis2.y(), base.axis2.z()};
+    sphere_.Plus(b1, delta.data(), axis1_);
+    sphere_.Plus(b2, delta.data() + 2, axis2_);
+    double cost = 0.0;
+    for (std::size_t k = 0; k < kinds_.size(); ++k)
+      cost += kinds_[k]->cost(axis1_, axis2_, &weights_[k], loss_.get());
+    setAxes(saved);
+    return cost;
+  }
+
  private:
   static ceres::Problem::Options problemOptions() {
     ceres::Problem::Options o;
@@ -155,6 +181,13 @@ ceres::Solver::Options solverOptions(const AxisFitOptions& options) {
   return o;
 }
 
+/// Where one start's refinement ended, at the weights of the multi-start.
+struct EndPoint {
+  AxisPair axes;
+  double cost;
+  int start;
+};
+
 int iterationsOf(const ceres::Solver::Summary& s) {
   return std::max(0, s.num_successful_steps) + std::max(0, s.num_unsuccessful_steps);
 }
@@ -201,22 +234,27 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   p.setAxes(starts.front().axes);
   for (std::size_t k = 0; k < p.kindCount(); ++k) p.setWeight(k, 1.0 / noiseScale(p, k, true));
 
-  // 2. Every start; the lowest cost wins.
+  // 2. Every start; the lowest cost wins. Every end point is kept for the
+  // ambiguity check (step 6).
   const ceres::Solver::Options solver = solverOptions(options);
   TwoAxisSolution out;
   ceres::Solver::Summary best;
-  AxisPair best_axes = starts.front().axes;
+  std::vector<EndPoint> ends;
   int best_start = -1;
   for (std::size_t s = 0; s < starts.size(); ++s) {
     p.setAxes(starts[s].axes);
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &p.problem(), &summary);
+    ends.push_back({p.axes(), summary.final_cost, static_cast<int>(s)});
     if (best_start < 0 || summary.final_cost < best.final_cost) {
       best = summary;
-      best_axes = p.axes();
       best_start = static_cast<int>(s);
     }
   }
+  const AxisPair best_axes = ends[best_start].axes;
+  const double best_cost = best.final_cost;
+  std::vector<double> start_weights(p.kindCount());
+  for (std::size_t k = 0; k < p.kindCount(); ++k) start_weights[k] = p.weight(k);
   p.setAxes(best_axes);
   out.summary.starts = static_cast<int>(starts.size());
   out.summary.start = starts[best_start].origin;
@@ -242,7 +280,8 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   out.summary.converged = best.termination_type == ceres::CONVERGENCE;
   out.summary.message = best.message;
 
-  // Residual statistics.
+  // Residual statistics, and the check against independently estimated noise.
+  std::string misfit;
   for (std::size_t k = 0; k < p.kindCount(); ++k) {
     const std::vector<double> q = p.blockSquaredNorms(k);
     double sum = 0.0;
@@ -254,9 +293,26 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
     stats.noise_dof = p.kind(k).noiseDof();
     stats.rms = q.empty() ? 0.0 : std::sqrt(sum / (static_cast<double>(q.size()) * stats.noise_dof));
     stats.noise_scale = 1.0 / p.weight(k);
+    stats.independent_noise = p.kind(k).independentNoise();
+    if (stats.independent_noise > 0.0 && !q.empty()) {
+      stats.residual_to_noise = noiseScale(p, k, true) / stats.independent_noise;
+      if (options.max_residual_to_noise > 0.0 && stats.residual_to_noise > options.max_residual_to_noise &&
+          misfit.empty())
+        misfit = "the " + stats.kind + " residual is " + number(stats.residual_to_noise, "%.2f") +
+                 " times the noise estimated independently from " + p.kind(k).independentNoiseSource() + " (" +
+                 number(stats.independent_noise, "%.3g") + " " + stats.unit + "; at most " +
+                 number(options.max_residual_to_noise, "%g") +
+                 " accepted): the fit ended in a local minimum that no start escaped, or the model does not "
+                 "describe the data (a gyroscope bias, another kind of joint, low-pass-filtered or otherwise "
+                 "correlated noise); the axes are not reliable";
+    }
     out.summary.residuals.push_back(stats);
   }
   out.summary.rms_residual = out.summary.residuals.front().rms;
+  if (!misfit.empty()) {
+    out.summary.converged = false;
+    out.summary.message = misfit + " (Ceres: " + best.message + ")";
+  }
 
   // 4. Identifiability.
   double cost = 0.0;
@@ -287,6 +343,131 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   out.covariance2 = s2 * Eigen::Matrix3d(c2);
   out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
   out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
+
+  // 6. A second minimum that fits as well: Δχ² = 2Δcost/s² at the weights of
+  // the multi-start, for the end points whose axes lie more than
+  // distinct_minimum_sigmas σ from the best's. s² is the best's reduced
+  // chi-square there or, if larger, the noise variance estimated without the
+  // fit (kinds that have one; the others count with the fit's): a short
+  // recording lets the best fit absorb part of the noise (seen: residuals 0.7
+  // times the noise), which would inflate Δχ².
+  double s2_starts = m > 4 ? 2.0 * best_cost / (m - 4) : 0.0;
+  {
+    double independent = 0.0;
+    for (std::size_t k = 0; k < p.kindCount(); ++k) {
+      const double share = static_cast<double>(p.kind(k).blockCount()) * p.kind(k).noiseDof() / m;
+      const double sigma = p.kind(k).independentNoise() * start_weights[k];
+      independent += share * (sigma > 0.0 ? sigma * sigma : s2_starts);
+    }
+    s2_starts = std::max(s2_starts, independent);
+  }
+  // (Not closer than kQuadraticCheckFloor: on exact data σ is at the
+  // rounding level, and two end points of one minimum would look distinct.)
+  const double far1 = std::max(options.distinct_minimum_sigmas * out.sigma1_rad, kQuadraticCheckFloor);
+  const double far2 = std::max(options.distinct_minimum_sigmas * out.sigma2_rad, kQuadraticCheckFloor);
+  const auto near = [&](const AxisPair& a, const AxisPair& b) {
+    return angleBetweenLines(a.axis1, b.axis1) <= far1 && angleBetweenLines(a.axis2, b.axis2) <= far2;
+  };
+  const EndPoint* runner_up = nullptr;
+  double runner_up_delta = 0.0;
+  std::vector<AxisPair> distinct = {best_axes};
+  for (const EndPoint& e : ends) {
+    if (near(e.axes, best_axes)) continue;
+    if (std::none_of(distinct.begin(), distinct.end(), [&](const AxisPair& d) { return near(e.axes, d); }))
+      distinct.push_back(e.axes);
+    const double delta = s2_starts > 0.0 ? 2.0 * (e.cost - best_cost) / s2_starts
+                                         : std::numeric_limits<double>::infinity();
+    if (!runner_up || delta < runner_up_delta) {
+      runner_up = &e;
+      runner_up_delta = delta;
+    }
+  }
+  out.summary.minima = static_cast<int>(distinct.size());
+  if (runner_up) out.summary.runner_up_delta_chi_square = runner_up_delta;
+  if (runner_up && runner_up_delta < options.ambiguity_chi_square) {
+    const double angle1 = angleBetweenLines(runner_up->axes.axis1, best_axes.axis1) * kRadToDeg;
+    const double angle2 = angleBetweenLines(runner_up->axes.axis2, best_axes.axis2) * kRadToDeg;
+    throw NotIdentifiable("two axis pairs " + number(angle1, "%.3g") + "° (" + context.axis1 + ") and " +
+                          number(angle2, "%.3g") + "° (" + context.axis2 +
+                          ") apart fit the data equally well (their costs differ by Δχ² = " +
+                          number(std::max(0.0, runner_up_delta), "%.3g") + ", below " +
+                          number(options.ambiguity_chi_square, "%g") + ", while the best's 1σ are " +
+                          number(out.sigma1_rad * kRadToDeg, "%.3g") + "° and " +
+                          number(out.sigma2_rad * kRadToDeg, "%.3g") + "°; starts '" + starts[best_start].origin +
+                          "' and '" + starts[runner_up->start].origin +
+                          "'): a longer or more varied recording is needed; " + context.hint);
+  }
+
+  // 7. σ describes the error where the cost is quadratic over the region it
+  // claims. Δχ² at ±k σ along each principal direction of the covariance,
+  // over its quadratic value k²:
+  //  - above 1 + quadratic_tolerance the cost rises faster than its curvature
+  //    at the minimum says: a curved valley (short recordings), along which
+  //    the error can be many σ. Not identifiable.
+  //  - below kSecantBand (the mean q̄ of both sides) the cost is flatter than
+  //    the Gauss–Newton curvature JᵀJ (large noise: its noise-driven part,
+  //    and the first-order noise model of the residuals, stretched): σ is
+  //    taken from the cost's actual rise, λ/q̄ in that direction; below
+  //    kFlatSecant the cost is too flat for that. Not identifiable.
+  // (Below kQuadraticCheckFloor the cost is analytic, hence quadratic, and
+  // its differences would be rounding errors: exact data are not checked.)
+  const double k = options.quadratic_check_sigmas;
+  if (options.quadratic_tolerance > 0.0 && s2 > 0.0 &&
+      k * std::max(out.sigma1_rad, out.sigma2_rad) > kQuadraticCheckFloor) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(s2 * Eigen::Matrix4d(tangent));
+    const AxisPair at = p.axes();
+    const double base = p.costAt(at, Eigen::Vector4d::Zero());
+    Eigen::Matrix<double, 4, 2> ratio;
+    for (int i = 0; i < 4; ++i)
+      for (int side = 0; side < 2; ++side) {
+        const Eigen::Vector4d step = (side ? 1.0 : -1.0) * k * std::sqrt(std::max(0.0, eig.eigenvalues()[i])) *
+                                     eig.eigenvectors().col(i);
+        ratio(i, side) = 2.0 * (p.costAt(at, step) - base) / s2 / (k * k);
+      }
+    out.summary.quadratic_ratio_min = ratio.minCoeff();
+    out.summary.quadratic_ratio_max = ratio.maxCoeff();
+    const auto which = [&](int i) {
+      const double share1 = eig.eigenvectors().col(i).head<2>().squaredNorm();
+      return share1 > 0.8 ? "mostly " + context.axis1 : share1 < 0.2 ? "mostly " + context.axis2 : "both axes together";
+    };
+    const auto sigmas = [&] {
+      return "the best fit's 1σ would be " + number(out.sigma1_rad * kRadToDeg, "%.3g") + "° and " +
+             number(out.sigma2_rad * kRadToDeg, "%.3g") + "°";
+    };
+    Eigen::Index steep_row, steep_col;
+    if (ratio.maxCoeff(&steep_row, &steep_col) > 1.0 + options.quadratic_tolerance)
+      throw NotIdentifiable(
+          "the cost is far from quadratic over the " + number(k, "%g") + "σ region of the axes: Δχ² at ±" +
+          number(k, "%g") + "σ along its principal directions is " + number(ratio.minCoeff() * k * k, "%.3g") +
+          " … " + number(ratio.maxCoeff() * k * k, "%.3g") + " instead of " + number(k * k, "%g") +
+          " (the steepest turns " + which(static_cast<int>(steep_row)) +
+          "): the data leave the axes in a curved valley of the cost, along which axes many σ apart fit about "
+          "as well (" + sigmas() + "); a longer or more varied recording is needed; " + context.hint);
+    Eigen::Vector4d lambda = eig.eigenvalues().cwiseMax(0.0);
+    bool flatter = false;
+    for (int i = 0; i < 4; ++i) {
+      const double mean = 0.5 * (ratio(i, 0) + ratio(i, 1));
+      if (mean >= kSecantBand) continue;
+      if (mean < kFlatSecant)
+        throw NotIdentifiable("the cost is far from quadratic over the " + number(k, "%g") +
+                              "σ region of the axes: it rises by Δχ² = " + number(mean * k * k, "%.3g") +
+                              " instead of " + number(k * k, "%g") + " at ±" + number(k, "%g") + "σ in a direction "
+                              "that turns " + which(i) + " (" + sigmas() + "); " + context.hint);
+      lambda[i] /= mean;
+      flatter = true;
+    }
+    if (flatter) {
+      const Eigen::Matrix4d secant = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+      out.covariance = to_angle * secant;
+      out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
+      out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
+      Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
+      p.plusJacobian(p.axis1(), J1.data());
+      p.plusJacobian(p.axis2(), J2.data());
+      out.covariance1 = J1 * secant.topLeftCorner<2, 2>() * J1.transpose();
+      out.covariance2 = J2 * secant.bottomRightCorner<2, 2>() * J2.transpose();
+    }
+  }
   return out;
 }
 

@@ -7,17 +7,37 @@
 ///     kind k (d its noise components per sample; robust to outliers and to
 ///     the start's own error). Each kind is weighted by 1/σ̂ₖ, so residuals of
 ///     different units combine and the robust loss threshold is in noise σ's.
-///  2. Levenberg–Marquardt (dense QR) from every start; the lowest cost wins.
+///  2. Levenberg–Marquardt (dense QR) from every start; the lowest cost wins,
+///     and every end point is kept for step 6.
 ///  3. With several kinds or a robust loss, σ̂ₖ are re-estimated at the
 ///     solution (RMS with the degrees of freedom shared out, or the median
 ///     form under a robust loss) and the problem re-solved until they settle
 ///     (≤ kMaxReweightings times).
+///     A kind whose noise is known independently of the fit
+///     (ResidualKind::independentNoise: the gyroscopes' third differences)
+///     is compared with it: a residual scale (median form) above
+///     max_residual_to_noise times it marks the fit converged = false, with
+///     the reason as the message (a local minimum no start escaped, or a
+///     model that does not describe the data).
 ///  4. Identifiability (identifiability.hpp) from the Jacobian at the solution.
 ///  5. Covariance: ceres::Covariance (dense SVD) in SphereManifold tangent
 ///     coordinates, scaled by the reduced chi-square s² (Ceres assumes unit
 ///     noise), then converted to axis angles (÷ kSphereTangentPerRadian²).
 ///     An axis's σ is √trace of its 2×2 block: the RMS angle between the
 ///     estimate and the truth.
+///  6. Ambiguity: another end point more than distinct_minimum_sigmas σ from
+///     the best whose cost exceeds the best's by Δχ² = 2Δcost/s² <
+///     ambiguity_chi_square (χ²₄ 99 %) throws NotIdentifiable ("two axis
+///     pairs N° apart fit the data equally well"). s² is the larger of the
+///     fit's and the independently known noise (short recordings let the fit
+///     absorb noise, seen down to 0.7 of it, which would inflate Δχ²).
+///  7. The 3σ region: Δχ² at ±3σ along the four principal directions of the
+///     covariance against 9. More than (1 + quadratic_tolerance) · 9 (a
+///     curved valley: the error along it can be tens of σ) throws
+///     NotIdentifiable; less than kSecantBand · 9 (a cost flatter than the
+///     Gauss–Newton curvature, e.g. at large noise) widens σ in that
+///     direction to the actual rise (below kFlatSecant · 9: NotIdentifiable).
+///     The cost is evaluated by the kinds' functors directly (ResidualKind::cost).
 #pragma once
 
 #include <string>
@@ -36,6 +56,16 @@ namespace calibration {
 constexpr int kMaxReweightings = 3;
 /// Relative change of a noise scale that triggers a re-solve.
 constexpr double kReweightTolerance = 0.02;
+/// Below this step (rad) the quadratic check (AxisFitOptions::quadratic_tolerance) is skipped.
+constexpr double kQuadraticCheckFloor = 1e-6;
+/// Where the cost rises by less than this fraction of its quadratic value at
+/// ±quadratic_check_sigmas σ, σ is widened to the actual rise; closer to
+/// quadratic, the Gauss–Newton σ stands (tests/calibration/unit_axis_test.cpp
+/// checks it against finite differences to 1e-4).
+constexpr double kSecantBand = 0.9;
+/// The quadratic check refuses a cost that rises by less than this fraction
+/// of its quadratic value at ±quadratic_check_sigmas σ (σ would grow by > 2).
+constexpr double kFlatSecant = 0.25;
 /// Noise scales are floored here so that exact data give finite weights.
 constexpr double kNoiseScaleFloor = 1e-12;
 

@@ -6,7 +6,15 @@
 ///    from the closed form universalAxesFromOrientations;
 ///  - orientations and gyroscopes: that and RelativeRateUniversalResidual
 ///    (the relative angular velocity lies in span{R₁a₁, R₂a₂}), each weighted
-///    by its estimated noise.
+///    by its estimated noise; the relative-rate residual also per sample, by
+///    the noise it carries from both gyroscopes and both orientations (the
+///    latter scaled by the rates, 5-fold across the `universal-pair` scene),
+///    from noise levels estimated from the recorded signals themselves
+///    (universal_fit.cpp: relativeRateScales). With one weight for all
+///    samples σ was 1.6 times too small on that scene.
+///
+/// The solver's further checks (two_axis_solver.hpp) apply: a second minimum
+/// that fits as well, a cost far from quadratic over the 3σ region.
 ///
 /// Gyroscopes alone are refused (NotIdentifiable): the joint leaves the
 /// bodies 4 relative degrees of freedom per sample (φ₁, φ₂, φ̇₁, φ̇₂) against 3

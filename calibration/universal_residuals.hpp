@@ -36,9 +36,16 @@ struct OrientationUniversalResidual {
 /// Orientations and gyroscopes: u · (a₁ × R₁ᵀR₂a₂) = 0 with u = R₁ᵀR₂ω₂ − ω₁ the
 /// relative angular velocity in body 1's frame (in the span of a₁ and R₁ᵀR₂a₂),
 /// in rad/s, 1 noise component per sample.
+///
+/// Its noise is not one σ for all samples: besides both gyroscopes' noise it
+/// carries the orientation noise (through R₁ᵀR₂, in u and in the normal)
+/// scaled by the rates, which dominates at 0.5° and a few rad/s.
+/// `scale` = σ_ref/σₖ (universal_fit.cpp: relativeRateNoise) makes every sample's
+/// noise σ_ref, so that one noise scale per kind whitens it.
 struct RelativeRateUniversalResidual {
   Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
   Eigen::Vector3d u;    ///< R₁ᵀR₂ω₂ − ω₁
+  double scale = 1.0;   ///< per-sample weight σ_ref/σₖ
   const double* weight = nullptr;
 
   RelativeRateUniversalResidual(const Eigen::Matrix3d& r12, const Eigen::Vector3d& relative_rate)
@@ -48,7 +55,7 @@ struct RelativeRateUniversalResidual {
   bool operator()(const T* a1_data, const T* a2_data, T* r) const {
     const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
     const Vector3<T> normal = Vector3<T>(a1).cross(mixed::mul(R12, Vector3<T>(a2)));
-    r[0] = *weight * mixed::dot(u, normal);
+    r[0] = *weight * scale * mixed::dot(u, normal);
     return true;
   }
 };

@@ -7,7 +7,10 @@
 // per case: CPU time per fit (median, 95th percentile, max), LM iterations,
 // axis errors against the truth (median, 90th percentile, max, share within
 // the accuracy target) and the honesty of σ (share of errors within
-// 3σ, mean (error/σ)², which is 1 for an honest RMS σ).
+// 3σ, mean (error/σ)², which is 1 for an honest RMS σ). Then the same for
+// short gyroscope recordings of the hinge (50, 100 and 200 samples at 100 Hz:
+// 0.5 to 2 s), where the fit may refuse ("not identifiable") and what it
+// answers must hold its σ.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -64,12 +67,12 @@ std::vector<Case> cases() {
 }
 
 /// Fits one recording of a fresh random motion of case c: errors, σ, iterations.
-FitFigures fitOnce(const Case& c, std::mt19937& gen, double* cpu_ms) {
+FitFigures fitOnce(const Case& c, std::mt19937& gen, double* cpu_ms, int sample_count = kSamples) {
   FitFigures f;
   std::clock_t start;
   if (!c.universal) {
     const HingeMotion motion = randomHingeMotion(gen);
-    const JointSamples samples = recordMotion(motion, kSamples, kRateHz, c.noise, gen);
+    const JointSamples samples = recordMotion(motion, sample_count, kRateHz, c.noise, gen);
     start = std::clock();
     const HingeFit fit = fitHinge(samples);
     *cpu_ms = 1e3 * static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
@@ -132,6 +135,46 @@ void printSweep() {
                 quantile(ms, 0.5), quantile(ms, 0.95), quantile(ms, 1.0), quantile(iterations, 0.5),
                 quantile(iterations, 1.0), quantile(errors, 0.5), quantile(errors, 0.9), quantile(errors, 1.0), target,
                 share, 100.0 * covered / n, ratio_sq / n, refused);
+  }
+}
+
+/// Short gyroscope recordings of the hinge: refusals, and the honesty of what is answered.
+void printShortSweep() {
+  std::printf("\nshort recordings: hinge, gyroscopes, sigma = 0.01 rad/s, %d random motions per length (100 Hz); "
+              "errors and sigma in degrees, both axes pooled\n",
+              kSweepMotions);
+  std::printf("%-10s %8s %8s %7s %7s %8s %8s %8s %9s %9s\n", "samples", "refused", "answered", "cpu ms", "max",
+              "err med", "err p90", "err max", "<=3 sigma", "(e/s)^2");
+  const Case c{"hinge/gyroscopes/short", false, RecordingNoise{0.01, 0.0, false, true}, 0.0};
+  for (int n : {50, 100, 200}) {
+    std::mt19937 gen(11);
+    std::vector<double> ms, errors;
+    int refused = 0, covered = 0;
+    double ratio_sq = 0.0;
+    for (int i = 0; i < kSweepMotions; ++i) {
+      double cpu = 0.0;
+      FitFigures f;
+      try {
+        f = fitOnce(c, gen, &cpu, n);
+      } catch (const NotIdentifiable&) {
+        ++refused;
+        continue;
+      }
+      ms.push_back(cpu);
+      for (const auto& es : {std::make_pair(f.error1_deg, f.sigma1_deg), std::make_pair(f.error2_deg, f.sigma2_deg)}) {
+        errors.push_back(es.first);
+        covered += es.first <= 3.0 * es.second;
+        ratio_sq += es.first * es.first / (es.second * es.second);
+      }
+    }
+    if (errors.empty()) {
+      std::printf("%-10d %8d %8d\n", n, refused, 0);
+      continue;
+    }
+    const double pooled = static_cast<double>(errors.size());
+    std::printf("%-10d %8d %8zu %7.2f %7.2f %8.3f %8.3f %8.3f %8.1f%% %9.2f\n", n, refused, ms.size(),
+                quantile(ms, 0.5), quantile(ms, 1.0), quantile(errors, 0.5), quantile(errors, 0.9),
+                quantile(errors, 1.0), 100.0 * covered / pooled, ratio_sq / pooled);
   }
 }
 
@@ -203,5 +246,6 @@ int main(int argc, char** argv) {
   benchmark::Shutdown();
   printSummary(reporter);
   printSweep();
+  printShortSweep();
   return 0;
 }

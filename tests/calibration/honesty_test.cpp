@@ -8,13 +8,22 @@
 ///
 /// Trials of 1000 samples at 100 Hz; 300 under AddressSanitizer (CI's Debug
 /// build), which keeps the same 50 trials and tolerances within the time.
+///
+/// Short recordings (50 and 100 samples) may be refused; the fits that are
+/// answered must be as honest. The universal joint of the `universal-pair`
+/// scene (rates growing from 1 to 6 rad/s, so the orientation noise that the
+/// relative-rate residual carries varies 5-fold from sample to sample) checks
+/// the per-sample weights of that residual.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <random>
 #include <string>
 
 #include "calibration/hinge_fit.hpp"
+#include "calibration/recording.hpp"
 #include "calibration/synthetic_motion.hpp"
 #include "calibration/universal_fit.hpp"
 #include "calibration_test_helpers.hpp"
@@ -106,6 +115,78 @@ TEST(CalibHonesty, UniversalFromOrientationsAndGyroscopes) {
                      {f.sigma1_deg, f.sigma2_deg}};
       },
       44);
+}
+
+/// Half a second and one second of gyroscope data (50 and 100 samples at
+/// 100 Hz, σ = 0.01 rad/s, a new random motion per trial). The fit used to
+/// answer 84 and 98 of 100 such recordings with 39 and 9 of them beyond 3σ
+/// (mean (error/σ)² of 1200 and 99): local minima, second minima that fit as
+/// well, curved valleys. Now those are found or refused; what is answered
+/// holds its σ, and one second is still answered in most trials.
+TEST(CalibHonesty, HingeFromGyroscopesShortRecordings) {
+  for (int samples : {50, 100}) {
+    SCOPED_TRACE(samples);
+    std::mt19937 gen(45 + samples);
+    int fitted = 0, covered = 0;
+    double ratio_sq = 0.0;
+    for (int t = 0; t < kTrials; ++t) {
+      const HingeMotion m = randomHingeMotion(gen);
+      const JointSamples s = recordMotion(m, samples, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
+      try {
+        const HingeFit f = fitHinge(s);
+        const double e1 = lineErrorDeg(f.axis_main, m.axis_main), e2 = lineErrorDeg(f.axis_secondary, m.axisSecondary());
+        ++fitted;
+        covered += e1 <= 3.0 * f.sigma_main_deg && e2 <= 3.0 * f.sigma_secondary_deg;
+        ratio_sq += (e1 * e1 / (f.sigma_main_deg * f.sigma_main_deg) +
+                     e2 * e2 / (f.sigma_secondary_deg * f.sigma_secondary_deg)) / 2.0;
+      } catch (const NotIdentifiable&) {
+      }
+    }
+    EXPECT_GE(covered, 0.95 * fitted) << covered << " of " << fitted << " fits within 3 sigma";
+    EXPECT_GE(fitted, samples == 100 ? 40 : 10) << "answered";
+    if (fitted > 0) {
+      EXPECT_LT(ratio_sq / fitted, 1.6) << "mean (error/sigma)^2";
+    }
+    testing::Test::RecordProperty("fitted_" + std::to_string(samples), fitted);
+    testing::Test::RecordProperty("covered_" + std::to_string(samples), covered);
+  }
+}
+
+/// The noise-free recording `lieflow simulate ARGS` writes, as the joint of its two bodies.
+JointSamples simulatedExactly(const std::string& args) {
+  const std::string file = testing::TempDir() + "lieflow_honesty_" +
+                           testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
+  const std::string command = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow simulate " + args + " --out " + file;
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  JointSamples s = selectJoint(readRecording(file), "", "");
+  std::remove(file.c_str());
+  return s;
+}
+
+/// The reproduction study's universal joint (papers/hinge-axis-identification,
+/// Table 4): `universal-pair`, a₁ = x in `upper`, a₂ = y in `lower`, gyroscopes
+/// σ = 0.01 rad/s and orientations 0.5°, the noise drawn here per trial. With
+/// one noise scale for the relative-rate residual, mean (error/σ)² was 2.04
+/// (2.60 for a₁) and 3 of 50 fits beyond 3σ.
+TEST(CalibHonesty, UniversalPairFromOrientationsAndGyroscopes) {
+  const JointSamples exact = simulatedExactly("universal-pair --every 10 --t-end " +
+                                              std::to_string((kSamples - 1) / kRateHz));
+  ASSERT_EQ(exact.size(), kSamples);
+  expectHonest(
+      "universal_pair", [&](std::mt19937& gen) {
+        std::normal_distribution<double> normal;
+        JointSamples s = exact;
+        for (BodySamples* b : {&s.main, &s.secondary}) {
+          for (Eigen::Vector3d& w : b->angular_velocity) w += 0.01 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
+          for (SO3d& R : b->orientation)
+            R = R * SO3d::exp(0.5 * kDeg * Eigen::Vector3d(normal(gen), normal(gen), normal(gen)));
+        }
+        const UniversalFit f = fitUniversal(s);
+        return Trial{{lineErrorDeg(f.axis1_main, Eigen::Vector3d::UnitX()),
+                      lineErrorDeg(f.axis2_secondary, Eigen::Vector3d::UnitY())},
+                     {f.sigma1_deg, f.sigma2_deg}};
+      },
+      46);
 }
 
 }  // namespace

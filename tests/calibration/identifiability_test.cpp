@@ -3,7 +3,9 @@
 /// exit 1 in the command), never answered with a confident wrong axis: no
 /// motion, a body at rest (gyroscopes), the assembly turning rigidly about
 /// the hinge axis, a joint that does not move (orientations), a universal
-/// joint turned about one axis only, too few samples.
+/// joint turned about one axis only, too few samples; and recordings too
+/// short for the Gaussian σ at the best minimum to describe the error: a
+/// second minimum that fits as well, or a curved valley.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -116,6 +118,38 @@ TEST(CalibIdentifiability, TooFewSamples) {
   options.min_samples = 10;
   const HingeFit fit = fitHinge(s, options);
   EXPECT_LE(test::lineErrorDeg(fit.axis_main, m.axis_main), 1e-6);
+}
+
+/// Half a second of gyroscope data (50 samples, σ = 0.01 rad/s): the fit
+/// used to answer 14–55° off with σ of 0.6–5° (21–82 σ). The global search
+/// finds a second minimum whose cost differs from the best's by less than
+/// the χ²₄ 99 % quantile, 10–70° away.
+TEST(CalibIdentifiability, TwoAxisPairsThatFitEquallyWellAreRefused) {
+  for (unsigned seed : {111u, 114u, 115u}) {
+    SCOPED_TRACE(seed);
+    std::mt19937 gen(seed);
+    const HingeMotion m = randomHingeMotion(gen);
+    const JointSamples s = recordMotion(m, 50, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
+    expectNotIdentifiable([&] { fitHinge(s); }, "apart fit the data equally well");
+    // The same motion recorded for 10 s is answered.
+    std::mt19937 more(seed);
+    const HingeMotion same = randomHingeMotion(more);
+    EXPECT_NO_THROW(fitHinge(recordMotion(same, 1000, kRateHz, RecordingNoise{0.01, 0.0, false, true}, more)));
+  }
+}
+
+/// One minimum, but in a curved valley: at ±3σ the cost rises up to 90
+/// times faster than its curvature at the minimum says, and the truth lies
+/// 4.6 σ (15°) away along the valley; the fit used to answer with that σ.
+TEST(CalibIdentifiability, ACurvedValleyIsRefused) {
+  std::mt19937 gen(488);
+  const HingeMotion m = randomHingeMotion(gen);
+  const JointSamples s = recordMotion(m, 50, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
+  expectNotIdentifiable([&] { fitHinge(s); }, "far from quadratic");
+  AxisFitOptions unchecked;
+  unchecked.quadratic_tolerance = 0.0;
+  const HingeFit fit = fitHinge(s, unchecked);  // what σ would have claimed
+  EXPECT_GT(test::lineErrorDeg(fit.axis_main, m.axis_main), 4.0 * fit.sigma_main_deg);
 }
 
 }  // namespace

@@ -100,7 +100,9 @@ TEST_F(SpringHinge, WithinOnePercentFromStartsWithinAFactorThree) {
         EXPECT_TRUE(f.converged) << f.message;
         EXPECT_LT(std::abs(f.stiffness / kTrueStiffness - 1.0), 0.01);
         EXPECT_LT(std::abs(f.damping / kTrueDamping - 1.0), 0.01);
-        if (fit_rest) EXPECT_LT(std::abs(f.rest_angle - 0.1), 4.0 * f.rest_angle_sigma);
+        if (fit_rest) {
+          EXPECT_LT(std::abs(f.rest_angle - 0.1), 4.0 * f.rest_angle_sigma);
+        }
         EXPECT_NEAR(f.rms_residual, 0.01, 0.001);
         EXPECT_GT(f.segments, 30);  // a quarter of the start's period each
       }

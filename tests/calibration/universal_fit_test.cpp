@@ -2,7 +2,8 @@
 /// The universal-joint fit against the truth of analytic motions: the
 /// issue's target (≤ 0.2° per axis at σ_ω = 0.01 rad/s plus 0.5° orientation
 /// noise, 1000 samples at 100 Hz), orientations alone, the exact closed form,
-/// any start, and the sign convention.
+/// any start, and the sign convention; the orientation noise estimate that
+/// weights the relative-rate residual per sample.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -92,6 +93,23 @@ TEST(CalibUniversal, EachAxisFollowsTheSignConvention) {
       EXPECT_GT(a[i], 0.0) << seed;
       EXPECT_NEAR(a.norm(), 1.0, 1e-12);
     }
+  }
+}
+
+/// The orientation noise R exp(η) from the recorded orientations alone:
+/// second differences of the increments log(RₖᵀRₖ₊₁) are third differences
+/// of η; the motion adds < 1e-4 rad at 100 Hz.
+TEST(CalibUniversal, OrientationNoiseFromThirdDifferences) {
+  std::mt19937 gen(36);
+  const UniversalMotion m = randomUniversalMotion(gen);
+  const JointSamples exact = recordMotion(m, kSamples, kRateHz, RecordingNoise{0.0, 0.0, true, false}, gen);
+  EXPECT_LT(orientationNoiseFromDifferences(exact.main.orientation), 1e-4);
+  EXPECT_LT(orientationNoiseFromDifferences(exact.secondary.orientation), 1e-4);
+  for (double sigma : {0.1 * kDeg, 0.5 * kDeg, 2.0 * kDeg}) {
+    SCOPED_TRACE(sigma);
+    const JointSamples s = recordMotion(m, kSamples, kRateHz, RecordingNoise{0.0, sigma, true, false}, gen);
+    EXPECT_NEAR(orientationNoiseFromDifferences(s.main.orientation), sigma, 0.1 * sigma);
+    EXPECT_NEAR(orientationNoiseFromDifferences(s.secondary.orientation), sigma, 0.1 * sigma);
   }
 }
 
