@@ -163,25 +163,32 @@ def read_trials(out, case, truth):
 
 def summary(trials):
     fits = [t for t in trials if t["status"] == "fit"]
+    nan = float("nan")
+
+    def stat(fn, values):
+        """fn(values), or NaN when every trial was refused."""
+        return float(fn(values)) if len(values) else nan
+
     err = np.array([max(t["err"]) for t in fits])
     sig = np.array([max(t["sig"]) for t in fits])
     per_axis_z = np.array([e / s for t in fits for e, s in zip(t["err"], t["sig"])])
     honest = np.array([all(e <= 3 * s for e, s in zip(t["err"], t["sig"])) for t in fits])
-    z2_axes = [float(np.mean([(t["err"][i] / t["sig"][i]) ** 2 for t in fits])) for i in (0, 1)]
+    z2_axes = [stat(np.mean, [(t["err"][i] / t["sig"][i]) ** 2 for t in fits]) for i in (0, 1)]
     outliers = [t for t, h in zip(fits, honest) if not h]
     s = {
         "trials": len(trials), "fits": len(fits),
         "refused": sum(t["status"] == "refused" for t in trials),
         "not_converged": sum(t["status"] == "not converged" for t in trials),
         "err": err, "sig": sig,
-        "median": float(np.median(err)), "p90": float(np.percentile(err, 90)), "max": float(err.max()),
-        "sig_median": float(np.median(sig)),
-        "honest": int(honest.sum()), "z2": float(np.mean(per_axis_z ** 2)),
-        "z_max": float(per_axis_z.max()), "z2_axes": z2_axes, "outliers": outliers,
+        "median": stat(np.median, err), "p90": stat(lambda v: np.percentile(v, 90), err),
+        "max": stat(np.max, err),
+        "sig_median": stat(np.median, sig),
+        "honest": int(honest.sum()), "z2": stat(np.mean, per_axis_z ** 2),
+        "z_max": stat(np.max, per_axis_z), "z2_axes": z2_axes, "outliers": outliers,
         "checked": sum("local_min" in t for t in fits),
         "local_min": sum(t.get("local_min", False) for t in fits),
-        "iterations": float(np.median([t["iterations"] for t in fits])),
-        "ms": 1e3 * float(np.median([t["seconds"] for t in fits])),
+        "iterations": stat(np.median, [t["iterations"] for t in fits]),
+        "ms": 1e3 * stat(np.median, [t["seconds"] for t in fits]),
         "sign_ok": sum(t.get("sign_ok", True) for t in fits),
         "sign_convention": sum(t.get("sign_convention", False) for t in fits),
         "alt_starts": sum("near-null" in t["start"] for t in fits),
@@ -216,7 +223,7 @@ def trial_cells(s):
     cells = [f"{s['trials']}" + (f" ({s['refused']} refused)" if s["refused"] else "")
              + (f" ({s['not_converged']} not converged)" if s["not_converged"] else ""),
              f"{g(s['median'])} / {g(s['p90'])} / {g(s['max'])}", g(s["sig_median"]),
-             pct(s["honest"], s["fits"]), f"{s['z2']:.2f}"]
+             pct(s["honest"], s["fits"]), g(s["z2"], 3)]
     return cells
 
 
