@@ -45,24 +45,40 @@ struct Trial {
   double sigma[2];
 };
 
+/// Over kTrials trials, both axes' errors are within 3σ in all but 2 of the
+/// answered ones and the mean (error/σ)² is near 1. A refusal (NotIdentifiable:
+/// e.g. two equally good minima on the 300-sample recordings of the sanitizer
+/// build) is an honest answer, not an error, but must stay rare (≤ 5).
 void expectHonest(const std::string& label, const std::function<Trial(std::mt19937&)>& run, unsigned seed) {
   std::mt19937 gen(seed);
-  int covered[2] = {0, 0};
+  int covered[2] = {0, 0}, answered = 0, refused = 0;
   double ratio_sq[2] = {0.0, 0.0};
   for (int t = 0; t < kTrials; ++t) {
-    const Trial trial = run(gen);
+    Trial trial;
+    try {
+      trial = run(gen);
+    } catch (const NotIdentifiable&) {
+      ++refused;
+      continue;
+    }
+    ++answered;
     for (int a = 0; a < 2; ++a) {
       covered[a] += trial.error[a] <= 3.0 * trial.sigma[a];
-      ratio_sq[a] += trial.error[a] * trial.error[a] / (trial.sigma[a] * trial.sigma[a]) / kTrials;
+      ratio_sq[a] += trial.error[a] * trial.error[a] / (trial.sigma[a] * trial.sigma[a]);
     }
   }
+  EXPECT_LE(refused, 5) << refused << " of " << kTrials << " trials refused";
+  ASSERT_GT(answered, 0);
   for (int a = 0; a < 2; ++a) {
     SCOPED_TRACE(a == 0 ? "axis in the main body" : "axis in the secondary body");
-    EXPECT_GE(covered[a], 48) << "errors within 3 sigma in " << covered[a] << " of " << kTrials << " trials";
+    ratio_sq[a] /= answered;
+    EXPECT_GE(covered[a], answered - 2) << "errors within 3 sigma in " << covered[a] << " of " << answered
+                                        << " answered trials";
     EXPECT_GT(ratio_sq[a], 0.5) << "sigma too large: mean (error/sigma)^2 = " << ratio_sq[a];
     EXPECT_LT(ratio_sq[a], 1.6) << "sigma too small: mean (error/sigma)^2 = " << ratio_sq[a];
     const std::string key = label + (a == 0 ? "_main" : "_secondary");
     testing::Test::RecordProperty("covered_" + key, covered[a]);
+    testing::Test::RecordProperty("refused_" + key, refused);
     testing::Test::RecordProperty("mean_error_over_sigma_squared_" + key, std::to_string(ratio_sq[a]));
   }
 }
