@@ -22,8 +22,6 @@ namespace {
 constexpr double kPi = 3.141592653589793;
 /// Samples per multiple-shooting segment, at least.
 constexpr int kMinSegmentSamples = 4;
-/// Central-difference step for the gravity stiffness (rad).
-constexpr double kGravityStiffnessStep = 1e-5;
 
 std::string format(double v) {
   std::ostringstream s;
@@ -40,14 +38,6 @@ ButcherTableau tableauNamed(const std::string& name) {
   throw InvalidInput("--integrator", "'" + name +
                                          "': calibrate spring integrates the reduced joint model with an explicit "
                                          "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
-}
-
-/// −∂Q_g/∂φ_i at φ (the gravity stiffness of coordinate i).
-double gravityStiffness(const GroundedJointScene& joint, int i, const Eigen::Vector2d& phi) {
-  Eigen::Vector2d plus = phi, minus = phi;
-  plus[i] += kGravityStiffnessStep;
-  minus[i] -= kGravityStiffnessStep;
-  return -(joint.gravityMoment(i, plus) - joint.gravityMoment(i, minus)) / (2.0 * kGravityStiffnessStep);
 }
 
 void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool sparse) {
@@ -166,7 +156,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
     if (data.has(i)) mean_angle[i] = std::accumulate(data.angle[i].begin(), data.angle[i].end(), 0.0) / n;
   double omega = 0.0, omega_max = 0.0;
   for (int i = 0; i < N; ++i) {
-    const double k = (i == ic ? theta[0] : joint.drives[i].stiffness) + gravityStiffness(joint, i, mean_angle);
+    const double k = (i == ic ? theta[0] : joint.drives[i].stiffness) + joint.gravityStiffness(i, mean_angle);
     const double w = std::sqrt(std::max(k, 0.0) / joint.inertiaAbout(i, mean_angle));
     if (i == ic) omega = std::max(w, est.natural_frequency);
     omega_max = std::max(omega_max, std::max(w, i == ic ? est.natural_frequency : 0.0));
@@ -283,7 +273,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   // k is determined when its σ is small against the whole restoring
   // stiffness the motion shows (spring plus gravity: a pendulum without a
   // spring determines k ≈ 0 well).
-  const double k_gravity = gravityStiffness(joint, ic, mean_angle);
+  const double k_gravity = joint.gravityStiffness(ic, mean_angle);
   const double k_scale = std::max(out.stiffness, out.stiffness + k_gravity);
   if (!(out.stiffness_sigma <= o.max_relative_sigma * k_scale))
     throw NotIdentifiable("the recording does not determine the stiffness: k = " + format(out.stiffness) + " ± " +

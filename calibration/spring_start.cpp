@@ -87,12 +87,7 @@ SpringStart estimateSpringStart(const GroundedJointScene& joint, const SpringDat
   Eigen::Vector2d at = joint.initial_angle;
   at[coordinate] = phi_eq;
   const double I = joint.inertiaAbout(coordinate, at);
-  // Gravity stiffness −∂Q_g/∂φ by a central difference (h = 1e-5 rad).
-  const double h = 1e-5;
-  Eigen::Vector2d plus = at, minus = at;
-  plus[coordinate] += h;
-  minus[coordinate] -= h;
-  const double k_gravity = -(joint.gravityMoment(coordinate, plus) - joint.gravityMoment(coordinate, minus)) / (2 * h);
+  const double k_gravity = joint.gravityStiffness(coordinate, at);
   const double k_eff = I * std::norm(pole);
   s.stiffness = std::max(k_eff - k_gravity, 0.05 * k_eff);
   s.damping = std::max(-2.0 * I * pole.real(), 0.0);

@@ -56,6 +56,13 @@ double GroundedJointScene::gravityMoment(int i, const Eigen::Vector2d& phi) cons
   return coordinates == 1 ? generalized(revolute, i, phi, false) : generalized(universal, i, phi, false);
 }
 
+double GroundedJointScene::gravityStiffness(int i, const Eigen::Vector2d& phi) const {
+  Eigen::Vector2d plus = phi, minus = phi;
+  plus[i] += kGravityStiffnessStep;
+  minus[i] -= kGravityStiffnessStep;
+  return -(gravityMoment(i, plus) - gravityMoment(i, minus)) / (2.0 * kGravityStiffnessStep);
+}
+
 GroundedJointScene groundedJointScene(const SceneDescription& scene, const std::string& joint_name) {
   const int k = findJoint(scene, joint_name);
   const JointDescription& j = scene.joints[k];

@@ -40,6 +40,10 @@ struct GroundedJointScene {
   double inertiaAbout(int i, const Eigen::Vector2d& phi) const;
   /// The generalized gravity moment on coordinate i at φ (N m), at rest.
   double gravityMoment(int i, const Eigen::Vector2d& phi) const;
+  /// The gravity stiffness −∂Q_g/∂φ_i at φ (N m/rad), by a central
+  /// difference of gravityMoment with step kGravityStiffnessStep.
+  double gravityStiffness(int i, const Eigen::Vector2d& phi) const;
+  static constexpr double kGravityStiffnessStep = 1e-5;  ///< rad
 };
 
 /// Builds the reduced model of joint `joint_name` (empty: the scene's only
