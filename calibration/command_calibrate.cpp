@@ -127,10 +127,11 @@ void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSample
   j["seconds"] = s.seconds;
 }
 
-int finish(const Json& j, const AxisFitSummary& s, const std::string& what) {
+/// Prints the JSON; exit 1 with the solver's message when it did not converge.
+int finish(const Json& j, bool converged, const std::string& message, const std::string& what) {
   std::cout << j.dump() << "\n";
-  if (!s.converged) {
-    std::cerr << "lieflow: " << what << ": the solver did not converge: " << s.message << "\n";
+  if (!converged) {
+    std::cerr << "lieflow: " << what << ": the solver did not converge: " << message << "\n";
     return kComputationFailed;
   }
   return kSuccess;
@@ -240,12 +241,7 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
     j["integrator"] = fit.integrator;
     j["substeps"] = fit.substeps;
     j["seconds"] = fit.seconds;
-    std::cout << j.dump() << "\n";
-    if (!fit.converged) {
-      std::cerr << "lieflow: " << what << ": the solver did not converge: " << fit.message << "\n";
-      return kComputationFailed;
-    }
-    return kSuccess;
+    return finish(j, fit.converged, fit.message, what);
   } catch (const calibration::NotIdentifiable& e) {
     std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
     return kComputationFailed;
@@ -293,7 +289,7 @@ int runCalibrate(int argc, char** argv) {
       j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
       addSummary(j, fit.summary, joint);
       j["sign"] = fit.sign;
-      return finish(j, fit.summary, what);
+      return finish(j, fit.summary.converged, fit.summary.message, what);
     }
     const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);
     j["axis1_main"] = vector3(fit.axis1_main);
@@ -302,7 +298,7 @@ int runCalibrate(int argc, char** argv) {
     j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
     addSummary(j, fit.summary, joint);
     j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
-    return finish(j, fit.summary, what);
+    return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {
     std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
     return kComputationFailed;
