@@ -11,16 +11,14 @@
 
 #include <cstdio>
 #include <map>
-#include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "bench/benchmark_support.hpp"
 #include "calibration/spring_fit.hpp"
+#include "calibration/synthetic_spring.hpp"
 #include "joints/grounded_joint_scene.hpp"
 #include "joints/scene.hpp"
-#include "joints/simulation.hpp"
 
 namespace {
 
@@ -29,40 +27,6 @@ using namespace lieflow::calibration;
 
 constexpr double kTargetSeconds = 2.0;
 constexpr double kNoise = 0.01;
-
-const char* kUniversalScene = R"({
-  "name": "spring-universal", "gravity": [0, 0, -9.81],
-  "bodies": [{"name": "pod", "mass": 1.5, "inertia": [0.05, 0.04, 0.02], "position": [0, 0, -0.25]}],
-  "joints": [{"name": "cross", "type": "universal", "main": "ground", "secondary": "pod",
-              "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.25],
-              "axis1_main": [1, 0, 0], "axis2_secondary": [0, 1, 0], "initial_angles": [0.4, -0.5],
-              "spring1": {"stiffness": 6.0}, "damper1": {"damping": 0.05},
-              "spring2": {"stiffness": 10.0, "rest_angle": 0.1}, "damper2": {"damping": 0.08}}]})";
-
-/// A scene's joint angles at 100 Hz for 10 s (rkmk4, h = 1e-3) plus noise.
-SpringData recording(const SceneDescription& scene, const std::string& joint, int coordinates) {
-  const Simulation sim(scene);
-  const std::vector<std::string> columns = sim.columns();
-  std::vector<int> cols;
-  SpringData d;
-  for (int i = 0; i < coordinates; ++i) {
-    d.column[i] = joint + (coordinates == 1 ? ".phi" : (i == 0 ? ".phi1" : ".phi2"));
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      if (columns[c] == d.column[i]) cols.push_back(static_cast<int>(c));
-  }
-  SimulationOptions o;
-  o.integrator = "rkmk4";
-  o.dt = 1e-3;
-  o.t_end = 10.0;
-  o.every = 10;
-  std::mt19937_64 gen(17);
-  std::normal_distribution<double> noise(0.0, kNoise);
-  sim.run(o, [&](const std::vector<double>& row) {
-    d.time.push_back(row[0]);
-    for (int i = 0; i < coordinates; ++i) d.angle[i].push_back(row[cols[i]] + noise(gen));
-  });
-  return d;
-}
 
 struct Case {
   std::string name;
@@ -126,23 +90,13 @@ void printSummary(const lieflow::bench::MedianReporter& reporter) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> defaults;
-  std::vector<char*> args = lieflow::bench::argumentsWithDefaults(argc, argv, "0.2", &defaults);
-  int args_count = static_cast<int>(args.size()) - 1;
   const SceneDescription hinge_scene = loadScene("spring-hinge");
-  const SceneDescription universal_scene = parseScene(kUniversalScene, "spring-universal");
+  const SceneDescription universal_scene = parseScene(kSpringUniversalSceneJson, "spring-universal");
   const GroundedJointScene hinge = groundedJointScene(hinge_scene, "hinge");
   const GroundedJointScene universal = groundedJointScene(universal_scene, "cross");
-  const SpringData hinge_data = recording(hinge_scene, "hinge", 1);
-  const SpringData universal_data = recording(universal_scene, "cross", 2);
+  const SpringData hinge_data = withAngleNoise(simulatedJointAngles(hinge_scene, "hinge", 1, 10.0), kNoise, 17);
+  const SpringData universal_data =
+      withAngleNoise(simulatedJointAngles(universal_scene, "cross", 2, 10.0), kNoise, 17);
   for (const Case& c : cases()) registerCase(c, &hinge, &hinge_data, &universal, &universal_data);
-  benchmark::Initialize(&args_count, args.data());
-  if (benchmark::ReportUnrecognizedArguments(args_count, args.data())) return 2;
-  const bool color = isatty(fileno(stdout)) != 0;
-  lieflow::bench::MedianReporter reporter(color ? benchmark::ConsoleReporter::OO_ColorTabular
-                                                : benchmark::ConsoleReporter::OO_Tabular);
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  benchmark::Shutdown();
-  printSummary(reporter);
-  return 0;
+  return lieflow::bench::runWithMedianReporter(argc, argv, "0.2", printSummary);
 }

@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -18,9 +17,9 @@
 #include "calibration/fit_types.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/spring_residuals.hpp"
+#include "calibration/synthetic_spring.hpp"
 #include "joints/grounded_joint_scene.hpp"
 #include "joints/scene.hpp"
-#include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -29,46 +28,12 @@ namespace {
 
 constexpr double kTrueStiffness = 12.0, kTrueDamping = 0.1;  // scene spring-hinge
 
-/// Clean joint angles of a scene at 100 Hz (rkmk4, h = 1e-3, every 10th step).
-SpringData cleanRecording(const SceneDescription& scene, const std::string& joint, int coordinates, double t_end) {
-  const Simulation sim(scene);
-  const std::vector<std::string> columns = sim.columns();
-  std::vector<int> cols;
-  for (int i = 0; i < coordinates; ++i) {
-    const std::string name = joint + (coordinates == 1 ? ".phi" : (i == 0 ? ".phi1" : ".phi2"));
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      if (columns[c] == name) cols.push_back(static_cast<int>(c));
-  }
-  EXPECT_EQ(static_cast<int>(cols.size()), coordinates);
-  SpringData d;
-  d.source = "test";
-  for (int i = 0; i < coordinates; ++i) d.column[i] = columns[cols[i]];
-  SimulationOptions o;
-  o.integrator = "rkmk4";
-  o.dt = 1e-3;
-  o.t_end = t_end;
-  o.every = 10;
-  sim.run(o, [&](const std::vector<double>& row) {
-    d.time.push_back(row[0]);
-    for (int i = 0; i < coordinates; ++i) d.angle[i].push_back(row[cols[i]]);
-  });
-  return d;
-}
-
-SpringData withNoise(SpringData d, double sigma, unsigned seed) {
-  std::mt19937_64 gen(seed);
-  std::normal_distribution<double> normal(0.0, sigma);
-  for (auto& a : d.angle)
-    for (double& x : a) x += normal(gen);
-  return d;
-}
-
 class SpringHinge : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     scene_ = new SceneDescription(loadScene("spring-hinge"));
     joint_ = new GroundedJointScene(groundedJointScene(*scene_, "hinge"));
-    clean_ = new SpringData(cleanRecording(*scene_, "hinge", 1, 10.0));
+    clean_ = new SpringData(simulatedJointAngles(*scene_, "hinge", 1, 10.0));
   }
   static void TearDownTestSuite() {
     delete clean_;
@@ -85,7 +50,7 @@ SpringData* SpringHinge::clean_ = nullptr;
 
 TEST_F(SpringHinge, WithinOnePercentFromStartsWithinAFactorThree) {
   ASSERT_EQ(clean_->size(), 1001);
-  const SpringData data = withNoise(*clean_, 0.01, 7);
+  const SpringData data = withAngleNoise(*clean_, 0.01, 7);
   for (const bool fit_rest : {false, true})
     for (const double fk : {1.0 / 3.0, 3.0})
       for (const double fc : {1.0 / 3.0, 3.0}) {
@@ -109,7 +74,7 @@ TEST_F(SpringHinge, WithinOnePercentFromStartsWithinAFactorThree) {
 }
 
 TEST_F(SpringHinge, StartsFromTheRecordingAloneAndSaysWhatWasHeld) {
-  const SpringFit f = fitSpring(*joint_, withNoise(*clean_, 0.01, 11), SpringFitOptions{});
+  const SpringFit f = fitSpring(*joint_, withAngleNoise(*clean_, 0.01, 11), SpringFitOptions{});
   EXPECT_TRUE(f.converged);
   EXPECT_NE(f.start.find("from the recorded angle"), std::string::npos) << f.start;
   // The AR(2) start is already close (within 10 %).
@@ -123,7 +88,7 @@ TEST_F(SpringHinge, StartsFromTheRecordingAloneAndSaysWhatWasHeld) {
 }
 
 TEST_F(SpringHinge, SingleShootingReachesTheSameEstimate) {
-  const SpringData data = withNoise(*clean_, 0.01, 5);
+  const SpringData data = withAngleNoise(*clean_, 0.01, 5);
   SpringFitOptions o;
   const SpringFit multiple = fitSpring(*joint_, data, o);
   o.shooting = Shooting::kSingle;
@@ -137,7 +102,7 @@ TEST_F(SpringHinge, SingleShootingReachesTheSameEstimate) {
 /// truth; both shootings reach k within 1 %, multiple shooting in fewer
 /// iterations (measured 7 against 17 from 0.5×, 7 against 126 from 3×).
 TEST_F(SpringHinge, HeldDampingFromHalfTheStiffness) {
-  const SpringData data = withNoise(*clean_, 0.01, 9);
+  const SpringData data = withAngleNoise(*clean_, 0.01, 9);
   SpringFitOptions o;
   o.hold_damping = true;
   o.damping_start = kTrueDamping;
@@ -165,7 +130,7 @@ TEST_F(SpringHinge, SigmaIsHonest) {
   double chi_k = 0.0, chi_c = 0.0;
   const int trials = 60;
   for (int s = 0; s < trials; ++s) {
-    const SpringFit f = fitSpring(*joint_, withNoise(*clean_, 0.01, 1000 + s), SpringFitOptions{});
+    const SpringFit f = fitSpring(*joint_, withAngleNoise(*clean_, 0.01, 1000 + s), SpringFitOptions{});
     const double zk = (f.stiffness - kTrueStiffness) / f.stiffness_sigma;
     const double zc = (f.damping - kTrueDamping) / f.damping_sigma;
     covered_k += std::abs(zk) <= 3.0;
@@ -184,7 +149,7 @@ TEST_F(SpringHinge, SigmaIsHonest) {
 /// The residual Jacobian Ceres gets from Jets equals central differences of
 /// the double-precision residuals (the derivative of the discrete RK4 flow).
 TEST_F(SpringHinge, JetJacobianMatchesCentralDifferences) {
-  const SpringData data = withNoise(*clean_, 0.01, 3);
+  const SpringData data = withAngleNoise(*clean_, 0.01, 3);
   SpringProblemData<1> p;
   p.model = &joint_->revolute;
   p.data = &data;
@@ -226,9 +191,9 @@ TEST_F(SpringHinge, RefusesDataThatCannotDetermineTheSpring) {
   SpringData still = *clean_;
   const double eq = clean_->angle[0].back();
   for (double& x : still.angle[0]) x = eq;
-  EXPECT_THROW(fitSpring(*joint_, withNoise(still, 0.01, 1), o), NotIdentifiable);
+  EXPECT_THROW(fitSpring(*joint_, withAngleNoise(still, 0.01, 1), o), NotIdentifiable);
   // Without starts, no oscillation to start from.
-  EXPECT_THROW(fitSpring(*joint_, withNoise(still, 0.01, 1), SpringFitOptions{}), NotIdentifiable);
+  EXPECT_THROW(fitSpring(*joint_, withAngleNoise(still, 0.01, 1), SpringFitOptions{}), NotIdentifiable);
   // Too few samples.
   SpringData few = *clean_;
   few.time.resize(10);
@@ -245,17 +210,9 @@ TEST_F(SpringHinge, RefusesDataThatCannotDetermineTheSpring) {
 /// A universal joint to ground: fit the second coordinate's spring and dashpot
 /// from both recorded angles, the first coordinate's held at the scene's.
 TEST(SpringUniversal, SecondCoordinate) {
-  const SceneDescription scene = parseScene(R"({
-    "name": "spring-universal", "gravity": [0, 0, -9.81],
-    "bodies": [{"name": "pod", "mass": 1.5, "inertia": [0.05, 0.04, 0.02], "position": [0, 0, -0.25]}],
-    "joints": [{"name": "cross", "type": "universal", "main": "ground", "secondary": "pod",
-                "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.25],
-                "axis1_main": [1, 0, 0], "axis2_secondary": [0, 1, 0], "initial_angles": [0.4, -0.5],
-                "spring1": {"stiffness": 6.0}, "damper1": {"damping": 0.05},
-                "spring2": {"stiffness": 10.0, "rest_angle": 0.1}, "damper2": {"damping": 0.08}}]})",
-                                            "spring-universal.json");
+  const SceneDescription scene = parseScene(kSpringUniversalSceneJson, "spring-universal.json");
   const GroundedJointScene joint = groundedJointScene(scene, "cross");
-  const SpringData data = withNoise(cleanRecording(scene, "cross", 2, 6.0), 0.01, 21);
+  const SpringData data = withAngleNoise(simulatedJointAngles(scene, "cross", 2, 6.0), 0.01, 21);
   SpringFitOptions o;
   o.coordinate = 1;
   o.stiffness_start = 20.0;
