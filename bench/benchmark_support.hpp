@@ -1,14 +1,16 @@
 /// \file
-/// The Google Benchmark plumbing shared by bench_liegroup and
-/// bench_integrators: default flags for a noisy 2-core machine, and a console
-/// reporter that keeps the median CPU time of every benchmark's repetitions
-/// for the summary tables the programs print at the end.
+/// The Google Benchmark plumbing shared by bench_liegroup, bench_integrators
+/// and the calibration benchmarks: default flags for a noisy 2-core machine, a
+/// console reporter that keeps the median CPU time of every benchmark's
+/// repetitions for the summary tables the programs print at the end, and the
+/// main that runs them with it.
 #pragma once
 
 #include <algorithm>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -87,6 +89,27 @@ class MedianReporter : public benchmark::ConsoleReporter {
   std::map<std::string, std::vector<double>> iteration_ns_;
   std::map<std::string, double> median_ns_;
 };
+
+/// The main of a program whose cases are registered already: Google
+/// Benchmark's flags with argumentsWithDefaults(min_time), every case run with
+/// a MedianReporter (coloured on a terminal), then `summary(reporter)` for the
+/// tables printed after the benchmark's own. Returns the exit status (2 for
+/// an unrecognized argument).
+template <typename Summary>
+int runWithMedianReporter(int argc, char** argv, const std::string& min_time, Summary summary) {
+  std::vector<std::string> defaults;
+  std::vector<char*> args = argumentsWithDefaults(argc, argv, min_time, &defaults);
+  int args_count = static_cast<int>(args.size()) - 1;
+  benchmark::Initialize(&args_count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(args_count, args.data())) return 2;
+  const bool color = isatty(fileno(stdout)) != 0;
+  MedianReporter reporter(color ? benchmark::ConsoleReporter::OO_ColorTabular
+                                : benchmark::ConsoleReporter::OO_Tabular);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+  summary(reporter);
+  return 0;
+}
 
 }  // namespace bench
 }  // namespace lieflow

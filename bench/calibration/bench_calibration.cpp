@@ -20,7 +20,6 @@
 #include <map>
 #include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "bench/benchmark_support.hpp"
@@ -233,19 +232,10 @@ void printSummary(const lieflow::bench::MedianReporter& reporter) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> defaults;
-  std::vector<char*> args = lieflow::bench::argumentsWithDefaults(argc, argv, "0.2", &defaults);
-  int args_count = static_cast<int>(args.size()) - 1;
   for (const Case& c : cases()) registerCase(c);
-  benchmark::Initialize(&args_count, args.data());
-  if (benchmark::ReportUnrecognizedArguments(args_count, args.data())) return 2;
-  const bool color = isatty(fileno(stdout)) != 0;
-  lieflow::bench::MedianReporter reporter(color ? benchmark::ConsoleReporter::OO_ColorTabular
-                                                : benchmark::ConsoleReporter::OO_Tabular);
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  benchmark::Shutdown();
-  printSummary(reporter);
-  printSweep();
-  printShortSweep();
-  return 0;
+  return lieflow::bench::runWithMedianReporter(argc, argv, "0.2", [](const lieflow::bench::MedianReporter& r) {
+    printSummary(r);
+    printSweep();
+    printShortSweep();
+  });
 }
