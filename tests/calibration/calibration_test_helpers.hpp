@@ -1,10 +1,18 @@
 /// \file
 /// Shared helpers of the calibration tests: angles between fitted and true
-/// axes, and the sanitizer switch for the sample counts of the slow tests.
+/// axes, recordings written by `lieflow simulate`, and the sanitizer switch
+/// for the sample counts of the slow tests.
 #pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include <Eigen/Core>
 
+#include "calibration/recording.hpp"
 #include "calibration/unit_axis.hpp"
 
 namespace lieflow {
@@ -19,6 +27,19 @@ inline double lineErrorDeg(const Eigen::Vector3d& fitted, const Eigen::Vector3d&
 /// Angle in degrees between a fitted axis and the true one, sign included.
 inline double errorDeg(const Eigen::Vector3d& fitted, const Eigen::Vector3d& truth) {
   return angleBetween(fitted, truth) * kRadToDeg;
+}
+
+/// `lieflow simulate ARGS` (with whatever noise ARGS ask for), read back as
+/// the joint of the recording's two bodies. The file is named after the
+/// running test (ctest runs tests in parallel processes) and removed.
+inline JointSamples simulatedJoint(const std::string& args) {
+  const testing::TestInfo* info = testing::UnitTest::GetInstance()->current_test_info();
+  const std::string file = testing::TempDir() + "lieflow_" + info->test_suite_name() + "_" + info->name() + ".csv";
+  const std::string command = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow simulate " + args + " --out " + file;
+  EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  JointSamples s = selectJoint(readRecording(file), "", "");
+  std::remove(file.c_str());
+  return s;
 }
 
 /// The Monte Carlo tests run fewer samples per trial under AddressSanitizer

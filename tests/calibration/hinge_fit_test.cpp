@@ -30,6 +30,7 @@ namespace {
 
 using test::errorDeg;
 using test::lineErrorDeg;
+using test::simulatedJoint;
 
 constexpr int kSamples = 1000;
 constexpr double kRateHz = 100.0;
@@ -224,17 +225,6 @@ TEST(CalibHinge, ShortRecordingsEndInTheGlobalMinimum) {
   }
 }
 
-/// `lieflow simulate ARGS`, read back as the joint of the recording's two bodies.
-JointSamples simulated(const std::string& args) {
-  const std::string file = testing::TempDir() + "lieflow_hinge_fit_" +
-                           testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
-  const std::string command = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow simulate " + args + " --out " + file;
-  EXPECT_EQ(std::system(command.c_str()), 0) << command;
-  JointSamples s = selectJoint(readRecording(file), "", "");
-  std::remove(file.c_str());
-  return s;
-}
-
 /// The reproduction study's failure (papers/hinge-axis-identification,
 /// Table 5): 2 s of the `hinge-pair` scene at 100 Hz, σ = 0.01 rad/s, seeds
 /// 9006, 9010, 9017. Its closed-form start and near-null alternatives all end
@@ -248,7 +238,7 @@ TEST(CalibHinge, TwoSecondsOfHingePairEndInTheGlobalMinimum) {
   for (int seed : {9006, 9010, 9017}) {
     SCOPED_TRACE(seed);
     const JointSamples s =
-        simulated("hinge-pair --every 10 --t-end 1.99 --noise-gyro 0.01 --seed " + std::to_string(seed));
+        simulatedJoint("hinge-pair --every 10 --t-end 1.99 --noise-gyro 0.01 --seed " + std::to_string(seed));
     ASSERT_EQ(s.size(), 200);
     AxisFitOptions options;
     options.use = DataUse::kAngularVelocities;

@@ -33,6 +33,7 @@ namespace calibration {
 namespace {
 
 using test::lineErrorDeg;
+using test::simulatedJoint;
 
 constexpr int kTrials = 50;
 constexpr int kSamples = test::kSanitized ? 300 : 1000;
@@ -168,24 +169,13 @@ TEST(CalibHonesty, HingeFromGyroscopesShortRecordings) {
   }
 }
 
-/// The noise-free recording `lieflow simulate ARGS` writes, as the joint of its two bodies.
-JointSamples simulatedExactly(const std::string& args) {
-  const std::string file = testing::TempDir() + "lieflow_honesty_" +
-                           testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
-  const std::string command = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow simulate " + args + " --out " + file;
-  EXPECT_EQ(std::system(command.c_str()), 0) << command;
-  JointSamples s = selectJoint(readRecording(file), "", "");
-  std::remove(file.c_str());
-  return s;
-}
-
 /// The reproduction study's universal joint (papers/hinge-axis-identification,
 /// Table 4): `universal-pair`, a₁ = x in `upper`, a₂ = y in `lower`, gyroscopes
 /// σ = 0.01 rad/s and orientations 0.5°, the noise drawn here per trial. With
 /// one noise scale for the relative-rate residual, mean (error/σ)² was 2.04
 /// (2.60 for a₁) and 3 of 50 fits beyond 3σ.
 TEST(CalibHonesty, UniversalPairFromOrientationsAndGyroscopes) {
-  const JointSamples exact = simulatedExactly("universal-pair --every 10 --t-end " +
+  const JointSamples exact = simulatedJoint("universal-pair --every 10 --t-end " +
                                               std::to_string((kSamples - 1) / kRateHz));
   ASSERT_EQ(exact.size(), kSamples);
   expectHonest(
