@@ -1,7 +1,9 @@
 #include "app/arguments.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "app/cli.hpp"
@@ -32,6 +34,7 @@ Arguments::Arguments(int argc, char** argv, const std::set<std::string>& value_f
           value = argv[++i];
         }
         if (values_.count(flag)) throw UsageError(flag + " given twice");
+        if (value.empty()) throw UsageError(flag + ": empty value");
         values_[flag] = value;
       } else {
         throw UsageError("unknown option '" + flag + "'");
@@ -68,20 +71,45 @@ int Arguments::positiveInt(const std::string& flag, int fallback) const {
   if (!values_.count(flag)) return fallback;
   const std::string& text = values_.at(flag);
   char* end = nullptr;
+  errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < 1 || v > 1000000000)
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < 1 || v > 1000000000)
     throw UsageError(flag + ": expected a positive integer, got '" + text + "'");
   return static_cast<int>(v);
 }
 
 long Arguments::nonNegativeLong(const std::string& flag, long fallback) const {
+  return boundedLong(flag, fallback, 0, std::numeric_limits<long>::max());
+}
+
+long Arguments::boundedLong(const std::string& flag, long fallback, long min, long max) const {
   if (!values_.count(flag)) return fallback;
   const std::string& text = values_.at(flag);
   char* end = nullptr;
+  errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < 0)
-    throw UsageError(flag + ": expected a non-negative integer, got '" + text + "'");
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max)
+    throw UsageError(flag + ": expected an integer from " + std::to_string(min) + " to " + std::to_string(max) +
+                     ", got '" + text + "'");
   return v;
+}
+
+const std::set<std::string>& limitFlags() {
+  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--max-rows",
+                                              "--max-substeps"};
+  return flags;
+}
+
+ResourceLimits resourceLimitsFrom(const Arguments& args) {
+  constexpr long kMaxLimit = std::numeric_limits<long>::max() / 2;
+  ResourceLimits limits;
+  limits.max_steps = args.boundedLong("--max-steps", limits.max_steps, 1, kMaxLimit);
+  const long mb = args.boundedLong("--max-input-mb", static_cast<long>(limits.max_input_bytes >> 20), 1, 1L << 40);
+  limits.max_input_bytes = static_cast<std::uint64_t>(mb) << 20;
+  limits.max_bodies = args.boundedLong("--max-bodies", limits.max_bodies, 1, kMaxLimit);
+  limits.max_rows = args.boundedLong("--max-rows", limits.max_rows, 1, kMaxLimit);
+  limits.max_substeps = args.boundedLong("--max-substeps", limits.max_substeps, 1, kMaxLimit);
+  return limits;
 }
 
 std::vector<std::string> Arguments::list(const std::string& flag) const {

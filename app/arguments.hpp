@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "joints/resource_limits.hpp"
+
 namespace lieflow {
 namespace app {
 
@@ -29,6 +31,9 @@ class Arguments {
   long nonNegativeLong(const std::string& flag, long fallback) const;
   std::vector<std::string> list(const std::string& flag) const;
   std::vector<double> positiveNumbers(const std::string& flag) const;
+  /// A non-negative integer no larger than `max` (overflow and fractions are
+  /// errors naming the flag).
+  long boundedLong(const std::string& flag, long fallback, long min, long max) const;
 
  private:
   bool help_ = false;
@@ -39,6 +44,13 @@ class Arguments {
 
 /// Parses a decimal number; a UsageError naming `what` if malformed.
 double parsePositiveNumber(const std::string& what, const std::string& text);
+
+/// The resource limits (joints/resource_limits.hpp) raised by the options
+/// --max-steps, --max-input-mb, --max-bodies, --max-rows, --max-substeps,
+/// where `args` has them.
+ResourceLimits resourceLimitsFrom(const Arguments& args);
+/// The flags resourceLimitsFrom reads, to add to a command's value flags.
+const std::set<std::string>& limitFlags();
 
 }  // namespace app
 }  // namespace lieflow

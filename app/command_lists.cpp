@@ -16,26 +16,30 @@ namespace app {
 int runIntegrators(int argc, char** argv) {
   const Arguments args(argc, argv, {}, {});
   if (args.help()) {
-    std::cout << "usage: lieflow integrators\n\nLists the integrators with their order and properties.\n";
+    std::cout << "usage: lieflow integrators\n\nLists the integrators with their order, properties, whether they\n"
+                 "run scenes with joints, and their options (default and admitted range).\n";
     return kSuccess;
   }
   if (!args.positional().empty()) throw UsageError("integrators takes no arguments");
-  std::cout << std::left << std::setw(11) << "name" << std::setw(7) << "order" << std::setw(10)
-            << "implicit" << std::setw(12) << "symplectic" << std::setw(10) << "momentum"
-            << std::setw(10) << "adaptive" << "options / description\n";
+  std::cout << std::left << std::setw(11) << "name" << std::setw(7) << "order" << std::setw(10) << "implicit"
+            << std::setw(12) << "symplectic" << std::setw(10) << "momentum" << std::setw(10) << "adaptive"
+            << std::setw(8) << "joints" << "description\n";
   for (const IntegratorInfo& i : integratorRegistry()) {
-    std::string opts;
-    for (const auto& o : i.options) {
-      std::ostringstream v;
-      v << o.second;
-      opts += (opts.empty() ? "" : ", ") + o.first + "=" + v.str();
-    }
     std::cout << std::setw(11) << i.name << std::setw(7) << (i.order == 0 ? "exact" : std::to_string(i.order))
-              << std::setw(10) << (i.is_implicit ? "yes" : "no") << std::setw(12)
-              << (i.is_symplectic ? "yes" : "no") << std::setw(10) << (i.preserves_momentum ? "yes" : "no")
-              << std::setw(10) << (i.is_adaptive ? "yes" : "no") << i.description
-              << (opts.empty() ? "" : " [options: " + opts + "]") << "\n";
+              << std::setw(10) << (i.is_implicit ? "yes" : "no") << std::setw(12) << (i.is_symplectic ? "yes" : "no")
+              << std::setw(10) << (i.preserves_momentum ? "yes" : "no") << std::setw(10)
+              << (i.is_adaptive ? "yes" : "no") << std::setw(8) << (i.supports_joints ? "yes" : "no")
+              << i.description << "\n";
+    const std::string indent(11, ' ');
+    std::cout << indent << "with joints: " << i.joints_note << "\n";
+    for (const IntegratorOption& o : i.options) {
+      std::ostringstream line;
+      line << indent << "option " << o.name << " = " << o.default_value << " (" << o.meaning << "; "
+           << (o.integer ? "integer " : "") << (o.excluded_min ? "> " : "from ") << o.min << " to " << o.max << ")";
+      std::cout << line.str() << "\n";
+    }
   }
+  std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n";
   return kSuccess;
 }
 

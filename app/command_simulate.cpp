@@ -1,10 +1,9 @@
 /// \file
 /// `lieflow simulate SCENE ...`: runs one scene with one integrator, writes
 /// the trajectory CSV and/or prints the `--stats` JSON object.
-#include <fstream>
 #include <functional>
-#include <memory>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +12,8 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/csv_writer.hpp"
+#include "app/output_files.hpp"
+#include "app/progress.hpp"
 #include "app/recording_noise.hpp"
 #include "app/run_setup.hpp"
 #include "joints/simulation.hpp"
@@ -25,54 +26,74 @@ namespace {
 constexpr const char* kUsage =
     "usage: lieflow simulate SCENE [--integrator NAME] [--dt H] [--t-end T] [--out FILE.csv]\n"
     "                        [--every N] [--stats] [--options KEY=VALUE,...]\n"
+    "                        [--noise-gyro S] [--noise-angle S] [--noise-quat S] [--seed N]\n"
+    "                        [--max-steps N] [--max-input-mb N] [--max-bodies N] [--quiet]\n"
     "\n"
     "Simulates SCENE (a JSON scene file or a built-in scene: lieflow scenes).\n"
     "  --integrator NAME  integrator (lieflow integrators); default: the scene's\n"
-    "  --dt H             step (output interval for rkmk45); default: the scene's\n"
+    "  --dt H             step (output interval for rkmk45); default: the scene's; at most t_end\n"
     "  --t-end T          end time; default: the scene's t_end\n"
     "  --options K=V,...  integrator options, e.g. rho_inf=0.8 (genalpha), rtol=1e-10 (rkmk45)\n"
-    "  --out FILE.csv     write the trajectory CSV there (default: stdout, unless --stats)\n"
+    "  --out FILE.csv     write the trajectory CSV there (default: stdout, unless --stats); it is\n"
+    "                     written as FILE.csv.partial and renamed when the run succeeded\n"
     "  --every N          write every N-th step (first and last rows always)\n"
     "  --stats            print one JSON object: integrator, dt, steps, wall_seconds,\n"
     "                     ns_per_step, energy_drift, momentum_drift, constraint_error,\n"
-    "                     newton_iterations_mean, failed, failure\n"
+    "                     newton_iterations_mean, invariants, failed, failure\n"
     "  --noise-gyro S     add N(0, S^2) rad/s to every B.wx, B.wy, B.wz written (a gyroscope)\n"
     "  --noise-angle S    add N(0, S^2) rad to every joint angle J.phi, J.phi1, J.phi2 written\n"
     "  --noise-quat S     rotate every written quaternion by exp(d), d ~ N(0, S^2 I) rad (body frame)\n"
     "  --seed N           seed of the noise generator (default 1)\n"
-    "exit status: 0 success, 1 the simulation failed (blow-up, non-convergence), 2 bad input\n";
+    "  --max-steps N      most steps a run may take (default 1e8)\n"
+    "  --max-input-mb N   largest scene file read, in MiB (default 1024)\n"
+    "  --max-bodies N     most bodies in a scene (default 100000)\n"
+    "  --quiet            no progress lines on stderr (they appear after 2 s of running)\n"
+    "exit status: 0 success, 1 the simulation failed (blow-up, non-convergence, a non-finite\n"
+    "value), 2 bad input\n";
+
+/// The noise options; noise on columns the scene does not have is an error.
+NoiseOptions noiseFrom(const Arguments& args, const std::vector<std::string>& columns) {
+  NoiseOptions noise;
+  noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
+  noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
+  noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
+  noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
+  const RecordingNoise probe(columns, noise);
+  if (noise.angle > 0.0 && !probe.hasAngleColumns())
+    throw UsageError("--noise-angle: the scene has no joint angle columns (J.phi, J.phi1, J.phi2) to perturb");
+  if (args.has("--seed") && !noise.any())
+    throw UsageError("--seed seeds the noise generator: give a --noise-* option too");
+  return noise;
+}
 
 }  // namespace
 
 int runSimulate(int argc, char** argv) {
-  const Arguments args(argc, argv,
-                       {"--integrator", "--dt", "--t-end", "--out", "--every", "--options", "--noise-gyro",
-                        "--noise-angle", "--noise-quat", "--seed"},
-                       {"--stats"});
+  std::set<std::string> flags = {"--integrator", "--dt",          "--t-end",      "--out",
+                                 "--every",      "--options",     "--noise-gyro", "--noise-angle",
+                                 "--noise-quat", "--seed"};
+  flags.insert(limitFlags().begin(), limitFlags().end());
+  const Arguments args(argc, argv, flags, {"--stats", "--quiet"});
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
   }
   if (args.positional().size() != 1)
     throw UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
-  const Simulation simulation(loadScene(args.positional()[0]));
+  const ResourceLimits limits = resourceLimitsFrom(args);
+  const Simulation simulation(loadScene(args.positional()[0]));  // limits: see below
   SimulationOptions options = simulationOptionsFrom(simulation.scene(), args);
   options.every = args.positiveInt("--every", 1);
+  const NoiseOptions noise = noiseFrom(args, simulation.columns());
+  ProgressReporter progress("simulate " + simulation.scene().name + " with " + options.integrator, options.t_end);
+  if (!args.has("--quiet")) options.progress = std::ref(progress);
 
   const bool stats = args.has("--stats");
-  const std::string out_path = args.value("--out", "");
-  std::ofstream file;
-  if (!out_path.empty()) {
-    file.open(out_path);
-    if (!file) throw InvalidInput(out_path, "cannot open for writing");
-  }
-  std::ostream* csv_stream = !out_path.empty() ? static_cast<std::ostream*>(&file)
-                                               : (stats ? nullptr : &std::cout);
-  NoiseOptions noise;
-  noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
-  noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
-  noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
-  noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
+  // The output file is opened (as FILE.partial) before the run: an
+  // unwritable place is found before any work is done.
+  std::unique_ptr<AtomicOutputFile> file;
+  if (args.has("--out")) file = std::make_unique<AtomicOutputFile>(args.value("--out", ""), "--out");
+  std::ostream* csv_stream = file ? &file->stream() : (stats ? nullptr : &std::cout);
   RecordingNoise noisy(simulation.columns(), noise);
   std::function<void(const std::vector<double>&)> sink;
   std::unique_ptr<CsvWriter> csv;
@@ -86,17 +107,26 @@ int runSimulate(int argc, char** argv) {
       csv->row(r);
     };
   }
-  const SimulationResult result = simulation.run(options, sink);
-  if (file.is_open()) {
-    file.close();
-    if (!file) throw InvalidInput(out_path, "write failed");
-  }
-  if (stats) std::cout << statsJson(result).dump() << "\n";
-  if (result.failed) {
-    std::cerr << "lieflow: simulation of " << simulation.scene().source << " with "
-              << result.integrator << " failed: " << result.failure << "\n";
+  SimulationResult result;
+  try {
+    result = simulation.run(options, sink);
+  } catch (const NonFiniteOutput& e) {
+    const std::string kept = file ? file->abandon() : "";
+    std::cerr << "lieflow: simulation of " << simulation.scene().source << " with " << options.integrator
+              << ": the output would hold a non-finite number: " << e.what()
+              << (noise.any() ? " (after the --noise-* perturbation)" : "") << (kept.empty() ? "" : "; " + kept)
+              << "\n";
     return kComputationFailed;
   }
+  if (result.failed) {
+    const std::string kept = file ? file->abandon() : "";
+    if (stats) std::cout << statsJson(result).dump() << "\n";
+    std::cerr << "lieflow: simulation of " << simulation.scene().source << " with " << result.integrator
+              << " failed: " << result.failure << (kept.empty() ? "" : "; " + kept) << "\n";
+    return kComputationFailed;
+  }
+  if (file) file->commit();
+  if (stats) std::cout << statsJson(result).dump() << "\n";
   return kSuccess;
 }
 

@@ -1,26 +1,47 @@
 /// \file
 /// Trajectory CSV output: one header row, then rows of numbers written with
-/// 17 significant digits so that they round-trip to the same doubles.
+/// 17 significant digits so that they round-trip to the same doubles. A row
+/// holding a non-finite number is never written: `row` throws
+/// NonFiniteOutput naming the column and the row's time instead.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace lieflow {
 namespace app {
 
+/// A value to be written was NaN or infinite (a computation failure: exit 1).
+class NonFiniteOutput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class CsvWriter {
  public:
   explicit CsvWriter(std::ostream& out) : out_(out) {}
 
   void header(const std::vector<std::string>& columns) {
+    columns_ = columns;
     for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
     out_ << '\n';
   }
 
+  /// Writes one row (values[0] is the time `t`).
   void row(const std::vector<double>& values) {
+    for (std::size_t i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values[i])) {
+        char t[32];
+        std::snprintf(t, sizeof t, "%.17g", values.empty() ? 0.0 : values[0]);
+        throw NonFiniteOutput("column " + (i < columns_.size() ? columns_[i] : std::to_string(i)) + " is " +
+                              (std::isnan(values[i]) ? "NaN" : "infinite") + " in the row of t = " + t +
+                              " (row " + std::to_string(rows_ + 1) + "); nothing of that row was written");
+      }
+    ++rows_;
     char buffer[32];
     for (std::size_t i = 0; i < values.size(); ++i) {
       std::snprintf(buffer, sizeof buffer, "%.17g", values[i]);
@@ -32,6 +53,8 @@ class CsvWriter {
 
  private:
   std::ostream& out_;
+  std::vector<std::string> columns_;
+  long rows_ = 0;
 };
 
 }  // namespace app

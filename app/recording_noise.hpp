@@ -31,6 +31,8 @@ class RecordingNoise {
   RecordingNoise(const std::vector<std::string>& columns, const NoiseOptions& options);
   /// Adds the noise to one row (same column order as the constructor's).
   void apply(std::vector<double>* row);
+  /// Whether the columns hold joint angles (--noise-angle has something to do).
+  bool hasAngleColumns() const { return !angle_.empty(); }
 
  private:
   NoiseOptions options_;

@@ -21,6 +21,7 @@ std::map<std::string, double> parseOptionList(const std::vector<std::string>& it
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !std::isfinite(v))
       throw UsageError("--options: " + key + " needs a finite number, got '" + text + "'");
+    if (out.count(key)) throw UsageError("--options: " + key + " given twice");
     out[key] = v;
   }
   return out;
@@ -39,6 +40,11 @@ nlohmann::ordered_json statsJson(const SimulationResult& r) {
   j["momentum_drift"] = r.momentum_conserved && !r.failed ? nlohmann::ordered_json(r.momentum_drift) : none;
   j["constraint_error"] = r.constraint_error;
   j["newton_iterations_mean"] = r.implicit ? nlohmann::ordered_json(r.newton_iterations_mean) : nlohmann::ordered_json(nullptr);
+  // Each conserved quantity of the scene with its maximal relative drift
+  // (joints/invariants.hpp); null values when the run failed.
+  nlohmann::ordered_json invariants = nlohmann::ordered_json::object();
+  for (const auto& inv : r.invariants) invariants[inv.first] = r.failed ? none : nlohmann::ordered_json(inv.second);
+  j["invariants"] = invariants;
   j["failed"] = r.failed;
   j["failure"] = r.failure;
   if (r.rejected_steps > 0) j["rejected_steps"] = r.rejected_steps;
@@ -53,7 +59,11 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
                        "missing (give --integrator or an \"integrator\" object in the scene)");
   if (scene.has_integrator && scene.integrator.name == o.integrator)
     o.integrator_options = scene.integrator.options;
-  for (const auto& kv : parseOptionList(args.list("--options"))) o.integrator_options[kv.first] = kv.second;
+  for (const auto& kv : parseOptionList(args.list("--options"))) {
+    o.integrator_options[kv.first] = kv.second;
+    o.command_line_options.insert(kv.first);
+  }
+  o.max_steps = resourceLimitsFrom(args).max_steps;
   o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
   if (!(o.dt > 0.0))
     throw InvalidInput(scene.source + ": integrator.dt", "missing (give --dt or integrator.dt in the scene)");

@@ -5,11 +5,16 @@
 /// class"). The local error estimate e = h Σ (bᵢ − b̂ᵢ)Kᵢ is scaled per
 /// component by atol + rtol·max(|y|, |y₁|) and the step follows
 ///   h_new = h · min(fac_max, max(fac_min, safety · err^{−1/(q̂+1)})),
-/// q̂ the order of the embedded solution. Output times are hit exactly.
+/// q̂ the order of the embedded solution. The step size comes from the error
+/// estimate alone: output times are not stepped to but interpolated on the
+/// group, y(t + θh) = y ⊕ u(θ), with the pair's continuous extension
+/// (RkmkStepper::denseIncrement; HNW I §II.6), so a fine output grid costs
+/// no extra steps.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -24,14 +29,22 @@ struct AdaptiveOptions {
   double safety = 0.9;
   double fac_min = 0.2;
   double fac_max = 5.0;
-  /// Steps below this are a failure (the problem is too stiff or singular).
+  /// Relative to the time scale max(|t|, t_end − t0): a step below h_min
+  /// times it is a failure (the problem is too stiff or singular there).
   double h_min = 1e-14;
+  /// Most steps, accepted plus rejected; beyond it the run stops with
+  /// `RunSummary::step_limit_reached`.
   long max_steps = 100000000;
+  /// Called every `heartbeat_steps` attempted steps with (t, steps) (long
+  /// runs report progress through it); may be empty.
+  std::function<void(double, long)> heartbeat;
+  long heartbeat_steps = 65536;
 };
 
-/// Advances y from t0 to t_end, calling observer(k, t_k, y) at the output
-/// times t_k = t0 + k·dt_out (and t_end), with as many accepted adaptive
-/// steps in between as the tolerances need. The step never exceeds dt_out.
+/// Advances y from t0 to t_end, calling observer(k, t_k, y(t_k)) at the
+/// output times t_k = t0 + k·dt_out (and t_end): y(t_k) is the dense output
+/// of the step that covers t_k (the step's end point itself when t_k falls on
+/// it, so the last output is the state at t_end).
 template <typename State, typename System, typename Observer>
 RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& system, State y,
                              double t0, double t_end, double dt_out,
@@ -39,51 +52,76 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
   using Scalar = typename State::Scalar;
   using Tangent = typename State::Tangent;
   LIEFLOW_ASSERT(stepper.tableau().hasEmbedded(), "integrateAdaptive needs an embedded pair");
+  LIEFLOW_ASSERT(stepper.tableau().hasDenseOutput(), "integrateAdaptive needs a pair with dense output");
   const double exponent = -1.0 / (stepper.tableau().embedded_order + 1.0);
   RunSummary summary;
   summary.t_reached = t0;
   const long n_out = stepCount(t0, t_end, dt_out);
+  const auto output_time = [&](long k) { return k == n_out ? t_end : t0 + static_cast<double>(k) * dt_out; };
   if (!observer(0L, t0, y)) return summary;
+  const double h_floor = options.h_min * std::max(std::abs(t0), t_end - t0);
+  typename RkmkStepper<State>::Stages K;
+  Tangent increment = y.zeroTangent();
   double t = t0;
-  double h = dt_out;
-  for (long k = 1; k <= n_out; ++k) {
-    const double t_out = k == n_out ? t_end : t0 + static_cast<double>(k) * dt_out;
-    while (t < t_out) {
-      const bool last = h >= t_out - t;
-      const double h_try = last ? t_out - t : h;
-      Tangent error = y.zeroTangent();
-      const State y1 = stepper.stepWithError(system, Scalar(t), y, Scalar(h_try), &error);
-      const Tangent scale = (y.magnitude().cwiseMax(y1.magnitude()) * Scalar(options.rtol))
-                                .array() + Scalar(options.atol);
-      double err = 0.0;
-      for (int i = 0; i < error.size(); ++i)
-        err = std::max(err, std::abs(scalarValue(error[i] / scale[i])));
-      if (!std::isfinite(err) || !isFinite(y1)) err = std::numeric_limits<double>::infinity();
-      const double factor =
-          err == 0.0 ? options.fac_max
-                     : std::min(options.fac_max,
-                                std::max(options.fac_min, options.safety * std::pow(err, exponent)));
-      if (err <= 1.0) {
-        y = y1;
-        t = last ? t_out : t + h_try;
-        ++summary.steps;
-        if (!last) h = std::min(h_try * factor, dt_out);
-      } else {
-        ++summary.rejected_steps;
-        h = h_try * factor;
+  double h = std::min(dt_out, t_end - t0);
+  long k_out = 1;
+  while (k_out <= n_out) {
+    const bool last = h >= t_end - t;
+    const double h_try = last ? t_end - t : h;
+    Tangent error = y.zeroTangent();
+    const State y1 = stepper.stepWithError(system, Scalar(t), y, Scalar(h_try), &error, &K, &increment);
+    const Tangent scale = (y.magnitude().cwiseMax(y1.magnitude()) * Scalar(options.rtol))
+                              .array() + Scalar(options.atol);
+    double err = 0.0;
+    for (int i = 0; i < error.size(); ++i)
+      err = std::max(err, std::abs(scalarValue(error[i] / scale[i])));
+    if (!std::isfinite(err) || !isFinite(y1)) err = std::numeric_limits<double>::infinity();
+    const double factor =
+        err == 0.0 ? options.fac_max
+                   : std::min(options.fac_max, std::max(options.fac_min, options.safety * std::pow(err, exponent)));
+    if (err <= 1.0) {
+      const double t_new = last ? t_end : t + h_try;
+      // Every output time this step covers, from its continuous extension.
+      for (; k_out <= n_out && output_time(k_out) <= t_new; ++k_out) {
+        const double t_k = output_time(k_out);
+        const bool at_end = k_out == n_out || t_k == t_new;
+        const State y_k = at_end ? y1 : y.rplus(stepper.denseIncrement(K, increment, Scalar(h_try), (t_k - t) / h_try));
+        summary.t_reached = t_k;
+        if (!observer(k_out, t_k, y_k)) {
+          ++summary.steps;
+          return summary;
+        }
       }
-      if (h < options.h_min || summary.steps + summary.rejected_steps > options.max_steps) {
-        std::ostringstream why;
-        why << "adaptive step size collapsed to h = " << h << " at t = " << t
-            << " (tolerances rtol = " << options.rtol << ", atol = " << options.atol
-            << " cannot be met)";
-        summary.failed = true;
-        summary.failure = why.str();
-        return summary;
-      }
+      y = y1;
+      t = t_new;
+      ++summary.steps;
+      h = h_try * factor;
+    } else {
+      ++summary.rejected_steps;
+      h = h_try * factor;
     }
-    summary.t_reached = t_out;
-    if (!observer(k, t_out, y)) return summary;
+    const long attempted = summary.steps + summary.rejected_steps;
+    if (options.heartbeat && attempted % options.heartbeat_steps == 0) options.heartbeat(t, attempted);
+    if (k_out > n_out) break;
+    if (h < h_floor) {
+      std::ostringstream why;
+      why << "adaptive step size collapsed to h = " << h << " at t = " << t << ": the local error cannot be brought "
+          << "below the tolerances rtol = " << options.rtol << ", atol = " << options.atol
+          << " (the motion is singular or too fast there)";
+      summary.failed = true;
+      summary.failure = why.str();
+      return summary;
+    }
+    if (attempted >= options.max_steps) {
+      std::ostringstream why;
+      why << "stopped after " << attempted << " adaptive steps (" << summary.rejected_steps
+          << " rejected), the step limit, at t = " << t << " of " << t_end << " with h = " << h
+          << " (the tolerances rtol = " << options.rtol << ", atol = " << options.atol << " need that small a step)";
+      summary.failed = true;
+      summary.step_limit_reached = true;
+      summary.failure = why.str();
+      return summary;
+    }
   }
   return summary;
 }

@@ -26,8 +26,17 @@ struct ButcherTableau {
   std::array<double, kMaxStages> b_embedded{};
   /// First-same-as-last: the last stage is f at the new point.
   bool fsal = false;
+  /// Continuous extension of an FSAL pair in the form of Hairer's DOPRI5
+  /// (Hairer, Nørsett & Wanner I, §II.6, eq. (6.12) and the code's CONTD5):
+  /// with Δ = h Σ bᵢKᵢ, s = 1 − θ,
+  ///   u(θ) = θ(Δ + s(hK₁ − Δ + θ(2Δ − h(K₁ + K_last) + s·h Σ dᵢKᵢ))),
+  /// which matches u(0) = 0, u'(0) = hK₁, u(1) = Δ, u'(1) = hK_last and is
+  /// of order 4 for Dormand–Prince (`dense_order`, 0: no dense output).
+  int dense_order = 0;
+  std::array<double, kMaxStages> dense_d{};
 
   bool hasEmbedded() const { return embedded_order > 0; }
+  bool hasDenseOutput() const { return dense_order > 0; }
 
   /// Forward Euler, order 1.
   static ButcherTableau euler();
@@ -124,6 +133,11 @@ inline ButcherTableau ButcherTableau::dormandPrince54() {
   t.b = {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0};
   t.b_embedded = {5179.0 / 57600.0, 0.0,          7571.0 / 16695.0, 393.0 / 640.0,
                   -92097.0 / 339200.0, 187.0 / 2100.0, 1.0 / 40.0};
+  // Shampine's order-4 continuous extension, coefficients as in DOPRI5.
+  t.dense_order = 4;
+  t.dense_d = {-12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
+               -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+               -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0};
   return t;
 }
 

@@ -21,6 +21,8 @@ struct RunSummary {
   long rejected_steps = 0;
   long newton_iterations = 0;
   bool failed = false;
+  /// The run stopped at its step limit (a failure, `failure` says where).
+  bool step_limit_reached = false;
   std::string failure;
   double t_reached = 0.0;
 

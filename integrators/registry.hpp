@@ -4,10 +4,40 @@
 /// builds each stepper for a given system lives with the scene assembly.
 #pragma once
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 namespace lieflow {
+
+/// One option an integrator accepts (in the scene's "integrator" object or
+/// `--options`): its default and the values it admits. A value outside
+/// [min, max] (or excluded_min: min itself is not admitted), or a fraction
+/// where an integer is needed, is an input error naming the option.
+struct IntegratorOption {
+  std::string name;
+  double default_value;
+  double min;
+  double max;
+  bool integer = false;
+  bool excluded_min = false;
+  std::string meaning;
+
+  /// Empty if `v` is admitted, else why not ("must be > 0", ...).
+  std::string check(double v) const {
+    auto text = [](double x) {
+      char buffer[32];
+      std::snprintf(buffer, sizeof buffer, "%g", x);
+      return std::string(buffer);
+    };
+    if (!std::isfinite(v)) return "must be a finite number";
+    if (integer && v != std::floor(v)) return "must be a whole number, got " + text(v);
+    if (excluded_min ? !(v > min) : !(v >= min)) return "must be " + std::string(excluded_min ? "> " : ">= ") + text(min) + ", got " + text(v);
+    if (!(v <= max)) return "must be <= " + text(max) + ", got " + text(v);
+    return "";
+  }
+};
 
 struct IntegratorInfo {
   std::string name;
@@ -19,29 +49,60 @@ struct IntegratorInfo {
   bool preserves_momentum;
   bool is_adaptive;
   /// Options it accepts in the scene's "integrator" object, with defaults.
-  std::vector<std::pair<std::string, double>> options;
+  std::vector<IntegratorOption> options;
   std::string description;
+  /// Whether it can run scenes with joints (constraint rows), and if not why.
+  bool supports_joints;
+  std::string joints_note;
+
+  const IntegratorOption* option(const std::string& key) const {
+    for (const IntegratorOption& o : options)
+      if (o.name == key) return &o;
+    return nullptr;
+  }
 };
 
 inline const std::vector<IntegratorInfo>& integratorRegistry() {
+  // Newton tolerances below 1e-16 cannot be met in double precision (the
+  // residuals are relative to quantities of order one); 1000 iterations is
+  // far beyond any converging Newton solve.
+  const IntegratorOption max_iterations{"max_iterations", 20, 1, 1000, true, false, "Newton iterations per step"};
   static const std::vector<IntegratorInfo> registry = {
-      {"rkmk-euler", 1, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, forward Euler tableau (Lie-Euler)"},
-      {"rkmk-heun", 2, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Heun's tableau"},
-      {"rkmk3", 3, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Kutta's third-order tableau, dexp^-1 to ad^1"},
-      {"rkmk4", 4, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, classical RK4 tableau, dexp^-1 to ad^2"},
-      {"rkmk45", 5, false, false, false, true, {{"rtol", 1e-8}, {"atol", 1e-10}},
-       "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group (dt = output interval)"},
-      {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)"},
-      {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)"},
-      {"lgvi", 2, true, true, true, false, {{"tolerance", 1e-14}, {"max_iterations", 20}, {"cayley", 0}},
+      {"rkmk-euler", 1, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, forward Euler tableau (Lie-Euler)",
+       true, "projected onto the constraints after every step"},
+      {"rkmk-heun", 2, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Heun's tableau", true,
+       "projected onto the constraints after every step"},
+      {"rkmk3", 3, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Kutta's third-order tableau, dexp^-1 to ad^1",
+       true, "projected onto the constraints after every step"},
+      {"rkmk4", 4, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, classical RK4 tableau, dexp^-1 to ad^2",
+       true, "projected onto the constraints after every step"},
+      {"rkmk45", 5, false, false, false, true,
+       {{"rtol", 1e-8, 1e-15, 1.0, false, false, "relative tolerance of the local error"},
+        {"atol", 1e-10, 0.0, 1.0, false, false, "absolute tolerance of the local error"}},
+       "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group; dt = output interval, "
+       "outputs by dense output on the group",
+       false, "single bodies only: the step control has no constraint projection"},
+      {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)", true,
+       "projected onto the constraints after every step"},
+      {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)", true,
+       "projected onto the constraints after every step"},
+      {"lgvi", 2, true, true, true, false,
+       {{"tolerance", 1e-14, 1e-16, 1.0, false, false, "Newton residual tolerance"}, max_iterations,
+        {"cayley", 0, 0, 1, true, false, "1: Cayley map instead of exp"}},
        "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian; "
-       "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit"},
+       "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit",
+       true, "RATTLE with the constraint impulses"},
       {"splitting", 2, false, true, true, false, {},
-       "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques"},
-      {"genalpha", 2, true, false, false, false, {{"rho_inf", 1.0}, {"tolerance", 1e-12}, {"max_iterations", 20}},
-       "Lie group generalized-alpha (Bruls-Cardona-Arnold 2012); rho_inf = 1 no numerical damping"},
+       "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques",
+       false, "single bodies only: the free-rotor split flows are not constrained"},
+      {"genalpha", 2, true, false, false, false,
+       {{"rho_inf", 1.0, 0.0, 1.0, false, false, "spectral radius at infinity (1: no numerical damping)"},
+        {"tolerance", 1e-12, 1e-16, 1.0, false, false, "Newton residual tolerance"}, max_iterations},
+       "Lie group generalized-alpha (Bruls-Cardona-Arnold 2012); rho_inf = 1 no numerical damping",
+       true, "index 3: use rho_inf < 1 (e.g. 0.9); at the default 1 it is unstable on scenes with joints"},
       {"exact", 0, false, true, true, false, {},
-       "exact torque-free flow by Jacobi elliptic functions (free body only; order 0 = exact)"},
+       "exact torque-free flow by Jacobi elliptic functions (free body only; order 0 = exact)", false,
+       "torque-free single bodies only"},
   };
   return registry;
 }

@@ -47,14 +47,18 @@ class RkmkStepper {
     return y.rplus(theta);
   }
 
+  using Stages = std::array<Tangent, ButcherTableau::kMaxStages>;
+
   /// One step plus the algebra-coordinate error estimate h Σ (bᵢ − b̂ᵢ) Kᵢ of
   /// an embedded pair (the difference of the two solutions' Θ, which is the
-  /// difference of the two points to O(h·‖Θ‖·err)).
+  /// difference of the two points to O(h·‖Θ‖·err)). With `stages`, the
+  /// stage derivatives Kᵢ and the increment Θ₁ are kept for `denseIncrement`.
   template <typename System>
   State stepWithError(const System& system, const Scalar& t, const State& y, const Scalar& h,
-                      Tangent* error) const {
+                      Tangent* error, Stages* stages = nullptr, Tangent* increment = nullptr) const {
     LIEFLOW_ASSERT(tableau_.hasEmbedded(), "stepWithError needs an embedded pair");
-    std::array<Tangent, ButcherTableau::kMaxStages> K;
+    Stages local;
+    Stages& K = stages ? *stages : local;
     computeStages(system, t, y, h, &K);
     Tangent theta = y.zeroTangent();
     *error = y.zeroTangent();
@@ -62,7 +66,25 @@ class RkmkStepper {
       theta += (h * Scalar(tableau_.b[i])) * K[i];
       *error += (h * Scalar(tableau_.b[i] - tableau_.b_embedded[i])) * K[i];
     }
+    if (increment) *increment = theta;
     return y.rplus(theta);
+  }
+
+  /// Dense output inside the last step: the increment u(θ) of the
+  /// continuous extension (butcher_tableau.hpp), so that y(t + θh) ≈
+  /// y ⊕ u(θ), θ ∈ [0, 1]. The RKMK stages are the derivatives of the
+  /// algebra-coordinate ODE Θ' = dexp⁻¹_{−Θ} f(y ⊕ Θ), so the extension of
+  /// that (vector-space) ODE carries over unchanged and keeps its order.
+  Tangent denseIncrement(const Stages& K, const Tangent& increment, const Scalar& h, double theta) const {
+    LIEFLOW_ASSERT(tableau_.hasDenseOutput() && tableau_.fsal, "denseIncrement needs an FSAL pair with dense output");
+    const int last = tableau_.stages - 1;
+    const Scalar th(theta), s(1.0 - theta);
+    Tangent d = (h * Scalar(tableau_.dense_d[0])) * K[0];
+    for (int i = 1; i < tableau_.stages; ++i)
+      if (tableau_.dense_d[i] != 0.0) d += (h * Scalar(tableau_.dense_d[i])) * K[i];
+    const Tangent hk1 = h * K[0];
+    const Tangent r4 = Scalar(2.0) * increment - hk1 - h * K[last];
+    return th * (increment + s * ((hk1 - increment) + th * (r4 + s * d)));
   }
 
  private:

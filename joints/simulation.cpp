@@ -21,6 +21,7 @@
 #include "joints/multibody/kkt_assembly.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
+#include "joints/invariants.hpp"
 #include "joints/multibody_scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -43,6 +44,8 @@ struct Simulation::Model {
   /// Scenes with joints (other than one spherical joint to ground): the
   /// constrained multibody system; the fields above are then unused.
   std::unique_ptr<MultibodyScene> multibody;
+  /// What the scene conserves (a fresh copy tracks each run).
+  InvariantSet invariants;
 };
 
 namespace {
@@ -58,6 +61,7 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   auto model = std::make_unique<Simulation::Model>();
   if (needsMultibody(scene)) {
     model->multibody = assembleMultibody(scene);
+    model->invariants = InvariantSet::multibody(model->multibody->system->conservesAngularMomentum());
     return model;
   }
   if (scene.bodies.size() != 1)
@@ -118,6 +122,9 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
     p.spring_stiffness = body.spring_stiffness;
     p.spring_rest = SO3d(body.spring_rest);
   }
+  const Eigen::Matrix3d J = model->rotor ? RotorSystem<double>(p).inertia() : p.inertia;
+  model->invariants = InvariantSet::singleBody(J, p.has_pivot, p.com_from_pivot, p.gravity,
+                                               p.spring_stiffness == 0.0 && !p.torque_body);
   model->rotor0.R = R0;
   model->rotor0.omega = body.angular_velocity;
   model->free0.R = R0;
@@ -233,38 +240,78 @@ double option(const SimulationOptions& o, const std::string& key, double fallbac
   return it == o.integrator_options.end() ? fallback : it->second;
 }
 
+/// Feeds a state to the scene's invariants.
+void observeInvariants(InvariantSet* set, const RotorSystem<double>&, const RotorState<double>& y) {
+  set->observe(y.R, y.omega);
+}
+void observeInvariants(InvariantSet* set, const FreeBodySystem<double>&, const FreeBodyState<double>& y) {
+  set->observe(y.R, y.omega);
+}
+void observeInvariants(InvariantSet* set, const multibody::MultibodySystem& sys,
+                       const multibody::MultibodyGroupState& y) {
+  set->observe(sys.angularMomentum(y));
+}
+
+/// Observers report progress (SimulationOptions::progress) this often.
+constexpr long kProgressEverySteps = 65536;
+
+/// Index of the first non-finite value of a row, or −1.
+long firstNonFinite(const std::vector<double>& row) {
+  for (std::size_t i = 0; i < row.size(); ++i)
+    if (!std::isfinite(row[i])) return static_cast<long>(i);
+  return -1;
+}
+
 /// Runs `advance(observer)` with an observer that records rows and drift.
+/// A row holding a non-finite number is never handed out: the run fails
+/// there, naming the column (`columns`), the time and the step.
 template <typename System, typename Advance>
 SimulationResult observeRun(const Simulation::Model& model, const System& system,
                             const SimulationOptions& options, long n_outputs,
+                            const std::vector<std::string>& columns,
                             const std::function<void(const std::vector<double>&)>& row_sink,
                             Advance&& advance) {
   SimulationResult result;
   DriftTracker drift;
   drift.momentum_conserved = system.conservesAngularMomentum();
+  InvariantSet invariants = model.invariants;
   RowBuilder rows{model};
   std::vector<double> row;
   typename System::State last;
   double t_last = 0.0;
   bool last_written = false;
-  std::string blow_up;
+  std::string stop_reason;
   double constraint_error = 0.0;
+  const auto non_finite = [&](const std::vector<double>& r, long k, double t) {
+    const long i = firstNonFinite(r);
+    if (i < 0) return false;
+    std::ostringstream why;
+    why << "the state's " << (static_cast<std::size_t>(i) < columns.size() ? columns[i] : "value")
+        << " became non-finite (" << r[i] << ") at t = " << t << " (step " << k
+        << "); its magnitude exceeds double precision";
+    stop_reason = why.str();
+    return true;
+  };
   auto observer = [&](long k, double t, const typename System::State& y) {
     last_written = false;
+    if (options.progress && k > 0 && k % kProgressEverySteps == 0) options.progress(t, k);
     if (options.diagnostics) {
       drift.observe(system, k, t, y);
+      observeInvariants(&invariants, system, y);
       constraint_error = std::max(constraint_error, constraintErrorOf(system, t, y));
       if (drift.blownUp()) {
         std::ostringstream why;
         why << "blow-up: the energy error reached " << drift.energy_drift << " times the initial energy at t = "
             << t << " (step " << k << "); the step h = " << options.dt
             << " is beyond this integrator's stability limit";
-        blow_up = why.str();
+        stop_reason = why.str();
         return false;
       }
       if (row_sink && (k % options.every == 0 || k == n_outputs)) {
         rows(system, t, y, &row);
+        if (non_finite(row, k, t)) return false;
         row_sink(row);
+        if (options.invariant_sink) options.invariant_sink(t, invariants.current());
         last_written = true;
       }
     }
@@ -280,28 +327,35 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.rejected_steps = summary.rejected_steps;
   result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
   result.newton_iterations_mean = summary.newtonIterationsMean();
-  result.failed = summary.failed || !blow_up.empty();
-  result.failure = blow_up.empty() ? summary.failure : blow_up;
+  rows(system, t_last, last, &result.final_row);
+  if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
+  result.failed = summary.failed || !stop_reason.empty();
+  result.failure = stop_reason.empty() ? summary.failure : stop_reason;
+  if (summary.step_limit_reached) result.failure += " (raise the limit with --max-steps)";
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
   result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
-  rows(system, t_last, last, &result.final_row);
+  if (options.diagnostics)
+    for (std::size_t i = 0; i < invariants.names().size(); ++i)
+      result.invariants.emplace_back(invariants.names()[i], invariants.maxDrift()[i]);
   // The last good state is always written, whatever `every` is (also when a
   // failure stopped the run between two output steps).
-  if (options.diagnostics && row_sink && result.failed && !last_written) row_sink(result.final_row);
+  if (options.diagnostics && row_sink && result.failed && !last_written && firstNonFinite(result.final_row) < 0)
+    row_sink(result.final_row);
   return result;
 }
 
 template <typename System>
 SimulationResult runSystem(const Simulation::Model& model, const System& system,
                            const typename System::State& y0, const SimulationOptions& o,
+                           const std::vector<std::string>& columns,
                            const std::function<void(const std::vector<double>&)>& row) {
   using State = typename System::State;
   const std::string& name = o.integrator;
   const long n = stepCount(0.0, o.t_end, o.dt);
   auto fixed = [&](auto stepper) {
-    return observeRun(model, system, o, n, row, [&](auto& observer) {
+    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
       return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
     });
   };
@@ -316,11 +370,7 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
     l.tolerance = option(o, "tolerance", l.tolerance);
     l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
     // cayley = 1: the Cayley-map variant (no h‖ω‖ < 1 limit of the exp map).
-    const double cayley = option(o, "cayley", 0.0);
-    if (cayley != 0.0 && cayley != 1.0) throw InvalidInput("cayley", "must be 0 (exp map) or 1 (Cayley map)");
-    if (cayley == 1.0) l.map = LgviMap::kCayley;
-    if (!(l.tolerance >= 0.0)) throw InvalidInput("tolerance", "must be non-negative");
-    if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
+    if (option(o, "cayley", 0.0) == 1.0) l.map = LgviMap::kCayley;
     return fixed(LgviStepper<State>(l));
   }
   if (name == "splitting") return fixed(SplittingStepper<State>(system.inertia()));
@@ -335,8 +385,10 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
     AdaptiveOptions a;
     a.rtol = option(o, "rtol", a.rtol);
     a.atol = option(o, "atol", a.atol);
+    a.max_steps = o.max_steps;
+    a.heartbeat = o.progress;
     const RkmkStepper<State> stepper(ButcherTableau::dormandPrince54());
-    return observeRun(model, system, o, n, row, [&](auto& observer) {
+    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
       return integrateAdaptive(stepper, system, y0, 0.0, o.t_end, o.dt, a, observer);
     });
   }
@@ -346,6 +398,7 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
 /// The integrators of a constrained multibody scene: the explicit Lie-group
 /// steppers in index-1 form with projection (projected_stepper.hpp).
 SimulationResult runMultibody(const Simulation::Model& model, const SimulationOptions& o,
+                              const std::vector<std::string>& columns,
                               const std::function<void(const std::vector<double>&)>& row) {
   using State = multibody::MultibodyGroupState;
   const multibody::MultibodySystem& system = *model.multibody->system;
@@ -353,7 +406,7 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
   const std::string& name = o.integrator;
   const long n = stepCount(0.0, o.t_end, o.dt);
   auto fixed = [&](auto stepper) {
-    return observeRun(model, system, o, n, row, [&](auto& observer) {
+    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
       return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
     });
   };
@@ -368,11 +421,7 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
     ConstrainedLgviOptions l;
     l.tolerance = option(o, "tolerance", l.tolerance);
     l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
-    const double cayley = option(o, "cayley", 0.0);
-    if (cayley != 0.0 && cayley != 1.0) throw InvalidInput("cayley", "must be 0 (exp map) or 1 (Cayley map)");
-    if (cayley == 1.0) l.rotation.map = LgviMap::kCayley;
-    if (!(l.tolerance > 0.0)) throw InvalidInput("tolerance", "must be positive");
-    if (l.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
+    if (option(o, "cayley", 0.0) == 1.0) l.rotation.map = LgviMap::kCayley;
     return fixed(ConstrainedLgviStepper<multibody::MultibodySystem>(l));
   }
   if (name == "genalpha") {
@@ -445,25 +494,31 @@ std::vector<std::string> Simulation::columns() const {
   return cols;
 }
 
+std::vector<std::string> Simulation::invariantNames() const { return model_->invariants.names(); }
+
 bool Simulation::supports(const std::string& integrator, std::string* why) const {
   if (!findIntegrator(integrator)) {
     if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
     return false;
   }
   if (model_->multibody) {
-    static const char* const kConstrained[] = {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "genalpha"};
-    for (const char* n : kConstrained)
-      if (integrator == n) return true;
-    if (why)
-      *why = "'" + integrator +
-             "' is not available for scenes with joints (available: rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, "
-             "cf4 with projection; lgvi as RATTLE; genalpha at index 3)";
+    const IntegratorInfo& info = *findIntegrator(integrator);
+    if (info.supports_joints) return true;
+    if (why) {
+      *why = "'" + integrator + "' is not available for scenes with joints (" + info.joints_note + "; available:";
+      for (const IntegratorInfo& i : integratorRegistry())
+        if (i.supports_joints) *why += " " + i.name;
+      *why += ")";
+    }
     return false;
   }
   if (integrator == "exact") {
-    const bool torque_free = !model_->params.has_pivot;
+    const RigidBodyParameters<double>& p = model_->params;
+    const bool torque_free = !p.has_pivot && p.spring_stiffness == 0.0 && !p.torque_body;
     if (!torque_free) {
-      if (why) *why = "'exact' is the torque-free flow: this scene has a pivot under gravity";
+      if (why)
+        *why = std::string("'exact' is the torque-free flow: this scene has ") +
+               (p.has_pivot ? "a pivot under gravity" : "a torque on the body");
       return false;
     }
   }
@@ -483,21 +538,39 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   if (!(options.t_end > 0.0) || !std::isfinite(options.t_end))
     throw InvalidInput("--t-end", "the end time must be a positive number");
   if (options.every < 1) throw InvalidInput("--every", "must be a positive integer");
-  for (const auto& kv : options.integrator_options) {
-    bool known = false;
-    for (const auto& opt : info->options) known = known || opt.first == kv.first;
-    if (!known)
-      throw InvalidInput(scene_.source + ": integrator." + kv.first,
-                         "unknown option for integrator '" + info->name + "'");
+  if (options.dt > options.t_end) {
+    std::ostringstream why;
+    why << "the step " << options.dt << " is longer than the run (t_end = " << options.t_end
+        << "): give a step no longer than t_end";
+    throw InvalidInput("--dt", why.str());
   }
+  // The step count, checked before it is converted to an integer (t_end/dt
+  // can exceed every integer type, or the run would take years).
+  const double steps_needed = std::ceil(options.t_end / options.dt * (1.0 - 1e-9));
+  if (steps_needed > static_cast<double>(options.max_steps)) {
+    std::ostringstream field;
+    field << "--dt " << options.dt << " with --t-end " << options.t_end;
+    throw limitExceeded(field.str(), info->is_adaptive ? "output rows" : "steps", steps_needed,
+                        static_cast<double>(options.max_steps), "--max-steps");
+  }
+  for (const auto& kv : options.integrator_options) {
+    const std::string field = options.command_line_options.count(kv.first)
+                                  ? "--options " + kv.first
+                                  : scene_.source + ": integrator." + kv.first;
+    const IntegratorOption* spec = info->option(kv.first);
+    if (!spec) throw InvalidInput(field, "unknown option for integrator '" + info->name + "'");
+    const std::string why = spec->check(kv.second);
+    if (!why.empty()) throw InvalidInput(field, why + " (" + spec->meaning + ")");
+  }
+  const std::vector<std::string> columns = this->columns();
 
   const Model& m = *model_;
   // The exact flow is sampled on the output grid; everything else steps.
   auto run_on = [&](const auto& system, const auto& y0) {
-    if (options.integrator != "exact") return runSystem(m, system, y0, options, row);
+    if (options.integrator != "exact") return runSystem(m, system, y0, options, columns, row);
     const ExactFreeRigidBody flow(system.inertia(), y0.R.quaternion(), y0.omega);
     const long n = stepCount(0.0, options.t_end, options.dt);
-    return observeRun(m, system, options, n, row, [&](auto& observer) {
+    return observeRun(m, system, options, n, columns, row, [&](auto& observer) {
       return integrateFixedStep(ExactStepper{&flow, 0.0}, system, y0, 0.0, options.t_end, options.dt,
                                 observer);
     });
@@ -505,7 +578,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   SimulationResult result;
   try {
     if (m.multibody)
-      result = runMultibody(m, options, row);
+      result = runMultibody(m, options, columns, row);
     else
       result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
                      : run_on(FreeBodySystem<double>(m.params), m.free0);
@@ -517,6 +590,18 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   result.integrator = options.integrator;
   result.dt = options.dt;
   result.implicit = info->is_implicit;
+  // A figure that overflowed (an energy of 1e300 against one of 1e-300) is
+  // not reported as a number: the run fails saying which.
+  std::vector<std::pair<std::string, double>> figures = {{"energy drift", result.energy_drift},
+                                                         {"momentum drift", result.momentum_drift},
+                                                         {"constraint error", result.constraint_error}};
+  figures.insert(figures.end(), result.invariants.begin(), result.invariants.end());
+  for (const auto& f : figures)
+    if (!result.failed && !std::isfinite(f.second)) {
+      result.failed = true;
+      result.failure = "the " + f.first + " is not a finite number (" + std::to_string(f.second) +
+                       "): the scene's magnitudes exceed double precision";
+    }
   return result;
 }
 

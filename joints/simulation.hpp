@@ -10,9 +10,11 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "joints/resource_limits.hpp"
 #include "joints/scene.hpp"
 
 namespace lieflow {
@@ -24,6 +26,19 @@ struct SimulationOptions {
   /// Output every N-th step (the first and the last rows are always output).
   int every = 1;
   std::map<std::string, double> integrator_options;
+  /// The keys of `integrator_options` given on the command line (--options),
+  /// so that an error names the place the value came from.
+  std::set<std::string> command_line_options;
+  /// Most steps (accepted plus rejected) the run may take: a step count above
+  /// it is refused before the run (InvalidInput naming --max-steps), an
+  /// adaptive run that reaches it fails saying so.
+  long max_steps = kMaxSteps;
+  /// Called with (t, steps so far) every few ten thousand steps, for
+  /// progress reports of long runs (may be empty).
+  std::function<void(double, long)> progress;
+  /// Called with each output row's time and the current relative error of
+  /// each invariant (invariantNames() order), beside the row sink.
+  std::function<void(double, const std::vector<double>&)> invariant_sink;
   /// Compute energy/momentum statistics at every step (off: only the final
   /// state is observed, so the timing measures the stepping alone, and a
   /// blow-up is caught only once the state is non-finite).
@@ -45,6 +60,9 @@ struct SimulationResult {
   double momentum_drift = 0.0;
   /// max position-level constraint residual (0: no constraints to violate).
   double constraint_error = 0.0;
+  /// The scene's conserved quantities (joints/invariants.hpp) with their
+  /// maximal relative drift, when the run did not fail.
+  std::vector<std::pair<std::string, double>> invariants;
   bool implicit = false;
   double newton_iterations_mean = 0.0;
   bool failed = false;
@@ -68,6 +86,10 @@ class Simulation {
 
   /// CSV column names (README "Trajectory and recording CSV").
   std::vector<std::string> columns() const;
+
+  /// Names of the quantities this scene conserves (joints/invariants.hpp),
+  /// in the order of SimulationResult::invariants.
+  std::vector<std::string> invariantNames() const;
 
   /// Whether the integrator can run this scene (e.g. `exact` needs a
   /// torque-free body); if not, `why` says so.

@@ -1,0 +1,48 @@
+/// \file
+/// Output files of the `lieflow` commands, checked before the work starts and
+/// never left looking complete when the work failed:
+/// - `AtomicOutputFile` writes FILE.partial beside FILE and renames it to FILE
+///   only on success (`commit`); a failed run leaves FILE as it was and its
+///   rows in FILE.partial, and says so (`abandon`).
+/// - `prepareOutputDirectory` creates an --out directory and proves it
+///   writable before a study or stability scan spends minutes computing.
+#pragma once
+
+#include <fstream>
+#include <string>
+
+namespace lieflow {
+namespace app {
+
+class AtomicOutputFile {
+ public:
+  /// Opens PATH.partial for writing; InvalidInput naming `option` and PATH
+  /// when PATH is empty or cannot be written.
+  AtomicOutputFile(const std::string& path, const std::string& option);
+  ~AtomicOutputFile();
+  AtomicOutputFile(const AtomicOutputFile&) = delete;
+  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
+
+  std::ostream& stream() { return file_; }
+  const std::string& path() const { return path_; }
+
+  /// Flushes, closes and renames PATH.partial to PATH (throws when the
+  /// write or the rename failed: a full disk is found here, not later).
+  void commit();
+  /// After a failure: closes PATH.partial and returns a sentence for the
+  /// error message saying where the rows written so far are ("" if none).
+  std::string abandon();
+
+ private:
+  std::string path_;
+  std::string partial_;
+  std::ofstream file_;
+  bool done_ = false;
+};
+
+/// Creates DIR (and its parents) and writes and removes a probe file in it;
+/// InvalidInput("--out DIR", why) when that fails or DIR is empty.
+void prepareOutputDirectory(const std::string& dir);
+
+}  // namespace app
+}  // namespace lieflow

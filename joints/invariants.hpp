@@ -1,0 +1,147 @@
+/// \file
+/// The quantities a scene conserves besides (or instead of) its spatial
+/// angular momentum, for the `invariants` key of `--stats` and the drift
+/// plots (../shared/DESIGN.md, Additions). Which ones a scene has follows
+/// from its structure, checked once when the scene is assembled:
+/// - a torque-free single body: its angular momentum about the centre of
+///   mass `L_com` = R J ω (with or without gravity, which exerts no moment
+///   about the centre of mass);
+/// - a body on a fixed pivot with no torque but gravity g: the component of
+///   its angular momentum about the pivot along g, `L_z` (named `L_vertical`
+///   when g is not along z): the gravity moment (R c) × m g is ⊥ g; without
+///   gravity the whole `L_pivot`;
+/// - a body whose inertia (about the centre of mass, or about the pivot)
+///   is symmetric about an axis e (two equal principal moments), torque-free
+///   or with the centre of mass on that axis: its `spin` ω·e (Euler's third
+///   equation J₃ω̇₃ = (J₁ − J₂)ω₁ω₂ + τ·e = 0);
+/// - a multibody scene without external moments: its spatial angular
+///   momentum `L`.
+/// A drift is relative: vectors ‖x − x₀‖/‖x₀‖; `L_z` against ‖L₀‖ about the
+/// pivot (the component alone may be 0); `spin` against ‖ω₀‖; absolute when
+/// the scale is 0.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+
+class InvariantSet {
+ public:
+  /// Two principal moments count as equal within this relative difference.
+  static constexpr double kSymmetryTolerance = 1e-12;
+
+  /// A single body with inertia J about its centre of mass (or, with a
+  /// pivot, about the pivot), centre of mass at `com_from_pivot` (body axes)
+  /// when pivoted, gravity g; `torque_free`: no spring, no applied torque.
+  static InvariantSet singleBody(const Eigen::Matrix3d& J, bool pivot, const Eigen::Vector3d& com_from_pivot,
+                                 const Eigen::Vector3d& gravity, bool torque_free) {
+    InvariantSet s;
+    s.single_ = true;
+    s.J_ = J;
+    if (!torque_free) return s;
+    const bool gravity_moment = pivot && !gravity.isZero(0) && !com_from_pivot.isZero(0);
+    if (!gravity_moment) {
+      s.add(pivot ? "L_pivot" : "L_com", Kind::kMomentum);
+    } else {
+      s.vertical_ = gravity.normalized();
+      const bool along_z = std::abs(std::abs(s.vertical_.z()) - 1.0) <= kSymmetryTolerance;
+      s.add(along_z ? "L_z" : "L_vertical", Kind::kVerticalMomentum);
+    }
+    // A symmetry axis: the principal axis of the eigenvalue the other two equal.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(J);
+    const Eigen::Vector3d m = eig.eigenvalues();  // ascending
+    const double tol = kSymmetryTolerance * m.cwiseAbs().maxCoeff();
+    int axis = -1;
+    if (std::abs(m[1] - m[2]) <= tol && std::abs(m[0] - m[1]) > tol) axis = 0;
+    if (std::abs(m[0] - m[1]) <= tol && std::abs(m[1] - m[2]) > tol) axis = 2;
+    if (axis >= 0) {
+      const Eigen::Vector3d e = eig.eigenvectors().col(axis).normalized();
+      const double c = com_from_pivot.norm();
+      if (!gravity_moment || e.cross(com_from_pivot).norm() <= kSymmetryTolerance * c) {
+        s.spin_axis_ = e;
+        s.add("spin", Kind::kSpin);
+      }
+    }
+    return s;
+  }
+
+  /// A multibody scene: its spatial angular momentum, if conserved.
+  static InvariantSet multibody(bool momentum_conserved) {
+    InvariantSet s;
+    if (momentum_conserved) s.add("L", Kind::kMomentum);
+    return s;
+  }
+
+  const std::vector<std::string>& names() const { return names_; }
+  bool empty() const { return names_.empty(); }
+
+  /// Records the values of a single body's state (ω in the body frame).
+  void observe(const SO3d& R, const Eigen::Vector3d& omega) {
+    const Eigen::Vector3d L = R * (J_ * omega);
+    observeEach([&](Kind kind) -> std::pair<Eigen::Vector3d, double> {
+      switch (kind) {
+        case Kind::kMomentum: return {L, L.norm()};
+        case Kind::kVerticalMomentum: return {Eigen::Vector3d(L.dot(vertical_), 0, 0), L.norm()};
+        case Kind::kSpin: return {Eigen::Vector3d(omega.dot(spin_axis_), 0, 0), omega.norm()};
+      }
+      return {Eigen::Vector3d::Zero(), 0.0};
+    });
+  }
+
+  /// Records a multibody state's spatial angular momentum L.
+  void observe(const Eigen::Vector3d& L) {
+    observeEach([&](Kind) { return std::make_pair(L, L.norm()); });
+  }
+
+  /// Relative error of each invariant at the last observation and its
+  /// maximum over all observations, in the order of names().
+  const std::vector<double>& current() const { return current_; }
+  const std::vector<double>& maxDrift() const { return max_; }
+
+ private:
+  enum class Kind { kMomentum, kVerticalMomentum, kSpin };
+
+  void add(const std::string& name, Kind kind) {
+    names_.push_back(name);
+    kinds_.push_back(kind);
+    x0_.emplace_back(Eigen::Vector3d::Zero());
+    scale_.push_back(0.0);
+    current_.push_back(0.0);
+    max_.push_back(0.0);
+  }
+
+  template <typename Value>
+  void observeEach(Value&& value) {
+    for (std::size_t i = 0; i < kinds_.size(); ++i) {
+      const std::pair<Eigen::Vector3d, double> v = value(kinds_[i]);
+      if (!started_) {
+        x0_[i] = v.first;
+        scale_[i] = v.second;
+        continue;
+      }
+      const double e = (v.first - x0_[i]).norm();
+      current_[i] = scale_[i] > 0.0 ? e / scale_[i] : e;
+      max_[i] = std::max(max_[i], current_[i]);
+    }
+    started_ = true;
+  }
+
+  bool single_ = false;
+  bool started_ = false;
+  Eigen::Matrix3d J_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d vertical_ = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d spin_axis_ = Eigen::Vector3d::UnitZ();
+  std::vector<std::string> names_;
+  std::vector<Kind> kinds_;
+  std::vector<Eigen::Vector3d> x0_;
+  std::vector<double> scale_, current_, max_;
+};
+
+}  // namespace lieflow
