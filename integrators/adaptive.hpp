@@ -41,6 +41,34 @@ struct AdaptiveOptions {
   long heartbeat_steps = 65536;
 };
 
+/// The starting step of Hairer, Nørsett & Wanner I, §II.4 ("Starting step
+/// size"), in the algebra: with the error scale sᵢ = atol + rtol·|yᵢ| and the
+/// max norm, d₀ = ‖y₀/s‖, d₁ = ‖f₀/s‖, h₀ = 0.01·d₀/d₁ (10⁻⁶ when either is
+/// below 10⁻⁵), one Lie–Euler step y₀ ⊕ h₀f₀ gives d₂ = ‖(f₁ − f₀)/s‖/h₀, and
+/// h = min(100·h₀, (0.01/max(d₁, d₂))^{1/(p+1)}), p the method's order. It
+/// depends on the problem alone, never on the output grid.
+template <typename State, typename System>
+double startingStep(const System& system, double t0, const State& y0, int order, const AdaptiveOptions& options) {
+  using Scalar = typename State::Scalar;
+  using Tangent = typename State::Tangent;
+  const Tangent scale = (y0.magnitude() * Scalar(options.rtol)).array() + Scalar(options.atol);
+  auto norm = [&](const Tangent& v) {
+    double n = 0.0;
+    for (int i = 0; i < v.size(); ++i) n = std::max(n, std::abs(scalarValue(v[i] / scale[i])));
+    return n;
+  };
+  Tangent f0 = y0.zeroTangent(), f1 = y0.zeroTangent();
+  system.velocity(Scalar(t0), y0, &f0);
+  const double d0 = norm(y0.magnitude()), d1 = norm(f0);
+  const double h0 = d0 < 1e-5 || d1 < 1e-5 ? 1e-6 : 0.01 * d0 / d1;
+  system.velocity(Scalar(t0 + h0), y0.rplus(Scalar(h0) * f0), &f1);
+  const double d2 = norm(f1 - f0) / h0;
+  const double d = std::max(d1, d2);
+  const double h1 = d <= 1e-15 ? std::max(1e-6, 1e-3 * h0) : std::pow(0.01 / d, 1.0 / (order + 1.0));
+  const double h = std::min(100.0 * h0, h1);
+  return std::isfinite(h) && h > 0.0 ? h : 1e-6;
+}
+
 /// Advances y from t0 to t_end, calling observer(k, t_k, y(t_k)) at the
 /// output times t_k = t0 + k·dt_out (and t_end): y(t_k) is the dense output
 /// of the step that covers t_k (the step's end point itself when t_k falls on
@@ -63,7 +91,7 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
   typename RkmkStepper<State>::Stages K;
   Tangent increment = y.zeroTangent();
   double t = t0;
-  double h = std::min(dt_out, t_end - t0);
+  double h = std::min(startingStep(system, t0, y, stepper.order(), options), t_end - t0);
   long k_out = 1;
   while (k_out <= n_out) {
     const bool last = h >= t_end - t;

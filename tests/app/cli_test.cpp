@@ -4,6 +4,8 @@
 /// is, 17 significant digits) and the --stats JSON keys.
 #include <gtest/gtest.h>
 
+#include "tests/command_runner.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,31 +16,9 @@
 
 namespace {
 
-const std::string kLieflow = std::string(LIEFLOW_BINARY_DIR) + "/app/lieflow";
+using Outcome = lieflow::testing_support::CommandOutcome;
 
-struct Outcome {
-  int status;
-  std::string out;
-  std::string err;
-};
-
-/// Runs `lieflow ARGS`; output files are named after the running test, since
-/// ctest runs tests in parallel processes.
-Outcome run(const std::string& args) {
-  const std::string stem =
-      testing::TempDir() + "lieflow_cli_" + testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::string out_file = stem + "_out.txt";
-  const std::string err_file = stem + "_err.txt";
-  const std::string cmd = kLieflow + " " + args + " >" + out_file + " 2>" + err_file;
-  const int raw = std::system(cmd.c_str());
-  auto slurp = [](const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out_file), slurp(err_file)};
-}
+Outcome run(const std::string& args) { return lieflow::testing_support::runLieflow(args); }
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
