@@ -94,9 +94,8 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
   return v;
 }
 
-const std::set<std::string>& limitFlags() {
-  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--max-rows",
-                                              "--max-substeps"};
+const std::set<std::string>& runLimitFlags() {
+  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies"};
   return flags;
 }
 

@@ -49,8 +49,9 @@ double parsePositiveNumber(const std::string& what, const std::string& text);
 /// --max-steps, --max-input-mb, --max-bodies, --max-rows, --max-substeps,
 /// where `args` has them.
 ResourceLimits resourceLimitsFrom(const Arguments& args);
-/// The flags resourceLimitsFrom reads, to add to a command's value flags.
-const std::set<std::string>& limitFlags();
+/// The limit flags of the commands that run scenes (simulate, study,
+/// stability): --max-steps, --max-input-mb, --max-bodies.
+const std::set<std::string>& runLimitFlags();
 
 }  // namespace app
 }  // namespace lieflow

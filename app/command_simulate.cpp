@@ -72,7 +72,7 @@ int runSimulate(int argc, char** argv) {
   std::set<std::string> flags = {"--integrator", "--dt",          "--t-end",      "--out",
                                  "--every",      "--options",     "--noise-gyro", "--noise-angle",
                                  "--noise-quat", "--seed"};
-  flags.insert(limitFlags().begin(), limitFlags().end());
+  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
   const Arguments args(argc, argv, flags, {"--stats", "--quiet"});
   if (args.help()) {
     std::cout << kUsage;

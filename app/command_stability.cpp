@@ -5,30 +5,40 @@
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/output_files.hpp"
+#include "app/run_setup.hpp"
 #include "app/stability.hpp"
 
 namespace lieflow {
 namespace app {
 
 int runStabilityCommand(int argc, char** argv) {
-  const Arguments args(argc, argv, {"--integrators", "--out"}, {"--no-plots"});
+  std::set<std::string> flags = {"--integrators", "--out", "--options"};
+  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
+  const Arguments args(argc, argv, flags, {"--no-plots"});
   if (args.help()) {
-    std::cout << "usage: lieflow stability [SCENE...] [--integrators a,b,...] [--out DIR] [--no-plots]\n"
+    std::cout << "usage: lieflow stability [SCENE...] [--integrators a,b,...] [--options KEY=VALUE,...]\n"
+                 "                         [--out DIR] [--no-plots] [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
                  "\n"
                  "For each integrator and scene (default: stiff-spring and fast-top), the\n"
                  "largest h*omega_c for which a run of 40 periods stays bounded (no blow-up,\n"
                  "no failed solve, energy within (0, 2 E0)), omega_c being the scene's\n"
                  "spin rate or spring frequency sqrt(k/I_min). Scans h*omega_c from 0.01 to\n"
                  "100 and refines by bisection. Writes DIR/stability.csv and DIR/stability.png\n"
-                 "(default DIR: stability).\n";
+                 "(default DIR: stability; created and checked writable first). --options applies\n"
+                 "each KEY to the integrators that take it (e.g. rho_inf=0.8 for genalpha); the\n"
+                 "table and CSV give the options in force for every integrator.\n";
     return kSuccess;
   }
   std::vector<std::string> scenes = args.positional();
   if (scenes.empty()) scenes = {"stiff-spring", "fast-top"};
   StabilityOptions options;
   options.integrators = args.list("--integrators");
+  options.integrator_options = parseOptionList(args.list("--options"));
+  options.max_steps = resourceLimitsFrom(args).max_steps;
   options.progress = &std::cerr;
   const std::string dir = args.value("--out", "stability");
+  prepareOutputDirectory(dir);
   std::vector<StabilityRow> rows;
   for (const std::string& scene : scenes) {
     const Simulation sim(loadScene(scene));

@@ -1,9 +1,11 @@
 #include "app/run_setup.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "app/cli.hpp"
+#include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -49,6 +51,42 @@ nlohmann::ordered_json statsJson(const SimulationResult& r) {
   j["failure"] = r.failure;
   if (r.rejected_steps > 0) j["rejected_steps"] = r.rejected_steps;
   return j;
+}
+
+void applyIntegratorOptions(const SceneDescription& scene, const std::map<std::string, double>& command_line,
+                            SimulationOptions* o) {
+  if (scene.has_integrator && scene.integrator.name == o->integrator) o->integrator_options = scene.integrator.options;
+  const IntegratorInfo* info = findIntegrator(o->integrator);
+  for (const auto& kv : command_line)
+    if (info && info->option(kv.first)) {
+      o->integrator_options[kv.first] = kv.second;
+      o->command_line_options.insert(kv.first);
+    }
+}
+
+void checkOptionKeysUsed(const std::map<std::string, double>& command_line,
+                         const std::vector<std::string>& integrators) {
+  for (const auto& kv : command_line) {
+    bool used = false;
+    for (const std::string& name : integrators) {
+      const IntegratorInfo* info = findIntegrator(name);
+      used = used || (info && info->option(kv.first));
+    }
+    if (!used) throw UsageError("--options: no integrator of this run takes '" + kv.first + "' (see lieflow integrators)");
+  }
+}
+
+std::string describeOptions(const SimulationOptions& o) {
+  const IntegratorInfo* info = findIntegrator(o.integrator);
+  std::string text;
+  if (!info) return text;
+  for (const IntegratorOption& opt : info->options) {
+    const auto it = o.integrator_options.find(opt.name);
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", it == o.integrator_options.end() ? opt.default_value : it->second);
+    text += (text.empty() ? "" : ", ") + opt.name + "=" + value;
+  }
+  return text;
 }
 
 SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args) {

@@ -26,5 +26,20 @@ nlohmann::ordered_json statsJson(const SimulationResult& result);
 /// Parses "k=v,k=v" into a map; UsageError naming --options if malformed.
 std::map<std::string, double> parseOptionList(const std::vector<std::string>& items);
 
+/// The options of one integrator in a study or stability scan: the scene's
+/// own (when it is the scene's integrator), then those of `command_line`
+/// that this integrator accepts (recorded in command_line_options).
+void applyIntegratorOptions(const SceneDescription& scene, const std::map<std::string, double>& command_line,
+                            SimulationOptions* options);
+
+/// Every --options key must be accepted by at least one of `integrators`
+/// (UsageError naming the key otherwise).
+void checkOptionKeysUsed(const std::map<std::string, double>& command_line,
+                         const std::vector<std::string>& integrators);
+
+/// "rho_inf=1, tolerance=1e-12, max_iterations=20": every option of the
+/// integrator with the value in force (defaults filled in); "" if it has none.
+std::string describeOptions(const SimulationOptions& options);
+
 }  // namespace app
 }  // namespace lieflow

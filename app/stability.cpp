@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "app/plotting.hpp"
+#include "app/run_setup.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -23,15 +24,22 @@ struct Probe {
   std::string why;
 };
 
+/// The run settings of `integrator` (its options in force) at step h.
+SimulationOptions probeRun(const Simulation& sim, const std::string& integrator, double h,
+                           const StabilityOptions& o) {
+  SimulationOptions run;
+  run.integrator = integrator;
+  run.dt = h;
+  run.max_steps = o.max_steps;
+  applyIntegratorOptions(sim.scene(), o.integrator_options, &run);
+  return run;
+}
+
 Probe probe(const Simulation& sim, const std::string& integrator, double omega_c, double h_omega,
             const StabilityOptions& o) {
   constexpr double kTwoPi = 6.283185307179586;
-  SimulationOptions run;
-  run.integrator = integrator;
-  run.dt = h_omega / omega_c;
+  SimulationOptions run = probeRun(sim, integrator, h_omega / omega_c, o);
   run.t_end = std::max(o.periods * kTwoPi / omega_c, static_cast<double>(o.min_steps) * run.dt);
-  if (sim.scene().has_integrator && sim.scene().integrator.name == integrator)
-    run.integrator_options = sim.scene().integrator.options;
   const SimulationResult r = sim.run(run);
   Probe p;
   if (r.failed) {
@@ -93,15 +101,19 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
     for (const IntegratorInfo& info : integratorRegistry())
       if (info.name != "exact" && !info.is_adaptive && sim.supports(info.name, nullptr))
         integrators.push_back(info.name);
-  std::vector<StabilityRow> rows;
   for (const std::string& name : integrators) {
     std::string why;
     if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+  }
+  checkOptionKeysUsed(o.integrator_options, integrators);
+  std::vector<StabilityRow> rows;
+  for (const std::string& name : integrators) {
     if (o.progress) *o.progress << "stability: " << sim.scene().name << " " << name << "\n";
     StabilityRow row;
     row.scene = sim.scene().name;
     row.integrator = name;
     row.omega_c = omega_c;
+    row.options = describeOptions(probeRun(sim, name, 1.0, o));
     const double ratio = std::pow(o.h_omega_max / o.h_omega_min, 1.0 / (o.grid_points - 1));
     double stable = 0.0, unstable = 0.0;
     for (int i = 0; i < o.grid_points; ++i) {
@@ -139,22 +151,23 @@ void writeStabilityCsv(const std::vector<StabilityRow>& rows, const std::string&
                                           : std::filesystem::path(path).parent_path());
   std::ofstream f(path);
   if (!f) throw InvalidInput(path, "cannot open for writing");
-  f << "scene,integrator,omega_c,h_omega_max,bounded_on_whole_grid,first_failure\n";
+  f << "scene,integrator,omega_c,h_omega_max,bounded_on_whole_grid,first_failure,options\n";
   for (const StabilityRow& r : rows) {
     std::string why = r.first_failure;
     std::replace(why.begin(), why.end(), '"', '\'');
     f << r.scene << "," << r.integrator << "," << r.omega_c << "," << r.h_omega_max << ","
-      << (r.unbounded_grid ? "true" : "false") << ",\"" << why << "\"\n";
+      << (r.unbounded_grid ? "true" : "false") << ",\"" << why << "\",\"" << r.options << "\"\n";
   }
 }
 
 void printStabilityTable(std::ostream& out, const std::vector<StabilityRow>& rows) {
-  out << "| scene | integrator | omega_c [rad/s] | largest bounded h*omega_c | first unbounded run |\n";
-  out << "|---|---|---|---|---|\n";
+  out << "| scene | integrator | options | omega_c [rad/s] | largest bounded h*omega_c | first unbounded run |\n";
+  out << "|---|---|---|---|---|---|\n";
   for (const StabilityRow& r : rows) {
     char h[32];
     std::snprintf(h, sizeof h, "%.3g", r.h_omega_max);
-    out << "| " << r.scene << " | " << r.integrator << " | " << r.omega_c << " | "
+    out << "| " << r.scene << " | " << r.integrator << " | " << (r.options.empty() ? "-" : r.options) << " | "
+        << r.omega_c << " | "
         << (r.unbounded_grid ? std::string(">= ") + h : (r.h_omega_max > 0 ? h : "< grid start")) << " | "
         << (r.unbounded_grid ? "bounded on the whole grid" : r.first_failure) << " |\n";
   }

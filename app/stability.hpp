@@ -7,6 +7,7 @@
 /// spring frequency √(k/I_min), whichever is larger.
 #pragma once
 
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ struct StabilityOptions {
   long min_steps = 200;
   /// "Bounded": relative energy error stays below this.
   double energy_bound = 1.0;
+  /// Integrator options from --options (each to the integrators that take it).
+  std::map<std::string, double> integrator_options;
+  long max_steps = kMaxSteps;
   std::ostream* progress = nullptr;
 };
 
@@ -41,6 +45,8 @@ struct StabilityRow {
   bool unbounded_grid = false;
   /// What the first unbounded run did (blow-up, solver failure, energy).
   std::string first_failure;
+  /// The integrator options in force ("rho_inf=0.5, tolerance=1e-12, ...").
+  std::string options;
 };
 
 /// ω_c of a scene (see the file comment).

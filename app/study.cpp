@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/plotting.hpp"
+#include "app/run_setup.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -34,8 +35,9 @@ double omegaError(const std::vector<double>& a, const std::vector<double>& ref) 
 }
 
 std::vector<double> referenceRow(const Simulation& sim, double t_end, const std::string& integrator,
-                                 double rtol, double atol, double dt) {
+                                 double rtol, double atol, double dt, long max_steps) {
   SimulationOptions o;
+  o.max_steps = max_steps;
   o.integrator = integrator;
   o.dt = dt;
   o.t_end = t_end;
@@ -78,7 +80,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   std::string why;
   const bool exact_reference = sim.supports("exact", &why);
   if (exact_reference) {
-    ref = referenceRow(sim, t_end, "exact", 0, 0, t_end);
+    ref = referenceRow(sim, t_end, "exact", 0, 0, t_end, options.max_steps);
     result.reference = "exact flow (Jacobi elliptic functions)";
     result.reference_error = 0.0;
   } else if (!sim.supports("rkmk45", nullptr)) {
@@ -87,8 +89,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     // at twice that step (order 4: e(h) ≈ |y_h − y_2h| / 15).
     const double h_ref = dts.back() / 32.0;
     if (options.progress) *options.progress << "study: computing the reference (projected rkmk4, h " << h_ref << ")\n";
-    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref);
-    const std::vector<double> check = referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref);
+    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps);
+    const std::vector<double> check = referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps);
     result.reference_error = orientationErrorBetweenRows(ref, check) / 15.0;
     std::ostringstream s;
     s << "projected rkmk4 at h = " << number(h_ref) << "; its orientation error is estimated at "
@@ -96,8 +98,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     result.reference = s.str();
   } else {
     if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
-    ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end);
-    const std::vector<double> check = referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end);
+    ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end, options.max_steps);
+    const std::vector<double> check = referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps);
     result.reference_error = orientationErrorBetweenRows(ref, check) * (kReferenceRtol / kCheckRtol);
     std::ostringstream s;
     s << "converged rkmk45 run (Dormand-Prince 5(4) on the group, rtol " << kReferenceRtol
@@ -112,6 +114,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       if (info.name != "exact" && sim.supports(info.name, nullptr)) integrators.push_back(info.name);
   for (const std::string& name : integrators)
     if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+  checkOptionKeysUsed(options.integrator_options, integrators);
+  result.invariant_names = sim.invariantNames();
 
   const std::vector<std::string> columns = sim.columns();
   const auto column = [&](const std::string& c) {
@@ -134,18 +138,23 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       o.integrator = name;
       o.dt = dt;
       o.t_end = t_end;
-      if (sim.scene().has_integrator && sim.scene().integrator.name == name)
-        o.integrator_options = sim.scene().integrator.options;
+      o.max_steps = options.max_steps;
+      applyIntegratorOptions(sim.scene(), options.integrator_options, &o);
 
       // Diagnostics run: drift figures, failure, Newton iterations; drift
       // curves for the chosen step.
       StudyRow row;
       row.integrator = name;
       row.dt = dt;
+      row.options = describeOptions(o);
       const long steps = stepCount(0.0, t_end, dt);
       const bool record_drift = dt == drift_dt;
       o.every = static_cast<int>(std::max(1L, steps / kDriftSamples));
       std::vector<double> first;
+      if (record_drift)
+        o.invariant_sink = [&](double, const std::vector<double>& errors) {
+          result.drift.back().invariant_errors = errors;
+        };
       const SimulationResult diag = sim.run(o, [&](const std::vector<double>& r) {
         if (!record_drift) return;
         if (first.empty()) first = r;
@@ -164,6 +173,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       row.energy_drift = diag.energy_drift;
       row.momentum_conserved = diag.momentum_conserved;
       row.momentum_drift = diag.momentum_drift;
+      for (const auto& inv : diag.invariants) row.invariant_drifts.push_back(inv.second);
       row.implicit = diag.implicit;
       row.newton_iterations_mean = diag.newton_iterations_mean;
       row.failed = diag.failed;
@@ -180,6 +190,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
 
       // Timing runs: diagnostics off, repeated; the median is reported.
       o.diagnostics = false;
+      o.invariant_sink = nullptr;
       std::vector<double> times;
       double spent = 0.0;
       while (static_cast<int>(times.size()) < options.max_repeats &&
@@ -189,6 +200,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
         spent += timed.wall_seconds;
       }
       std::sort(times.begin(), times.end());
+      if (spent < options.min_timing_seconds) ++result.capped_timings;
       row.repeats = static_cast<int>(times.size());
       row.wall_seconds = times[times.size() / 2];
       row.ns_per_step = row.steps > 0 ? 1e9 * row.wall_seconds / static_cast<double>(row.steps) : 0.0;
@@ -204,25 +216,38 @@ void writeStudyFiles(const StudyResult& result, const std::string& dir) {
   std::ofstream study(study_path);
   if (!study) throw InvalidInput(study_path, "cannot open for writing");
   study << "scene,integrator,dt,steps,repeats,wall_seconds,ns_per_step,orientation_error,omega_error,"
-           "energy_drift,momentum_drift,newton_iterations_mean,failed,failure,reference\n";
+           "energy_drift,momentum_drift,newton_iterations_mean,failed,failure,reference,reference_error,options";
+  for (const std::string& name : result.invariant_names) study << "," << name << "_drift";
+  study << "\n";
+  // A failed row has no error, time or drift: empty cells, never NaN.
+  const auto cell = [](bool valid, double v) { return valid && std::isfinite(v) ? csvNumber(v) : std::string(); };
   for (const StudyRow& r : result.rows) {
     std::string failure = r.failure;
     std::replace(failure.begin(), failure.end(), '"', '\'');
+    const bool ok = !r.failed;
     study << result.scene << "," << r.integrator << "," << csvNumber(r.dt) << "," << r.steps << ","
-          << r.repeats << "," << csvNumber(r.wall_seconds) << "," << csvNumber(r.ns_per_step) << ","
-          << csvNumber(r.orientation_error) << "," << csvNumber(r.omega_error) << ","
-          << csvNumber(r.energy_drift) << "," << (r.momentum_conserved ? csvNumber(r.momentum_drift) : "")
-          << "," << (r.implicit ? csvNumber(r.newton_iterations_mean) : "") << ","
-          << (r.failed ? "true" : "false") << ",\"" << failure << "\",\"" << result.reference << "\"\n";
+          << r.repeats << "," << cell(ok, r.wall_seconds) << "," << cell(ok, r.ns_per_step) << ","
+          << cell(ok, r.orientation_error) << "," << cell(ok, r.omega_error) << ","
+          << cell(ok, r.energy_drift) << "," << cell(ok && r.momentum_conserved, r.momentum_drift) << ","
+          << cell(r.implicit, r.newton_iterations_mean) << "," << (r.failed ? "true" : "false") << ",\"" << failure
+          << "\",\"" << result.reference << "\"," << csvNumber(result.reference_error) << ",\"" << r.options << "\"";
+    for (std::size_t i = 0; i < result.invariant_names.size(); ++i)
+      study << "," << cell(ok && i < r.invariant_drifts.size(), i < r.invariant_drifts.size() ? r.invariant_drifts[i] : 0.0);
+    study << "\n";
   }
   const std::string drift_path = dir + "/drift.csv";
   std::ofstream drift(drift_path);
   if (!drift) throw InvalidInput(drift_path, "cannot open for writing");
-  drift << "integrator,dt,t,energy_error,momentum_error\n";
-  for (const DriftSample& s : result.drift)
-    drift << s.integrator << "," << csvNumber(s.dt) << "," << csvNumber(s.t) << ","
-          << csvNumber(s.energy_error) << ","
-          << (result.momentum_conserved ? csvNumber(s.momentum_error) : "") << "\n";
+  drift << "integrator,dt,t,energy_error,momentum_error";
+  for (const std::string& name : result.invariant_names) drift << "," << name << "_error";
+  drift << "\n";
+  for (const DriftSample& s : result.drift) {
+    drift << s.integrator << "," << csvNumber(s.dt) << "," << csvNumber(s.t) << "," << csvNumber(s.energy_error) << ","
+          << (result.momentum_conserved ? csvNumber(s.momentum_error) : "");
+    for (std::size_t i = 0; i < result.invariant_names.size(); ++i)
+      drift << "," << (i < s.invariant_errors.size() ? csvNumber(s.invariant_errors[i]) : "");
+    drift << "\n";
+  }
 }
 
 bool plotStudy(const std::string& dir, std::string* why) {
@@ -236,12 +261,12 @@ void printStudyTable(std::ostream& out, const StudyResult& result) {
          "energy drift | momentum drift | Newton its |\n";
   out << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyRow& r : result.rows) {
-    out << "| " << r.integrator << " | " << number(r.dt) << " | " << r.steps << " | "
-        << number(1e3 * r.wall_seconds) << " | " << number(r.ns_per_step) << " | ";
+    out << "| " << r.integrator << " | " << number(r.dt) << " | " << r.steps << " | ";
     if (r.failed) {
-      out << "failed: " << r.failure << " | | | | |\n";
+      out << "failed | failed | failed: " << r.failure << " | | | | |\n";
       continue;
     }
+    out << number(1e3 * r.wall_seconds) << " | " << number(r.ns_per_step) << " | ";
     out << number(r.orientation_error) << " | " << number(r.omega_error) << " | "
         << number(r.energy_drift) << " | " << (r.momentum_conserved ? number(r.momentum_drift) : "n/a")
         << " | " << (r.implicit ? number(r.newton_iterations_mean) : "-") << " |\n";

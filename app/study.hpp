@@ -6,6 +6,7 @@
 /// momentum drift over time; written as CSV and drawn with matplotlib.
 #pragma once
 
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -27,6 +28,10 @@ struct StudyOptions {
   int min_repeats = 3;
   int max_repeats = 50;
   bool plots = true;
+  /// Integrator options from --options: each applies to the integrators that
+  /// accept it (over the scene's own options for its integrator).
+  std::map<std::string, double> integrator_options;
+  long max_steps = kMaxSteps;
   /// Where progress goes (nullptr: silent).
   std::ostream* progress = nullptr;
 };
@@ -43,6 +48,10 @@ struct StudyRow {
   double energy_drift = 0.0;
   bool momentum_conserved = false;
   double momentum_drift = 0.0;
+  /// Maximal relative drift of each invariant (StudyResult::invariant_names).
+  std::vector<double> invariant_drifts;
+  /// The integrator options in force ("rho_inf=1, tolerance=1e-12, ...").
+  std::string options;
   bool implicit = false;
   double newton_iterations_mean = 0.0;
   bool failed = false;
@@ -55,6 +64,7 @@ struct DriftSample {
   double t = 0.0;
   double energy_error = 0.0;    ///< (E − E₀)/|E₀|
   double momentum_error = 0.0;  ///< ‖L − L₀‖/‖L₀‖ (when conserved)
+  std::vector<double> invariant_errors;  ///< relative, StudyResult::invariant_names order
 };
 
 struct StudyResult {
@@ -67,6 +77,10 @@ struct StudyResult {
   std::vector<StudyRow> rows;
   std::vector<DriftSample> drift;
   bool momentum_conserved = false;
+  /// The scene's conserved quantities (joints/invariants.hpp).
+  std::vector<std::string> invariant_names;
+  /// Runs whose timing hit max_repeats before min_timing_seconds were spent.
+  int capped_timings = 0;
 };
 
 /// Runs the study (throws InvalidInput for unknown integrators or steps).

@@ -94,7 +94,9 @@
 /// between steps.
 ///
 /// ## The System concept
-/// A System plugs in through ConstrainedSystemTraits<System>::Assembly, a
+/// The System itself supplies `double achievablePositionTolerance(const State&,
+/// double tolerance) const` (the tolerance raised to the round-off floor of
+/// the state's positions). A System plugs in through ConstrainedSystemTraits<System>::Assembly, a
 /// default-constructible class specialized next to the system (for
 /// multibody::MultibodySystem: joints/multibody/kkt_assembly.hpp) with
 ///   using State;                    // State::Scalar is double
@@ -259,6 +261,8 @@ class ConstrainedGeneralizedAlphaStepper {
         return y;
       }
     }
+    // The constraint tolerance that round-off allows at this state's extent.
+    constraint_tolerance_ = system.achievablePositionTolerance(y, options_.constraint_tolerance);
     const int n = assembly_.dofs();
     const int mp = assembly_.positionRows();
     const int m = mp + assembly_.velocityRows();
@@ -366,7 +370,7 @@ class ConstrainedGeneralizedAlphaStepper {
       std::ostringstream s;
       s << "after " << iterations << " Newton iterations (h = " << h << "): force residual " << force
         << " (bound " << force_bound << "), max |Phi| = " << position << ", h max |B u - b| = " << velocity
-        << " (constraint tolerance " << options_.constraint_tolerance << ")";
+        << " (constraint tolerance " << constraint_tolerance_ << ")";
       if (singular) s << "; SparseLU: " << lu_->lastErrorMessage();
       last_report_.detail = s.str();
     }
@@ -398,10 +402,14 @@ class ConstrainedGeneralizedAlphaStepper {
     out.merit = std::sqrt(merit2);
     out.finite = std::isfinite(out.force) && std::isfinite(out.position) && std::isfinite(out.velocity) &&
                  std::isfinite(out.merit) && std::isfinite(scale);
-    out.small = out.finite && out.force <= out.bound && out.position <= options_.constraint_tolerance &&
-                out.velocity <= options_.constraint_tolerance;
+    out.small = out.finite && out.force <= out.bound && out.position <= constraint_tolerance_ &&
+                out.velocity <= constraint_tolerance_;
     return out;
   }
+
+  /// options_.constraint_tolerance, raised to the round-off floor of the
+  /// current step's positions (MultibodySystem::achievablePositionTolerance).
+  double constraint_tolerance_ = 0.0;
 
   static void checkTolerance(double v, const char* name) {
     if (!(v >= 0.0 && std::isfinite(v))) throw InvalidInput(name, "must be finite and non-negative");

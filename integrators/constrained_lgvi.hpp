@@ -257,12 +257,12 @@ class ConstrainedLgviStepper {
         const double err = rows_ > 0 ? residual_.lpNorm<Eigen::Infinity>() : 0.0;
         rep->residual = err;
         rep->newton_iterations = it;
-        if (err <= opt_.tolerance) return true;
+        if (err <= sys_.achievablePositionTolerance(y1_, opt_.tolerance)) return true;
         const bool stalled = it >= 2 && !(err < previous);
         if (!std::isfinite(err) || stalled || it == opt_.max_iterations) {
           rep->fail("constrained LGVI: the constraint iteration did not converge", err);
           std::ostringstream s;
-          s << "max |Phi| = " << err << " (tolerance " << opt_.tolerance << ") after " << it
+          s << "max |Phi| = " << err << " (tolerance " << sys_.achievablePositionTolerance(y1_, opt_.tolerance) << ") after " << it
             << " quasi-Newton corrections; ";
           if (it == opt_.max_iterations && !stalled)
             s << "max_iterations reached";

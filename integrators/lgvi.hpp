@@ -62,6 +62,7 @@
 
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <limits>
 #include <type_traits>
 
@@ -310,6 +311,7 @@ struct LgviSolution {
   Vector3<T> vec;
   int iterations = 0;     ///< Newton corrections
   double residual = 0.0;  ///< ‖G(f)‖ at the last iterate
+  double threshold = 0.0; ///< the stopping test ‖G‖ ≤ threshold that was applied
   bool converged = false;
 };
 
@@ -349,6 +351,7 @@ LgviSolution<T> solveLgviNewton(Equation* equation, const Matrix3<T>& J_inv, con
   }
   out.iterations = iterations;
   out.residual = residual;
+  out.threshold = threshold;
   out.converged = converged;
   equation->increment(f, &out.w_minus_one, &out.vec);
   return out;
@@ -408,7 +411,20 @@ class LgviStepper {
     if (report) {
       report->newton_iterations = solution.iterations;
       report->residual = solution.residual;
-      if (!solution.converged) report->fail("LGVI Newton did not converge", solution.residual);
+      if (!solution.converged) {
+        report->fail("LGVI Newton did not converge", solution.residual);
+        // The residual against the test that was applied (relative to
+        // ‖hΠ‖), and the step's rotation angle, which says why.
+        std::ostringstream why;
+        why << "|G| = " << solution.residual << " above the tolerance " << options_.tolerance << " x |h Pi| = "
+            << solution.threshold << " after " << solution.iterations << " Newton iterations; h|omega| = "
+            << scalarValue((J_inv * rhs).norm())
+            << (options_.map == LgviMap::kExponential
+                    ? " (the exponential-map equation has no solution for h|omega| >= 1 about a principal axis: "
+                      "use a smaller step or --options cayley=1)"
+                    : "");
+        report->detail = why.str();
+      }
     }
     const T& dw = solution.w_minus_one;
     const Vector3<T>& dv = solution.vec;

@@ -585,10 +585,18 @@ bool MultibodySystem::projectVelocities(double t, State* y, std::string* why) co
   return true;
 }
 
-bool MultibodySystem::projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
-                                       std::string* why) const {
+double MultibodySystem::achievablePositionTolerance(const State& y, double tolerance) const {
+  double extent = 1.0;
+  for (int i = 0; i < bodyCount(); ++i)
+    if (!rotationOnly(i)) extent = std::max(extent, y.bodies.poses[i].p.lpNorm<Eigen::Infinity>());
+  return std::max(tolerance, kPositionRoundoffUlps * std::numeric_limits<double>::epsilon() * extent);
+}
+
+bool MultibodySystem::projectPositions(double t, State* y, double requested_tolerance, int max_iterations,
+                                       int* iterations, std::string* why) const {
   if (iterations) *iterations = 0;
   if (pos_groups_.empty()) return true;
+  const double tolerance = achievablePositionTolerance(*y, requested_tolerance);
   Eigen::VectorXd phi;
   positionResidual(t, *y, &phi);
   if (phi.lpNorm<Eigen::Infinity>() <= tolerance) return true;
