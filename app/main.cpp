@@ -26,8 +26,12 @@ constexpr const char* kUsage =
     "  scenes           list the built-in scenes\n"
     "  liegroup         precision and speed tables of the SO(3)/SE(3) library\n"
     "  calibrate hinge|universal RECORDING.csv  fit joint axes to a recording (needs Ceres)\n"
+    "  calibrate spring RECORDING.csv --scene SCENE  fit a joint's stiffness, damping\n"
+    "                   and rest angle to its recorded angle (needs Ceres)\n"
     "\n"
-    "exit status: 0 success, 1 computation failed, 2 bad input or usage\n";
+    "exit status: 0 success, 1 computation failed, 2 bad input or usage\n"
+    "limits: --max-steps, --max-input-mb, --max-bodies (simulate, study, stability) and\n"
+    "--max-rows, --max-substeps (calibrate) raise the resource limits; errors name them\n";
 
 int dispatch(int argc, char** argv) {
   using namespace lieflow::app;
