@@ -69,6 +69,11 @@ double startingStep(const System& system, double t0, const State& y0, int order,
   return std::isfinite(h) && h > 0.0 ? h : 1e-6;
 }
 
+/// A run whose pace projects it beyond this many times its step limit stops
+/// early (the step size of an adaptive run can grow again, so a projection
+/// just above the limit is not yet a reason).
+constexpr double kProjectionMargin = 100.0;
+
 /// Advances y from t0 to t_end, calling observer(k, t_k, y(t_k)) at the
 /// output times t_k = t0 + k·dt_out (and t_end): y(t_k) is the dense output
 /// of the step that covers t_k (the step's end point itself when t_k falls on
@@ -129,7 +134,23 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
       h = h_try * factor;
     }
     const long attempted = summary.steps + summary.rejected_steps;
-    if (options.heartbeat && attempted % options.heartbeat_steps == 0) options.heartbeat(t, attempted);
+    if (attempted % options.heartbeat_steps == 0) {
+      if (options.heartbeat) options.heartbeat(t, attempted);
+      // At the pace so far, the whole run would need `projected` steps: far
+      // beyond the limit, stop now rather than after hours.
+      const double projected = static_cast<double>(attempted) * (t_end - t0) / std::max(t - t0, 1e-300);
+      if (projected > kProjectionMargin * static_cast<double>(options.max_steps)) {
+        std::ostringstream why;
+        why << "stopped after " << attempted << " adaptive steps at t = " << t << " of " << t_end
+            << ": at this pace (h = " << h << ") the run would need about " << projected
+            << " steps, far above the step limit of " << options.max_steps << " (the tolerances rtol = "
+            << options.rtol << ", atol = " << options.atol << " need that small a step: fast or stiff motion)";
+        summary.failed = true;
+        summary.step_limit_reached = true;
+        summary.failure = why.str();
+        return summary;
+      }
+    }
     if (k_out > n_out) break;
     if (h < h_floor) {
       std::ostringstream why;

@@ -178,3 +178,22 @@ TEST(RunLimits, ConstraintsHoldFarFromTheOrigin) {
 
 }  // namespace
 }  // namespace lieflow
+
+namespace lieflow {
+namespace {
+
+/// rkmk45 on a body spinning at 1e12 rad/s: the error estimate asks for steps
+/// of 1e-13 s, 1e13 of them for one second. It used to run on without end
+/// or output; it now stops once its pace projects it far past the step limit.
+TEST(RunLimits, AdaptiveRunThatCannotFinishStopsEarlyAndSaysWhy) {
+  const std::string scene = testing_support::testFile(".json");
+  std::ofstream(scene) << R"({"name": "fast", "bodies": [{"name": "b", "mass": 1, "inertia": [1, 2, 3],
+    "angular_velocity": [1e12, 1, 0]}], "t_end": 1})";
+  const auto o = testing_support::runLieflow("simulate " + scene + " --integrator rkmk45 --dt 0.1 --stats");
+  EXPECT_EQ(o.status, 1) << o.out << o.err;
+  EXPECT_TRUE(contains(o.err, "step limit")) << o.err;
+  EXPECT_TRUE(contains(o.err, "--max-steps")) << o.err;
+}
+
+}  // namespace
+}  // namespace lieflow
