@@ -9,6 +9,17 @@
 
 namespace lieflow {
 namespace app {
+namespace {
+
+/// `text` as one single-quoted shell word ('it'\''s'): a directory named
+/// by the user cannot break out of the command.
+std::string shellQuoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
 
 bool runPlotScript(const std::string& script_name, const std::string& dir, std::string* why) {
   const char* env_dir = std::getenv("LIEFLOW_SCRIPTS_DIR");
@@ -24,7 +35,7 @@ bool runPlotScript(const std::string& script_name, const std::string& dir, std::
     *why = "matplotlib is not installed (apt-get install python3-matplotlib)";
     return false;
   }
-  const std::string command = python + " '" + script + "' '" + dir + "'";
+  const std::string command = python + " " + shellQuoted(script) + " " + shellQuoted(dir);
   if (std::system(command.c_str()) != 0) {
     *why = "the plot script failed: " + command;
     return false;
