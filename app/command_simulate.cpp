@@ -81,7 +81,7 @@ int runSimulate(int argc, char** argv) {
   if (args.positional().size() != 1)
     throw UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
   const ResourceLimits limits = resourceLimitsFrom(args);
-  const Simulation simulation(loadScene(args.positional()[0]));  // limits: see below
+  const Simulation simulation(loadScene(args.positional()[0], limits));
   SimulationOptions options = simulationOptionsFrom(simulation.scene(), args);
   options.every = args.positiveInt("--every", 1);
   const NoiseOptions noise = noiseFrom(args, simulation.columns());

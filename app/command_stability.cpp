@@ -41,7 +41,7 @@ int runStabilityCommand(int argc, char** argv) {
   prepareOutputDirectory(dir);
   std::vector<StabilityRow> rows;
   for (const std::string& scene : scenes) {
-    const Simulation sim(loadScene(scene));
+    const Simulation sim(loadScene(scene, resourceLimitsFrom(args)));
     const std::vector<StabilityRow> r = runStability(sim, options);
     rows.insert(rows.end(), r.begin(), r.end());
   }

@@ -64,7 +64,7 @@ int runStudy(int argc, char** argv) {
   }
   if (args.positional().size() != 1) throw UsageError("study needs exactly one SCENE (see lieflow study --help)");
   const ResourceLimits limits = resourceLimitsFrom(args);
-  const Simulation sim(loadScene(args.positional()[0]));
+  const Simulation sim(loadScene(args.positional()[0], limits));
   StudyOptions options;
   options.max_steps = limits.max_steps;
   options.integrator_options = parseOptionList(args.list("--options"));

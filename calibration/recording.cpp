@@ -102,6 +102,8 @@ Recording parseRecording(std::istream& in, const std::string& source) {
   std::string line;
   if (!std::getline(in, line)) throw InvalidInput(source, "empty file (expected a header row starting with t)");
   if (!line.empty() && line.back() == '\r') line.pop_back();
+  // One leading UTF-8 byte-order mark is skipped, as by the scene reader.
+  if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
   const std::vector<std::string> header = splitCells(line);
 
   // Header: `t`, body columns grouped by prefix, everything else ignored.

@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "joints/multibody/time_function.hpp"
+#include "joints/resource_limits.hpp"
 
 namespace lieflow {
 
@@ -120,14 +121,19 @@ struct SceneDescription {
   std::unordered_map<std::string, int> bodyIndices() const;
 };
 
-/// Parses and validates a scene from JSON text. Throws InvalidInput whose
+/// Parses and validates a scene from JSON text (one leading UTF-8 byte-order
+/// mark is skipped, as by the recording reader). Throws InvalidInput whose
 /// field is "SOURCE: FIELD" (e.g. "top.json: bodies[0].inertia") and whose
-/// reason says what is wrong.
-SceneDescription parseScene(const std::string& json_text, const std::string& source);
+/// reason says what is wrong; a key given twice in one object and more bodies
+/// than `max_bodies` are errors too.
+SceneDescription parseScene(const std::string& json_text, const std::string& source,
+                            long max_bodies = kMaxBodies);
 
 /// Reads SCENE: a JSON file if such a file exists, else a built-in scene of
 /// that name. Throws InvalidInput naming the file (or name) and the reason.
-SceneDescription loadScene(const std::string& file_or_name);
+/// Reads at most limits.max_input_bytes (an endless stream such as /dev/zero
+/// is refused once past it) and accepts at most limits.max_bodies bodies.
+SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits = ResourceLimits());
 
 /// The built-in scenes: name, one-line description and JSON text.
 struct BuiltinScene {
@@ -137,8 +143,9 @@ struct BuiltinScene {
 };
 const std::vector<BuiltinScene>& builtinScenes();
 
-/// Scenes generated from their name (`chain-N`, 1 ≤ N ≤ 100000): writes the
-/// JSON text and returns true, or returns false for other names.
+/// Scenes generated from their name (`chain-N`, N ≥ 1; loadScene holds N to
+/// the body limit): writes the JSON text and returns true, or returns false
+/// for other names.
 bool generatedScene(const std::string& name, std::string* json);
 
 }  // namespace lieflow

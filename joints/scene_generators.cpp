@@ -43,10 +43,10 @@ bool generatedScene(const std::string& name, std::string* json) {
   const std::string prefix = "chain-";
   if (name.compare(0, prefix.size(), prefix) != 0) return false;
   const std::string digits = name.substr(prefix.size());
-  if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos)
+  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
     return false;
   const long n = std::stol(digits);
-  if (n < 1 || n > 100000) return false;
+  if (n < 1) return false;
   *json = chainJson(n);
   return true;
 }

@@ -3,10 +3,12 @@
 /// finiteness and physical sense, unknown fields are errors, and every error
 /// names the file, the field and the reason.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
@@ -365,13 +367,76 @@ std::unordered_map<std::string, int> SceneDescription::bodyIndices() const {
   return index;
 }
 
-SceneDescription parseScene(const std::string& json_text, const std::string& source) {
+namespace {
+
+/// The first key given twice in one JSON object (nlohmann::json would keep
+/// the last silently), found with the parser's callback: a stack of the open
+/// objects' keys and the open arrays' element counts gives the path.
+class DuplicateKeyFinder {
+ public:
+  bool operator()(int, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    const bool element = event == E::value || event == E::object_start || event == E::array_start;
+    if (element && !frames_.empty() && frames_.back().array) ++frames_.back().index;
+    switch (event) {
+      case E::object_start: frames_.push_back(Frame{false, -1, {}, {}}); break;
+      case E::array_start: frames_.push_back(Frame{true, -1, {}, {}}); break;
+      case E::object_end:
+      case E::array_end:
+        if (!frames_.empty()) frames_.pop_back();
+        break;
+      case E::key: {
+        Frame& f = frames_.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second && duplicate_.empty()) duplicate_ = path() + f.key;
+        break;
+      }
+      case E::value: break;
+    }
+    return true;
+  }
+  /// "bodies[0].mass", or "" when no key was repeated.
+  const std::string& duplicate() const { return duplicate_; }
+
+ private:
+  struct Frame {
+    bool array;
+    long index;
+    std::string key;
+    std::set<std::string> keys;
+  };
+  /// The path of the innermost open object, ending in '.' (or empty).
+  std::string path() const {
+    std::string p;
+    for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
+      const Frame& f = frames_[i];
+      if (f.array)
+        p += "[" + std::to_string(f.index) + "]";
+      else
+        p += (p.empty() ? "" : ".") + f.key;
+    }
+    return p.empty() ? p : p + ".";
+  }
+  std::vector<Frame> frames_;
+  std::string duplicate_;
+};
+
+/// A UTF-8 byte-order mark some editors write at the start of a file.
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+
+}  // namespace
+
+SceneDescription parseScene(const std::string& text, const std::string& source, long max_bodies) {
+  const std::size_t bom = text.compare(0, 3, kUtf8Bom) == 0 ? 3 : 0;
   json root;
+  DuplicateKeyFinder duplicates;
   try {
-    root = json::parse(json_text);
+    root = json::parse(text.begin() + static_cast<std::ptrdiff_t>(bom), text.end(), std::ref(duplicates));
   } catch (const json::exception& e) {
     throw InvalidInput(source, std::string("not valid JSON: ") + e.what());
   }
+  if (!duplicates.duplicate().empty())
+    throw InvalidInput(source + ": " + duplicates.duplicate(), "given twice (each key may appear once per object)");
   ObjectReader r(root, "", source);
   SceneDescription scene;
   scene.source = source;
@@ -381,6 +446,9 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
 
   const json& bodies = r.array("bodies");
   if (bodies.empty()) r.fail("bodies", "a scene needs at least one body");
+  if (static_cast<long>(bodies.size()) > max_bodies)
+    throw limitExceeded(source + ": bodies", "bodies", static_cast<double>(bodies.size()),
+                        static_cast<double>(max_bodies), "--max-bodies");
   std::unordered_map<std::string, int> body_index;  // (linear in the bodies: chain-N has up to 1e5)
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     scene.bodies.push_back(readBody(bodies[i], static_cast<int>(i), source));
@@ -391,9 +459,14 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
 
   if (r.has("joints")) {
     const json& joints = r.array("joints");
+    std::unordered_map<std::string, std::size_t> joint_index;
     for (std::size_t i = 0; i < joints.size(); ++i) {
       JointDescription j = readJoint(joints[i], static_cast<int>(i), source);
       const std::string field = source + ": joints[" + std::to_string(i) + "]";
+      const auto named_before = joint_index.emplace(j.name, i);
+      if (!named_before.second)
+        throw InvalidInput(field + ".name", "duplicate joint name '" + j.name + "' (also joints[" +
+                                                std::to_string(named_before.first->second) + "])");
       std::vector<std::pair<std::string, const std::string*>> named = {{"main", &j.main},
                                                                         {"secondary", &j.secondary}};
       if (j.isGear()) named.emplace_back("carrier", &j.carrier);
@@ -431,21 +504,48 @@ SceneDescription parseScene(const std::string& json_text, const std::string& sou
   return scene;
 }
 
-SceneDescription loadScene(const std::string& file_or_name) {
-  std::ifstream file(file_or_name);
+SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits) {
+  std::ifstream file(file_or_name, std::ios::binary);
   if (file) {
-    std::ostringstream text;
-    text << file.rdbuf();
-    return parseScene(text.str(), file_or_name);
+    // At most one byte past the limit is read: /dev/zero or a FIFO that never
+    // ends is refused there instead of filling the memory.
+    std::string text;
+    std::vector<char> buffer(1 << 16);
+    const std::uint64_t limit = limits.max_input_bytes;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(file_or_name, ec)) {
+      const std::uintmax_t size = std::filesystem::file_size(file_or_name, ec);
+      if (!ec && size > limit)
+        throw limitExceeded(file_or_name, "bytes (the file's size)", static_cast<double>(size),
+                            static_cast<double>(limit), "--max-input-mb");
+      if (!ec) text.reserve(size);
+    }
+    while (file && text.size() <= limit) {
+      file.read(buffer.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(buffer.size(), limit + 1 - text.size())));
+      text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
+      if (file.gcount() == 0) break;
+    }
+    if (text.size() > limit)
+      throw limitExceeded(file_or_name, "bytes read (the file is larger, or an endless stream)",
+                          static_cast<double>(text.size()), static_cast<double>(limit), "--max-input-mb");
+    if (file.bad()) throw InvalidInput(file_or_name, "read error (is it a directory?)");
+    return parseScene(text, file_or_name, limits.max_bodies);
+  }
+  if (file_or_name.rfind("chain-", 0) == 0 && file_or_name.size() > 6 &&
+      file_or_name.find_first_not_of("0123456789", 6) == std::string::npos && file_or_name.size() <= 15) {
+    const long n = std::stol(file_or_name.substr(6));
+    if (n > limits.max_bodies)
+      throw limitExceeded(file_or_name, "bodies", static_cast<double>(n), static_cast<double>(limits.max_bodies),
+                          "--max-bodies");
   }
   for (const BuiltinScene& s : builtinScenes())
     if (s.name == file_or_name) return parseScene(s.json, "built-in scene '" + s.name + "'");
   std::string generated;
   if (generatedScene(file_or_name, &generated))
-    return parseScene(generated, "built-in scene '" + file_or_name + "'");
+    return parseScene(generated, "built-in scene '" + file_or_name + "'", limits.max_bodies);
   std::string names;
   for (const BuiltinScene& s : builtinScenes()) names += (names.empty() ? "" : ", ") + s.name;
-  names += ", chain-N (N = 1 ... 100000)";
+  names += ", chain-N (N = 1 ... " + std::to_string(limits.max_bodies) + ")";
   throw InvalidInput(file_or_name, "no such scene file, and no built-in scene of that name (built-in: " +
                                        names + ")");
 }

@@ -36,6 +36,12 @@ const char* kTwoBodies =
     "0,1,0,0,0,0.1,0.2,0.3,1,2,3,0.5,7\n"
     "0.01,0,1,0,0,0.4,0.5,0.6,4,5,6,0.6,7\r\n";
 
+TEST(CalibRecording, AByteOrderMarkIsSkippedAsInScenes) {
+  const Recording r = parse(std::string("\xEF\xBB\xBF") + kTwoBodies);
+  EXPECT_EQ(r.time.size(), 2u);
+  EXPECT_EQ(r.bodies.size(), 2u);
+}
+
 TEST(CalibRecording, DiscoversBodiesAndTheirColumnGroups) {
   const Recording r = parse(kTwoBodies);
   ASSERT_EQ(r.bodies.size(), 2u);  // j.phi and energy are not bodies

@@ -1,0 +1,84 @@
+/// \file
+/// The scene reader against inputs that used to be accepted silently or to
+/// exhaust memory: keys given twice, joint names given twice, a byte-order
+/// mark, files beyond the size limit, endless streams, more bodies than the
+/// body limit. Each names the file, the field or the limit and its option.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "joints/scene.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "tests/command_runner.hpp"
+
+namespace lieflow {
+namespace {
+
+const std::string kBody = R"({"name": "a", "mass": 1, "inertia": [1, 2, 3]})";
+
+std::string errorOf(const std::string& json) {
+  try {
+    parseScene(json, "s.json");
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneLimits, AKeyGivenTwiceIsAnErrorNamingItsPath) {
+  EXPECT_EQ(errorOf(R"({"name": "x", "bodies": [{"name": "a", "mass": 1, "mass": 2, "inertia": [1, 2, 3]}]})"),
+            "s.json: bodies[0].mass: given twice (each key may appear once per object)");
+  EXPECT_EQ(errorOf(R"({"name": "x", "name": "y", "bodies": [)" + kBody + "]}"),
+            "s.json: name: given twice (each key may appear once per object)");
+  EXPECT_NE(errorOf(R"({"name": "x", "bodies": [)" + kBody + R"(, {"name": "b", "mass": 1, "inertia": [1, 1, 1],
+      "position": [0, 0, 1], "position": [0, 0, 2]}]})").find("bodies[1].position: given twice"),
+            std::string::npos);
+  // The same key in two different objects is fine.
+  EXPECT_EQ(errorOf(R"({"name": "x", "bodies": [)" + kBody + R"(, {"name": "b", "mass": 1, "inertia": [1, 1, 1]}]})"), "");
+}
+
+TEST(SceneLimits, AJointNameGivenTwiceIsAnError) {
+  const std::string joint = R"({"name": "j", "type": "spherical", "main": "ground", "secondary": "a",
+      "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0]})";
+  const std::string joint2 = R"({"name": "j", "type": "spherical", "main": "ground", "secondary": "b",
+      "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0]})";
+  const std::string e = errorOf(R"({"name": "x", "bodies": [)" + kBody +
+                                R"(, {"name": "b", "mass": 1, "inertia": [1, 1, 1]}], "joints": [)" + joint + "," +
+                                joint2 + "]}");
+  EXPECT_NE(e.find("s.json: joints[1].name: duplicate joint name 'j' (also joints[0])"), std::string::npos) << e;
+}
+
+TEST(SceneLimits, AByteOrderMarkIsSkippedAsInRecordings) {
+  const SceneDescription s = parseScene("\xEF\xBB\xBF" R"({"name": "x", "bodies": [)" + kBody + "]}", "s.json");
+  EXPECT_EQ(s.name, "x");
+}
+
+TEST(SceneLimits, FilesBeyondTheSizeLimitAndEndlessStreamsAreRefused) {
+  const std::string big = testing_support::testFile(".json");
+  std::ofstream(big) << std::string(2 << 20, ' ') << R"({"name": "x", "bodies": [)" << kBody << "]}";
+  ResourceLimits limits;
+  limits.max_input_bytes = 1 << 20;
+  try {
+    loadScene(big, limits);
+    ADD_FAILURE() << "a 2 MiB scene passed a 1 MiB limit";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("--max-input-mb"), std::string::npos) << e.what();
+  }
+  const auto o = testing_support::runLieflow("simulate /dev/zero --max-input-mb 1 --stats");
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_NE(o.err.find("--max-input-mb"), std::string::npos) << o.err;
+}
+
+TEST(SceneLimits, MoreBodiesThanTheLimitAreRefused) {
+  ResourceLimits limits;
+  limits.max_bodies = 3;
+  EXPECT_THROW(loadScene("chain-4", limits), InvalidInput);
+  EXPECT_EQ(loadScene("chain-3", limits).bodies.size(), 3u);
+  const auto o = testing_support::runLieflow("simulate chain-100001 --t-end 0.001 --stats");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--max-bodies"), std::string::npos) << o.err;
+}
+
+}  // namespace
+}  // namespace lieflow
