@@ -11,6 +11,7 @@
 #include <vector>
 #include <string>
 
+#include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
@@ -72,7 +73,12 @@ constexpr const char* kUsage =
     "  --integrator NAME         rkmk-euler, rkmk-heun, rkmk3 or rkmk4 (default rkmk4)\n"
     "  --substeps N              integration steps per sample (default: h*omega <= 0.1)\n"
     "  --max-iterations N, --min-samples N\n"
-    "exit status: 0 success, 1 not identifiable or no convergence, 2 bad input\n";
+    "  --max-substeps N          most integration substeps of one pass over the record (default 1e7)\n"
+    "all:\n"
+    "  --max-input-mb N, --max-rows N  largest recording read (default 1024 MiB, 1e7 rows)\n"
+    "  --verbose                 show the solver's (Ceres') own log lines on stderr\n"
+    "exit status: 0 success, 1 not identifiable, no convergence or a failed fit (the message says\n"
+    "which and why), 2 bad input\n";
 
 Eigen::Vector3d parseAxis(const Arguments& args, const std::string& flag) {
   const std::vector<std::string> items = args.list(flag);
@@ -128,7 +134,30 @@ void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSample
 }
 
 /// Prints the JSON; exit 1 with the solver's message when it did not converge.
+/// The first non-finite number in j ("stiffness_sigma", "axis_main[1]"), or "".
+std::string nonFiniteKey(const Json& j, const std::string& path = "") {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) return path.empty() ? "value" : path;
+  if (j.is_object())
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string found = nonFiniteKey(it.value(), path.empty() ? it.key() : path + "." + it.key());
+      if (!found.empty()) return found;
+    }
+  if (j.is_array())
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      const std::string found = nonFiniteKey(j[i], path + "[" + std::to_string(i) + "]");
+      if (!found.empty()) return found;
+    }
+  return "";
+}
+
 int finish(const Json& j, bool converged, const std::string& message, const std::string& what) {
+  // Never a NaN or inf in the output (nlohmann would print it as null, or
+  // -nan where it is not JSON): the fit failed, and says which figure.
+  const std::string bad = nonFiniteKey(j);
+  if (!bad.empty()) {
+    std::cerr << "lieflow: " << what << ": the fit failed: " << bad << " is not a finite number (" << message << ")\n";
+    return kComputationFailed;
+  }
   std::cout << j.dump() << "\n";
   if (!converged) {
     std::cerr << "lieflow: " << what << ": the solver did not converge: " << message << "\n";
@@ -191,13 +220,15 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   o.substeps = args.has("--substeps") ? args.positiveInt("--substeps", 1) : 0;
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+  const ResourceLimits limits = resourceLimitsFrom(args);
+  o.max_substeps = limits.max_substeps;
 
-  const SceneDescription scene = loadScene(args.value("--scene", ""));
+  const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
   const GroundedJointScene joint = groundedJointScene(
       scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
   if (o.coordinate >= joint.coordinates)
     throw UsageError("--coordinate 2: joint '" + joint.joint_name + "' is revolute (one coordinate)");
-  const calibration::Recording recording = calibration::readRecording(recording_path);
+  const calibration::Recording recording = calibration::readRecording(recording_path, limits);
   const calibration::SpringData data = calibration::selectSpringData(recording, joint, o.coordinate);
   const std::string what = "calibrate spring " + recording_path;
   try {
@@ -245,6 +276,9 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   } catch (const calibration::NotIdentifiable& e) {
     std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
     return kComputationFailed;
+  } catch (const calibration::FitFailed& e) {
+    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
+    return kComputationFailed;
   }
 }
 
@@ -255,8 +289,15 @@ int runCalibrate(int argc, char** argv) {
                        {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
                         "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",
                         "--joint", "--coordinate", "--stiffness-start", "--damping-start", "--rest-angle-start",
-                        "--shooting", "--segments", "--integrator", "--substeps"},
-                       {"--fit-rest-angle", "--hold-damping"});
+                        "--shooting", "--segments", "--integrator", "--substeps", "--max-input-mb", "--max-bodies",
+                        "--max-substeps", "--max-rows"},
+                       {"--fit-rest-angle", "--hold-damping", "--verbose"});
+  // Ceres logs through glog (WARNING: Logging before InitGoogleLogging, E...
+  // trust_region_minimizer.cc ...): those lines are for --verbose; lieflow
+  // says in its own words why a fit stopped.
+  google::InitGoogleLogging("lieflow");
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = args.has("--verbose") ? google::GLOG_INFO : google::GLOG_FATAL;
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
@@ -271,10 +312,10 @@ int runCalibrate(int argc, char** argv) {
   if (kind == "spring") return runSpring(args, pos[1]);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
-                           "--fit-rest-angle", "--hold-damping"})
+                           "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   const AxisFitOptions options = fitOptions(args);
-  const calibration::Recording recording = calibration::readRecording(pos[1]);
+  const calibration::Recording recording = calibration::readRecording(pos[1], resourceLimitsFrom(args));
   const calibration::JointSamples joint =
       calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", ""));
   const std::string what = "calibrate " + kind + " " + pos[1];
@@ -300,6 +341,9 @@ int runCalibrate(int argc, char** argv) {
     j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
     return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {
+    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
+    return kComputationFailed;
+  } catch (const calibration::FitFailed& e) {
     std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
     return kComputationFailed;
   }

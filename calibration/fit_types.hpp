@@ -133,6 +133,14 @@ struct AxisFitSummary {
   double seconds = 0.0;     ///< wall time of the whole fit
 };
 
+/// A fit that could not be carried out (the model could not be evaluated
+/// from the start, the solver stopped on a failure): exit status 1, and
+/// what() says which stage failed and why, in lieflow's words.
+class FitFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Thrown when the data cannot determine the axes; what() is
 /// "not identifiable: <reason>".
 class NotIdentifiable : public std::runtime_error {

@@ -1,5 +1,7 @@
 #include "calibration/recording.hpp"
 
+#include "joints/input_file.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -96,7 +98,7 @@ std::string Recording::bodyList() const {
   return out.empty() ? "none" : out;
 }
 
-Recording parseRecording(std::istream& in, const std::string& source) {
+Recording parseRecording(std::istream& in, const std::string& source, long max_rows) {
   Recording rec;
   rec.source = source;
   std::string line;
@@ -165,6 +167,9 @@ Recording parseRecording(std::istream& in, const std::string& source) {
       continue;
     }
     if (first_blank) throw InvalidInput(where(source, first_blank), "empty row (missing values)");
+    if (static_cast<long>(rec.time.size()) >= max_rows)
+      throw limitExceeded(source, "data rows", static_cast<double>(max_rows) + 1, static_cast<double>(max_rows),
+                          "--max-rows");
     const std::vector<std::string> cells = splitCells(line);
     if (cells.size() != ncols)
       throw InvalidInput(where(source, line_number), "expected " + std::to_string(ncols) +
@@ -213,10 +218,12 @@ Recording parseRecording(std::istream& in, const std::string& source) {
   return rec;
 }
 
-Recording readRecording(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInput(path, "cannot open the recording for reading");
-  return parseRecording(in, path);
+Recording readRecording(const std::string& path, const ResourceLimits& limits) {
+  std::string text;
+  if (!readInputFile(path, limits.max_input_bytes, &text))
+    throw InvalidInput(path, "cannot open the recording for reading");
+  std::istringstream in(std::move(text));
+  return parseRecording(in, path, limits.max_rows);
 }
 
 JointSamples selectJoint(const Recording& recording, std::string main, std::string secondary) {

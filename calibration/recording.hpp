@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "calibration/joint_samples.hpp"
+#include "joints/resource_limits.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -49,11 +50,13 @@ struct Recording {
   std::string bodyList() const;
 };
 
-/// Parses a recording from `in`; `source` names it in error messages.
-Recording parseRecording(std::istream& in, const std::string& source);
+/// Parses a recording from `in`; `source` names it in error messages. More
+/// than `max_rows` data rows is an error naming the limit and --max-rows.
+Recording parseRecording(std::istream& in, const std::string& source, long max_rows = kMaxRecordingRows);
 
-/// Reads the recording file at `path` (InvalidInput if it cannot be opened).
-Recording readRecording(const std::string& path);
+/// Reads the recording file at `path` (InvalidInput if it cannot be opened),
+/// within limits.max_input_bytes and limits.max_rows.
+Recording readRecording(const std::string& path, const ResourceLimits& limits = ResourceLimits());
 
 /// The joint between bodies `main` and `secondary`. An empty name may be
 /// left out when the recording has exactly two bodies: it is then the body

@@ -40,6 +40,21 @@ ButcherTableau tableauNamed(const std::string& name) {
                                          "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
 }
 
+/// A solve whose result cannot be used (Ceres could not evaluate the
+/// residuals at the start or stopped on a numerical failure, or left
+/// non-finite parameters) ends the fit with FitFailed: no covariance is
+/// computed from it (that crashed inside Ceres before).
+void requireUsable(const ceres::Solver::Summary& summary, const char* stage, const double* theta) {
+  const bool finite = std::isfinite(summary.final_cost) && std::isfinite(theta[0]) && std::isfinite(theta[1]) &&
+                      std::isfinite(theta[2]);
+  if (summary.termination_type != ceres::FAILURE && summary.IsSolutionUsable() && finite) return;
+  throw FitFailed(std::string("the fit failed in ") + stage +
+                  ": the model could not be integrated from the start values (stiffness " + format(theta[0]) +
+                  ", damping " + format(theta[1]) + ", rest angle " + format(theta[2]) +
+                  "); give starts of the recording's order of magnitude (--stiffness-start, --damping-start) "
+                  "or none (Ceres: " + summary.message + ")");
+}
+
 void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool sparse) {
   o->minimizer_type = ceres::TRUST_REGION;
   o->trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -165,9 +180,26 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   if (!(omega > 0.0)) omega = 2.0 * kPi / duration;  // no restoring moment: one "period" per record
   double max_interval = 0.0;
   for (int j = 0; j + 1 < n; ++j) max_interval = std::max(max_interval, data.time[j + 1] - data.time[j]);
-  out.substeps = o.substeps > 0 ? o.substeps
-                                : std::max(1, static_cast<int>(std::ceil(std::sqrt(3.0) * omega_max * max_interval /
-                                                                          kStepTimesFrequency)));
+  // Fewer than two samples per period of the fastest motion the model
+  // predicts (the start's spring plus gravity) cannot determine it (aliasing);
+  // a time column in milliseconds shows up here first.
+  if (o.substeps == 0 && max_interval * omega_max > kPi)
+    throw InvalidInput(data.source + ": t",
+                       "the largest sample interval " + format(max_interval) + " s is longer than half a period (" +
+                           format(kPi / omega_max) + " s) of the fastest oscillation the scene and the starts give (" +
+                           format(omega_max) + " rad/s): the recording cannot resolve it; is t in seconds?");
+  // Substeps per interval in double first: an absurd start (k = 1e100) or a
+  // time column in milliseconds would overflow any integer type.
+  const double per_interval = o.substeps > 0 ? o.substeps
+                                             : std::max(1.0, std::ceil(std::sqrt(3.0) * omega_max * max_interval /
+                                                                       kStepTimesFrequency));
+  const double total_substeps = per_interval * (n - 1);
+  if (!(total_substeps <= static_cast<double>(o.max_substeps)))
+    throw limitExceeded(data.source + ": t", "integration substeps (the largest sample interval " +
+                                                 format(max_interval) + " s at the start's frequency " +
+                                                 format(omega_max) + " rad/s; is t in seconds, are the starts sane?)",
+                        total_substeps, static_cast<double>(o.max_substeps), "--max-substeps");
+  out.substeps = static_cast<int>(per_interval);
   p.substeps = out.substeps;
   const double period = 2.0 * kPi / omega;
   int segments = 1;
@@ -211,6 +243,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
     configure(&so, o, true);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    requireUsable(summary, "multiple shooting", theta);
     out.multiple_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
     // The defects left by the soft continuity.
     for (int s = 0; s + 1 < segments; ++s) {
@@ -233,6 +266,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   configure(&so, o, false);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
+  requireUsable(summary, "single shooting", theta);
   out.single_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.iterations = out.multiple_shooting_iterations + out.single_shooting_iterations;
   out.converged = summary.termination_type == ceres::CONVERGENCE;

@@ -27,6 +27,8 @@
 #pragma once
 
 #include <optional>
+
+#include "joints/resource_limits.hpp"
 #include <string>
 #include <vector>
 
@@ -61,6 +63,12 @@ struct SpringFitOptions {
   /// Steps per sample interval; 0: enough that h·ω ≤ kStepTimesFrequency at
   /// √3 times the start's frequency.
   int substeps = 0;
+  /// Most integration substeps of one shooting pass over the record (the
+  /// substeps per sample interval times the intervals); beyond it the fit is
+  /// refused before it starts (InvalidInput naming --max-substeps): a time
+  /// column in milliseconds or an absurd stiffness start would otherwise run
+  /// without end.
+  long max_substeps = kMaxSubsteps;
   /// Continuity weight w of the multiple-shooting defects.
   double continuity_weight = 30.0;
   // ceres::Solver::Options (Levenberg–Marquardt).

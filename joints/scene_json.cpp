@@ -13,6 +13,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "joints/input_file.hpp"
 #include "joints/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
@@ -505,30 +506,8 @@ SceneDescription parseScene(const std::string& text, const std::string& source, 
 }
 
 SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits) {
-  std::ifstream file(file_or_name, std::ios::binary);
-  if (file) {
-    // At most one byte past the limit is read: /dev/zero or a FIFO that never
-    // ends is refused there instead of filling the memory.
-    std::string text;
-    std::vector<char> buffer(1 << 16);
-    const std::uint64_t limit = limits.max_input_bytes;
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(file_or_name, ec)) {
-      const std::uintmax_t size = std::filesystem::file_size(file_or_name, ec);
-      if (!ec && size > limit)
-        throw limitExceeded(file_or_name, "bytes (the file's size)", static_cast<double>(size),
-                            static_cast<double>(limit), "--max-input-mb");
-      if (!ec) text.reserve(size);
-    }
-    while (file && text.size() <= limit) {
-      file.read(buffer.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(buffer.size(), limit + 1 - text.size())));
-      text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
-      if (file.gcount() == 0) break;
-    }
-    if (text.size() > limit)
-      throw limitExceeded(file_or_name, "bytes read (the file is larger, or an endless stream)",
-                          static_cast<double>(text.size()), static_cast<double>(limit), "--max-input-mb");
-    if (file.bad()) throw InvalidInput(file_or_name, "read error (is it a directory?)");
+  std::string text;
+  if (readInputFile(file_or_name, limits.max_input_bytes, &text)) {
     return parseScene(text, file_or_name, limits.max_bodies);
   }
   if (file_or_name.rfind("chain-", 0) == 0 && file_or_name.size() > 6 &&
