@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/CMakeLists.txt) with clang-14 in
+# build-fuzz/ and runs each for SECONDS (default 30) from a seed corpus made
+# of scenes/*.json, fuzz/corpus/ and, when build/app/lieflow exists, a
+# recording it writes. Prints executions, corpus size and crashes per target;
+# exits 1 when a target found a crash (its input is saved in build-fuzz/).
+# Usage: bash fuzz/run.sh [SECONDS]
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+seconds=${1:-30}
+out="$root/build-fuzz"
+
+packages=(clang-14 libclang-rt-14-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo_cmd=(); [ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ ! -f "$out/CMakeCache.txt" ]; then
+  cmake -S "$root/fuzz" -B "$out" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+fi
+cmake --build "$out" -- -j"$(nproc)"
+
+# Seed corpora (copied, so that the committed seeds stay as they are).
+for t in scene recording cli; do
+  rm -rf "$out/corpus-$t"; mkdir -p "$out/corpus-$t"
+  cp "$root"/fuzz/corpus/$t/* "$out/corpus-$t/" 2>/dev/null || true
+done
+cp "$root"/scenes/*.json "$out/corpus-scene/"
+if [ -x "$root/build/app/lieflow" ]; then
+  "$root/build/app/lieflow" simulate hinge-pair --every 100 --t-end 0.5 --out "$out/corpus-recording/hinge-pair.csv" >/dev/null
+  "$root/build/app/lieflow" simulate spring-hinge --every 100 --t-end 0.5 --out "$out/corpus-recording/spring-hinge.csv" >/dev/null
+fi
+
+status=0
+for t in scene recording cli; do
+  log="$out/fuzz_$t.log"
+  set +e
+  (cd "$out" && ASAN_OPTIONS=detect_leaks=1 "./fuzz_$t" -max_total_time="$seconds" -max_len=8192 -timeout=10 \
+      -rss_limit_mb=2048 -print_final_stats=1 "corpus-$t" >"$log" 2>&1)
+  rc=$?
+  set -e
+  execs=$(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}' || true)
+  corpus=$(find "$out/corpus-$t" -type f | wc -l)
+  crashes=$(find "$out" -maxdepth 1 \( -name 'crash-*' -o -name 'timeout-*' -o -name 'leak-*' -o -name 'oom-*' \) | wc -l)
+  echo "fuzz_$t: ${execs:-?} executions in ${seconds} s, corpus ${corpus} inputs, exit ${rc}"
+  if [ $rc -ne 0 ]; then
+    status=1
+    echo "fuzz_$t FOUND A PROBLEM ($crashes saved inputs); the log's end:"
+    tail -30 "$log"
+  fi
+done
+exit $status
