@@ -2,6 +2,16 @@
 """Plots of a lieflow work-precision study: DIR/study.csv and DIR/drift.csv in,
 DIR/work_precision.png, DIR/energy_drift.png and DIR/momentum_drift.png out.
 
+- Each integrator keeps one marker and line style in all three figures, so
+  that overlapping curves stay visible.
+- The work-precision figure says what the errors are measured against, draws
+  the reference's own error as a band (points below it are not meaningful),
+  marks saturated errors (>= 1 rad: no correct digit) with hollow markers and
+  lists the failed runs instead of dropping them.
+- The momentum figure shows the spatial angular momentum where the scene
+  conserves it, and every other invariant of the scene (drift.csv columns
+  NAME_error: L_z, spin, L_com, ...); with nothing conserved it says so.
+
 Usage: plot_study.py DIR
 """
 import csv
@@ -14,6 +24,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*", "h"]
+STYLES = ["-", "--", "-.", ":"]
+SATURATED = 1.0  # rad: an orientation error this large has no correct digit
+
 
 def read_rows(path):
     with open(path, newline="") as f:
@@ -22,63 +36,123 @@ def read_rows(path):
 
 def number(text):
     try:
-        v = float(text)
+        return float(text)
     except (TypeError, ValueError):
         return math.nan
-    return v
+
+
+def human(v):
+    """A number for people: 0.005, 5e-05, 2."""
+    return f"{v:.3g}" if math.isfinite(v) else "?"
+
+
+def style_of(names):
+    return {n: dict(marker=MARKERS[i % len(MARKERS)], linestyle=STYLES[(i // len(MARKERS) + i) % len(STYLES)])
+            for i, n in enumerate(names)}
+
+
+def work_precision(directory, study, styles, scene):
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    failed = []
+    any_saturated = False
+    for name in styles:
+        pts = []
+        for r in study:
+            if r["integrator"] != name:
+                continue
+            if r["failed"] == "true":
+                failed.append(f"{name} dt={human(number(r['dt']))}")
+                continue
+            err, t = number(r["orientation_error"]), number(r["wall_seconds"])
+            if err > 0 and t > 0 and math.isfinite(err):
+                pts.append((t, err))
+        if not pts:
+            continue
+        pts.sort()
+        st = styles[name]
+        line, = ax.loglog([p[0] for p in pts], [p[1] for p in pts], label=name, markersize=5, alpha=0.85,
+                          linestyle=st["linestyle"], marker=st["marker"])
+        sat = [p for p in pts if p[1] >= SATURATED]
+        if sat:
+            any_saturated = True
+            ax.loglog([p[0] for p in sat], [p[1] for p in sat], linestyle="none", marker=st["marker"],
+                      markersize=9, markerfacecolor="none", markeredgecolor=line.get_color())
+    reference = study[0].get("reference", "") if study else ""
+    ref_error = number(study[0].get("reference_error")) if study else math.nan
+    if ref_error > 0:
+        bottom = ax.get_ylim()[0]
+        if ref_error > bottom:
+            ax.axhspan(bottom, ref_error, color="grey", alpha=0.15,
+                       label=f"below the reference's own error ({human(ref_error)} rad)")
+            ax.set_ylim(bottom=bottom)
+        else:
+            ax.plot([], [], linestyle="none", label=f"reference's own error {human(ref_error)} rad (below the axis)")
+    if any_saturated:
+        ax.axhline(SATURATED, color="black", linewidth=0.6, linestyle=":")
+        ax.plot([], [], linestyle="none", marker="o", markerfacecolor="none", markeredgecolor="black",
+                label=f"hollow: saturated (>= {human(SATURATED)} rad, no correct digit)")
+    ax.set_xlabel("run time [s] (median of repeated runs)")
+    ax.set_ylabel("orientation error at t_end [rad]")
+    short = reference if len(reference) <= 90 else reference[:87] + "..."
+    ax.set_title(f"work-precision: {scene}\nerrors against: {short}", fontsize=9)
+    if failed:
+        fig.text(0.01, 0.005, "failed (no point): " + ", ".join(failed), fontsize=7, color="darkred", va="bottom",
+                 wrap=True)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    fig.savefig(f"{directory}/work_precision.png", dpi=120)
+    plt.close(fig)
+
+
+def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, empty_note):
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    plotted = False
+    for column, column_label in columns:
+        for name in styles:
+            pts = [(number(r["t"]), abs(number(r.get(column)))) for r in drift if r["integrator"] == name]
+            pts = [p for p in pts if math.isfinite(p[1]) and p[1] > 0]
+            if not pts:
+                continue
+            st = styles[name]
+            label = name if len(columns) == 1 else f"{name}: {column_label}"
+            ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=label, linestyle=st["linestyle"],
+                        marker=st["marker"], markevery=max(1, len(pts) // 12), markersize=4, alpha=0.85)
+            plotted = True
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(ylabel)
+    dt = human(number(drift[0]["dt"])) if drift else "?"
+    ax.set_title(f"{scene}, dt = {dt}" + ("" if plotted else f"\n({empty_note})"), fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    if plotted:
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    else:
+        ax.text(0.5, 0.5, empty_note, transform=ax.transAxes, ha="center", va="center")
+    fig.tight_layout()
+    fig.savefig(f"{directory}/{filename}", dpi=120)
+    plt.close(fig)
 
 
 def main(directory):
     study = read_rows(f"{directory}/study.csv")
-    scene = study[0]["scene"] if study else "?"
-    by_integrator = defaultdict(list)
-    for r in study:
-        if r["failed"] == "true":
-            continue
-        err = number(r["orientation_error"])
-        t = number(r["wall_seconds"])
-        if err > 0 and t > 0 and math.isfinite(err):
-            by_integrator[r["integrator"]].append((t, err, number(r["dt"])))
-
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for name, pts in sorted(by_integrator.items()):
-        pts.sort()
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name, markersize=4)
-    ax.set_xlabel("run time [s] (median of repeated runs)")
-    ax.set_ylabel("orientation error at t_end [rad]")
-    ax.set_title(f"work-precision: {scene}")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(f"{directory}/work_precision.png", dpi=120)
-    plt.close(fig)
-
     drift = read_rows(f"{directory}/drift.csv")
-    curves = defaultdict(lambda: ([], [], []))
-    for r in drift:
-        c = curves[r["integrator"]]
-        c[0].append(number(r["t"]))
-        c[1].append(abs(number(r["energy_error"])))
-        c[2].append(number(r["momentum_error"]))
-    for key, label, filename in ((1, "relative energy error |E - E0|/|E0|", "energy_drift.png"),
-                                 (2, "relative momentum error |L - L0|/|L0|", "momentum_drift.png")):
-        fig, ax = plt.subplots(figsize=(7, 5))
-        plotted = False
-        for name, c in sorted(curves.items()):
-            pts = [(t, v) for t, v in zip(c[0], c[key]) if math.isfinite(v) and v > 0]
-            if pts:
-                ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=name)
-                plotted = True
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel(label)
-        dt = drift[0]["dt"] if drift else "?"
-        ax.set_title(f"{scene}, dt = {dt}" + ("" if plotted else " (not conserved in this scene)"))
-        ax.grid(True, which="both", alpha=0.3)
-        if plotted:
-            ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(f"{directory}/{filename}", dpi=120)
-        plt.close(fig)
+    scene = study[0]["scene"] if study else "?"
+    names = []
+    for r in study + drift:
+        if r["integrator"] not in names:
+            names.append(r["integrator"])
+    styles = style_of(names)
+    work_precision(directory, study, styles, scene)
+    drift_figure(directory, drift, styles, scene, [("energy_error", "energy")],
+                 "relative energy error |E - E0|/|E0|", "energy_drift.png", "no drift samples")
+    header = list(drift[0].keys()) if drift else []
+    invariants = [(c, c[:-len("_error")]) for c in header
+                  if c.endswith("_error") and c not in ("energy_error", "momentum_error")]
+    columns = ([("momentum_error", "L")] if any(r.get("momentum_error") for r in drift) else []) + invariants
+    label = ("relative error of the conserved quantities: " + ", ".join(c[1] for c in columns)) if columns else \
+        "relative momentum error"
+    drift_figure(directory, drift, styles, scene, columns or [("momentum_error", "L")], label, "momentum_drift.png",
+                 "this scene conserves no angular momentum component (external moments)")
 
 
 if __name__ == "__main__":
