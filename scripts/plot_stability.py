@@ -3,7 +3,7 @@
 (largest bounded h*omega_c per integrator, one group of bars per scene).
 
 A limit below the grid (nothing bounded even at the smallest h*omega_c) is
-drawn as a short red stub labelled "< 0.01", a run bounded on the whole grid as
+drawn as a short red cross-hatched bar labelled "< 0.01", a run bounded on the whole grid as
 a hatched bar labelled ">= 100" (a lower bound, not a measured limit).
 
 Usage: plot_stability.py DIR

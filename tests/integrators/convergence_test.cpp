@@ -13,6 +13,7 @@
 #include "integrators/integrate.hpp"
 #include "integrators/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
+#include "tests/integrators/torqued_top.hpp"
 #include "tests/order_slope.hpp"
 
 #ifdef LIEFLOW_HAVE_CERES
@@ -24,28 +25,8 @@ namespace {
 
 using testing_support::logLogSlope;
 
-template <typename T>
-RigidBodyParameters<T> torquedTop() {
-  RigidBodyParameters<T> p;
-  p.mass = T(2.0);
-  p.inertia = Vector3<T>(T(1.0), T(2.0), T(3.5)).asDiagonal();
-  p.has_pivot = true;
-  p.com_from_pivot = Vector3<T>(T(0.1), T(0.3), T(0.2));
-  p.gravity = Vector3<T>(T(0), T(0), T(-9.81));
-  p.torque_body = [](const T& t) {
-    using std::cos;
-    using std::sin;
-    return Vector3<T>(sin(t), T(0.2), cos(T(2) * t));
-  };
-  return p;
-}
-
-RotorState<double> initialRotor() {
-  RotorState<double> y;
-  y.R = SO3d::exp(Eigen::Vector3d(0.1, 0.2, 0.3));
-  y.omega << 1.0, 2.5, -0.7;
-  return y;
-}
+using testing_support::initialRotor;
+using testing_support::torquedTop;
 
 template <typename Stepper, typename System>
 typename System::State solve(Stepper stepper, const System& system, typename System::State y0,

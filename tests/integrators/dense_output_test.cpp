@@ -12,27 +12,15 @@
 #include "integrators/adaptive.hpp"
 #include "integrators/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
+#include "tests/integrators/torqued_top.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {
 namespace {
 
-RigidBodyParameters<double> heavyTop() {
-  RigidBodyParameters<double> p;
-  p.mass = 2.0;
-  p.inertia = Eigen::Vector3d(1.0, 2.0, 3.5).asDiagonal();
-  p.has_pivot = true;
-  p.com_from_pivot = Eigen::Vector3d(0.1, 0.3, 0.2);
-  p.gravity = Eigen::Vector3d(0, 0, -9.81);
-  return p;
-}
-
-RotorState<double> initial() {
-  RotorState<double> y;
-  y.R = SO3d::exp(Eigen::Vector3d(0.1, 0.2, 0.3));
-  y.omega << 1.0, 2.5, -0.7;
-  return y;
-}
+/// The pivoted top of the convergence tests, without its applied torque.
+RigidBodyParameters<double> heavyTop() { return testing_support::torquedTop<double>(false); }
+RotorState<double> initial() { return testing_support::initialRotor(); }
 
 /// The state at time t from RKMK-RK4 with a tiny step (error ~1e-15).
 RotorState<double> reference(const RotorSystem<double>& sys, double t) {
