@@ -66,6 +66,9 @@ def main(directory):
     fig.tight_layout()
     fig.savefig(f"{directory}/stability.png", dpi=120)
     plt.close(fig)
+    below = sum(1 for r in rows if float(r["h_omega_max"] or 0.0) <= 0)
+    beyond = sum(1 for r in rows if r["bounded_on_whole_grid"] == "true")
+    print(f"stability.png: {len(rows)} bars, {below} below the grid, {beyond} bounded on the whole grid")
 
 
 if __name__ == "__main__":

@@ -103,11 +103,16 @@ def work_precision(directory, study, styles, scene):
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     fig.savefig(f"{directory}/work_precision.png", dpi=120)
     plt.close(fig)
+    curves = len([n for n in styles if any(r["integrator"] == n and r["failed"] != "true" for r in study)])
+    saturated = sum(1 for r in study if r["failed"] != "true" and number(r["orientation_error"]) >= SATURATED)
+    print(f"work_precision.png: {curves} curves, {saturated} saturated points, {len(failed)} failed runs listed")
 
 
 def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, empty_note):
+    """Draws one drift figure; returns the names of the quantities drawn."""
     fig, ax = plt.subplots(figsize=(10, 5.5))
     plotted = False
+    drawn = []
     for column, column_label in columns:
         for name in styles:
             pts = [(number(r["t"]), abs(number(r.get(column)))) for r in drift if r["integrator"] == name]
@@ -119,6 +124,8 @@ def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, emp
             ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=label, linestyle=st["linestyle"],
                         marker=st["marker"], markevery=max(1, len(pts) // 12), markersize=4, alpha=0.85)
             plotted = True
+            if column_label not in drawn:
+                drawn.append(column_label)
     ax.set_xlabel("t [s]")
     ax.set_ylabel(ylabel)
     dt = human(number(drift[0]["dt"])) if drift else "?"
@@ -131,6 +138,7 @@ def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, emp
     fig.tight_layout()
     fig.savefig(f"{directory}/{filename}", dpi=120)
     plt.close(fig)
+    print(f"{filename}: " + (", ".join(drawn) if drawn else "nothing conserved (said so in the figure)"))
 
 
 def main(directory):
