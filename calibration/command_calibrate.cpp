@@ -4,12 +4,14 @@
 /// and prints one JSON object (../shared/DESIGN.md). Exit 1 when the data
 /// cannot identify the parameters or the solver does not converge (the JSON
 /// is still printed then), 2 on bad input.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <vector>
 #include <string>
@@ -196,6 +198,21 @@ void announceLargeRecording(const std::string& path, const std::string& what) {
   std::cerr << line << std::flush;
 }
 
+/// Progress of a fit on stderr: silent for the first 2 s (most fits end
+/// sooner), then a line at most every 5 s with the iteration and the cost.
+calibration::FitProgress fitProgressOnStderr(const std::string& what) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last = std::make_shared<double>(-1e300);
+  return [what, start, last](int iteration, double cost) {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (elapsed < 2.0 || elapsed - *last < 5.0) return;
+    *last = elapsed;
+    std::cerr << "lieflow: " << what << ": solver iteration " << iteration << ", cost " << cost << ", "
+              << static_cast<long>(elapsed) << " s" << std::endl;
+  };
+}
+
 std::optional<double> optionalNumber(const Arguments& args, const std::string& flag) {
   if (!args.has(flag)) return std::nullopt;
   const std::string text = args.value(flag, "");
@@ -252,6 +269,7 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
   const ResourceLimits limits = resourceLimitsFrom(args);
   o.max_substeps = limits.max_substeps;
+  o.progress = fitProgressOnStderr("calibrate spring " + recording_path);
 
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
   const GroundedJointScene joint = groundedJointScene(
@@ -344,7 +362,8 @@ int runCalibrate(int argc, char** argv) {
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
                            "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
-  const AxisFitOptions options = fitOptions(args);
+  AxisFitOptions options = fitOptions(args);
+  options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);
   announceLargeRecording(pos[1], "calibrate " + kind + " " + pos[1]);
   const calibration::Recording recording = calibration::readRecording(pos[1], resourceLimitsFrom(args));
   const calibration::JointSamples joint =

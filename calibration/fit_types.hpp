@@ -5,6 +5,8 @@
 /// the solve went and why it stopped.
 #pragma once
 
+#include "calibration/fit_progress.hpp"
+
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -46,6 +48,8 @@ struct AxisFitOptions {
 
   // ceres::Solver::Options of the refinement (Levenberg–Marquardt, dense QR).
   int max_iterations = 100;
+  /// Called at every solver iteration (fit_progress.hpp); may be empty.
+  FitProgress progress;
   double function_tolerance = 1e-12;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;

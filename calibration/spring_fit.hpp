@@ -28,6 +28,7 @@
 
 #include <optional>
 
+#include "calibration/fit_progress.hpp"
 #include "joints/resource_limits.hpp"
 #include <string>
 #include <vector>
@@ -69,6 +70,8 @@ struct SpringFitOptions {
   /// column in milliseconds or an absurd stiffness start would otherwise run
   /// without end.
   long max_substeps = kMaxSubsteps;
+  /// Called at every solver iteration (fit_progress.hpp); may be empty.
+  FitProgress progress;
   /// Continuity weight w of the multiple-shooting defects.
   double continuity_weight = 30.0;
   // ceres::Solver::Options (Levenberg–Marquardt).

@@ -236,7 +236,9 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
 
   // 2. Every start; the lowest cost wins. Every end point is kept for the
   // ambiguity check (step 6).
-  const ceres::Solver::Options solver = solverOptions(options);
+  ceres::Solver::Options solver = solverOptions(options);
+  FitProgressCallback progress(options.progress);
+  solver.callbacks.push_back(&progress);
   TwoAxisSolution out;
   ceres::Solver::Summary best;
   std::vector<EndPoint> ends;
