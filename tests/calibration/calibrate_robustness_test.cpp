@@ -6,6 +6,7 @@
 /// Each must end in exit 1 or 2 with lieflow's own message, never a signal.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -100,6 +101,34 @@ TEST(CalibrateRobustness, EndlessStreamsAndRowLimitsAreRefused) {
   const auto rows = runLieflow("calibrate spring " + rec + " --scene spring-hinge --max-rows 100");
   EXPECT_EQ(rows.status, 2);
   EXPECT_TRUE(contains(rows.err, "--max-rows")) << rows.err;
+}
+
+}  // namespace
+}  // namespace lieflow
+
+namespace lieflow {
+namespace {
+
+/// A recording above 64 MB is announced before it is read: its rows and the
+/// memory the fit will need (a 10⁶-row fit used to run 13 s in silence).
+TEST(CalibrateRobustness, LargeRecordingsAreAnnouncedWithTheirMemory) {
+  const std::string path = testing_support::testFile("_large.csv");
+  {
+    std::ofstream f(path);
+    f << "t,a.wx,a.wy,a.wz,b.wx,b.wy,b.wz\n";
+    const std::string tail = ",0.123456789012345,0.234567890123456,0.345678901234567,"
+                             "0.456789012345678,0.567890123456789,0.678901234567890\n";
+    char t[32];
+    for (long i = 0; i < 620000; ++i) {
+      std::snprintf(t, sizeof t, "%.17g", 1e-3 * static_cast<double>(i));
+      f << t << tail;
+    }
+  }
+  // --max-rows stops the read right after the announcement.
+  const auto o = testing_support::runLieflow("calibrate hinge " + path + " --max-rows 10");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("about 6.2e+05 rows; the fit needs about 0.59 GB of memory"), std::string::npos) << o.err;
+  std::remove(path.c_str());
 }
 
 }  // namespace
