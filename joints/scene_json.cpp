@@ -3,8 +3,7 @@
 /// finiteness and physical sense, unknown fields are errors, and every error
 /// names the file, the field and the reason.
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
