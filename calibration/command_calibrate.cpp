@@ -16,6 +16,7 @@
 #include <vector>
 #include <string>
 
+#include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
@@ -23,7 +24,6 @@
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/recording.hpp"
-#include "calibration/solver_log.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/universal_fit.hpp"
 #include "joints/grounded_joint_scene.hpp"
@@ -270,7 +270,6 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
   const ResourceLimits limits = resourceLimitsFrom(args);
   o.max_substeps = limits.max_substeps;
   o.progress = fitProgressOnStderr("calibrate spring " + recording_path);
-  o.log_iterations = args.has("--verbose");
 
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
   const GroundedJointScene joint = groundedJointScene(
@@ -341,10 +340,12 @@ int runCalibrate(int argc, char** argv) {
                         "--shooting", "--segments", "--integrator", "--substeps", "--max-input-mb", "--max-bodies",
                         "--max-substeps", "--max-rows"},
                        {"--fit-rest-angle", "--hold-damping", "--verbose"});
-  // Ceres' glog lines are for --verbose; lieflow says in its own words why a
-  // fit stopped (solver_log.hpp, solver_report.hpp).
-  const bool verbose = args.has("--verbose");
-  calibration::routeSolverLog(verbose);
+  // Ceres logs through glog (WARNING: Logging before InitGoogleLogging, E...
+  // trust_region_minimizer.cc ...): those lines are for --verbose; lieflow
+  // says in its own words why a fit stopped.
+  google::InitGoogleLogging("lieflow");
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = args.has("--verbose") ? google::GLOG_INFO : google::GLOG_FATAL;
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
@@ -363,7 +364,6 @@ int runCalibrate(int argc, char** argv) {
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   AxisFitOptions options = fitOptions(args);
   options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);
-  options.log_iterations = verbose;
   announceLargeRecording(pos[1], "calibrate " + kind + " " + pos[1]);
   const calibration::Recording recording = calibration::readRecording(pos[1], resourceLimitsFrom(args));
   const calibration::JointSamples joint =

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "liegroup/invalid_input.hpp"
 
@@ -30,26 +29,6 @@ void requireGroup(const JointSamples& s, bool orientation, const std::string& jo
   }
 }
 
-/// The first angular velocity component above kMaxAngularVelocity, named by
-/// its column and time.
-void requireUsableRates(const JointSamples& s) {
-  static const char* const kAxes[3] = {"wx", "wy", "wz"};
-  for (const BodySamples* b : {&s.main, &s.secondary})
-    for (std::size_t k = 0; k < b->angular_velocity.size(); ++k)
-      for (int i = 0; i < 3; ++i)
-        if (!(std::abs(b->angular_velocity[k][i]) <= kMaxAngularVelocity)) {
-          char value[128];
-          std::snprintf(value, sizeof value, "%.6g rad/s at t = %.9g s (sample %zu)", b->angular_velocity[k][i],
-                        s.time[k], k + 1);
-          char limit[32];
-          std::snprintf(limit, sizeof limit, "%g", kMaxAngularVelocity);
-          throw InvalidInput(s.source + ": column " + b->name + "." + kAxes[i],
-                             std::string(value) + ": beyond " + limit +
-                                 " rad/s no gyroscope reads; the fit squares the rates and cannot use it (a unit or "
-                                 "export error?)");
-        }
-}
-
 }  // namespace
 
 std::string DataSelection::name() const {
@@ -67,7 +46,6 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
     case DataUse::kAuto:
       d.orientations = samples.hasOrientations();
       d.rates = samples.hasAngularVelocities();
-      if (d.rates) requireUsableRates(samples);
       if (!d.orientations && !d.rates)
         throw InvalidInput(samples.source, "a " + joint +
                                                " fit needs both bodies' orientations (B.qw,B.qx,B.qy,B.qz) or "
@@ -81,7 +59,6 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
   }
   if (d.orientations) requireGroup(samples, true, joint);
   if (d.rates) requireGroup(samples, false, joint);
-  if (d.rates) requireUsableRates(samples);
   return d;
 }
 

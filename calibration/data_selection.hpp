@@ -14,13 +14,6 @@
 namespace lieflow {
 namespace calibration {
 
-/// Largest recorded angular velocity a fit accepts [rad/s]. The gyroscope
-/// residuals square the rates (‖ω × j‖², hinge_residuals.hpp), weight them by
-/// up to 1/kNoiseScaleFloor = 1e12 and the solver squares them again (JᵀJ):
-/// up to 1e50 rad/s all of it stays far inside double's range (1e308); a
-/// larger value is no gyroscope reading but a unit or export error.
-constexpr double kMaxAngularVelocity = 1e50;
-
 struct DataSelection {
   bool orientations = false;
   bool rates = false;
@@ -30,9 +23,8 @@ struct DataSelection {
 
 /// The groups `use` asks for (kAuto: all that both bodies have). Throws
 /// lieflow::InvalidInput naming the recording, the body and the missing
-/// columns when a requested group, or every group, is missing, and naming the
-/// column and time of a used angular velocity above kMaxAngularVelocity.
-/// `joint` names the fit in the message ("hinge").
+/// columns when a requested group, or every group, is missing. `joint` names
+/// the fit in the message ("hinge").
 DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint);
 
 /// R₁ᵀR₂ per sample (the secondary body's orientation in the main body's frame).

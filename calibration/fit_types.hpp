@@ -50,8 +50,6 @@ struct AxisFitOptions {
   int max_iterations = 100;
   /// Called at every solver iteration (fit_progress.hpp); may be empty.
   FitProgress progress;
-  /// Ceres logs every iteration (seen with --verbose, solver_log.hpp).
-  bool log_iterations = false;
   double function_tolerance = 1e-12;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;

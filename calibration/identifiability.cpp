@@ -76,7 +76,7 @@ AxisInformation analyseInformation(const Eigen::Matrix4d& information, const Eig
 void requireEnoughSamples(int samples, const AxisFitOptions& options) {
   if (samples < options.min_samples)
     throw NotIdentifiable(std::to_string(samples) + " samples; at least " + std::to_string(options.min_samples) +
-                          " are needed (--min-samples)");
+                          " are needed for 4 axis angles and the noise scale");
 }
 
 void requireIdentifiable(const AxisInformation& info, const AxisFitOptions& options,
@@ -99,7 +99,7 @@ void requireIdentifiable(const AxisInformation& info, const AxisFitOptions& opti
   } else {
     reason += whichAxis(info.directions.col(weakest), context) + ") has 1σ = " +
               number(info.sigma_rad[weakest] * kRadToDeg, "%.3g") + "° (needs ≤ " +
-              number(options.max_sigma_deg, "%g") + "°, --max-sigma-deg); ";
+              number(options.max_sigma_deg, "%g") + "°); ";
   }
   throw NotIdentifiable(reason + context.hint);
 }

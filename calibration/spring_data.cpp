@@ -1,7 +1,6 @@
 #include "calibration/spring_data.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include <Eigen/QR>
 
@@ -29,16 +28,6 @@ SpringData selectSpringData(const Recording& recording, const GroundedJointScene
                                              " in the trajectory CSV)");
   }
   return d;
-}
-
-double angleNoiseFromDifferences(const std::vector<double>& angle) {
-  if (angle.size() < 4) return 0.0;
-  std::vector<double> d(angle.size() - 3);
-  for (std::size_t k = 0; k < d.size(); ++k)
-    d[k] = std::abs(angle[k + 3] - 3.0 * angle[k + 2] + 3.0 * angle[k + 1] - angle[k]);
-  const std::size_t middle = d.size() / 2;
-  std::nth_element(d.begin(), d.begin() + middle, d.end());
-  return 1.482602218505602 * d[middle] / std::sqrt(20.0);
 }
 
 Eigen::Vector2d localAngleAndRate(const SpringData& data, int i, int j, int half_width) {

@@ -36,13 +36,6 @@ struct SpringData {
 /// (`coordinate`, 0 or 1) has none.
 SpringData selectSpringData(const Recording& recording, const GroundedJointScene& joint, int coordinate);
 
-/// The white noise σ of a recorded angle, estimated without any model from
-/// its third differences: Δ³φ has variance 20σ² for white noise, while a
-/// motion sampled well contributes only φ⃛ h³ (robust median form, 1.4826 ·
-/// median |Δ³φ| / √20, as data_selection.hpp does for gyroscopes). 0 with
-/// fewer than 4 samples.
-double angleNoiseFromDifferences(const std::vector<double>& angle);
-
 /// φ and φ̇ of coordinate i at sample j from a least-squares quadratic through
 /// the samples within ±half_width of j (fewer at the ends).
 Eigen::Vector2d localAngleAndRate(const SpringData& data, int i, int j, int half_width);

@@ -11,7 +11,6 @@
 #include <ceres/ceres.h>
 
 #include "calibration/fit_types.hpp"
-#include "calibration/solver_report.hpp"
 #include "calibration/spring_residuals.hpp"
 #include "calibration/spring_start.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -41,26 +40,19 @@ ButcherTableau tableauNamed(const std::string& name) {
                                          "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
 }
 
-/// A solve whose result cannot be used (Ceres stopped on a numerical
-/// failure, or left non-finite parameters) ends the fit with FitFailed: no
-/// covariance is computed from it (that crashed inside Ceres before).
-void requireUsable(const ceres::Solver::Summary& summary, const char* stage, const double* theta,
-                   const SpringFitOptions& o) {
+/// A solve whose result cannot be used (Ceres could not evaluate the
+/// residuals at the start or stopped on a numerical failure, or left
+/// non-finite parameters) ends the fit with FitFailed: no covariance is
+/// computed from it (that crashed inside Ceres before).
+void requireUsable(const ceres::Solver::Summary& summary, const char* stage, const double* theta) {
   const bool finite = std::isfinite(summary.final_cost) && std::isfinite(theta[0]) && std::isfinite(theta[1]) &&
                       std::isfinite(theta[2]);
   if (summary.termination_type != ceres::FAILURE && summary.IsSolutionUsable() && finite) return;
-  throw FitFailed(std::string("the fit failed in ") + stage + " at stiffness " + format(theta[0]) + ", damping " +
-                  format(theta[1]) + ", rest angle " + format(theta[2]) + ": " +
-                  stopReason(summary, o.max_iterations));
-}
-
-/// The start options given, "--stiffness-start, --rest-angle-start" ("" when none).
-std::string givenStarts(const SpringFitOptions& o) {
-  std::string out;
-  if (o.stiffness_start) out += "--stiffness-start";
-  if (o.damping_start) out += std::string(out.empty() ? "" : ", ") + "--damping-start";
-  if (o.rest_angle_start) out += std::string(out.empty() ? "" : ", ") + "--rest-angle-start";
-  return out;
+  throw FitFailed(std::string("the fit failed in ") + stage +
+                  ": the model could not be integrated from the start values (stiffness " + format(theta[0]) +
+                  ", damping " + format(theta[1]) + ", rest angle " + format(theta[2]) +
+                  "); give starts of the recording's order of magnitude (--stiffness-start, --damping-start) "
+                  "or none (Ceres: " + summary.message + ")");
 }
 
 void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool sparse) {
@@ -71,8 +63,8 @@ void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool 
   o->gradient_tolerance = options.gradient_tolerance;
   o->parameter_tolerance = options.parameter_tolerance;
   o->num_threads = 1;
-  o->logging_type = options.log_iterations ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-  o->minimizer_progress_to_stdout = false;  // stdout holds the JSON
+  o->logging_type = ceres::SILENT;
+  o->minimizer_progress_to_stdout = false;
   o->linear_solver_type = ceres::DENSE_QR;
   if (sparse) {
     if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
@@ -115,11 +107,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   out.samples = n;
   if (n < std::max(o.min_samples, free_params + 2))
     throw NotIdentifiable(std::to_string(n) + " samples; at least " +
-                          std::to_string(std::max(o.min_samples, free_params + 2)) + " are needed (" +
-                          (o.min_samples >= free_params + 2
-                               ? "--min-samples"
-                               : std::to_string(free_params) + " fitted parameters and two degrees of freedom") +
-                          ")");
+                          std::to_string(std::max(o.min_samples, free_params + 2)) + " are needed");
 
   SpringProblemData<N> p;
   p.model = &model;
@@ -138,50 +126,35 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   const bool need_estimate = !o.stiffness_start || (!o.damping_start && !o.hold_damping) ||
                              (o.fit_rest_angle && !o.rest_angle_start);
   const SpringStart est = need_estimate ? estimateSpringStart(joint, data, ic) : SpringStart{};
-  SpringStartValues start;
-  if (est.found) {
-    start.recorded_frequency = est.natural_frequency;
-    start.recorded_period = est.period;
-  }
+  double theta[3];
   std::string from_data, from_scene, given;
-  auto pick = [&](int which, const std::optional<double>& option, double estimate, double scene_value, bool scene_ok,
+  auto pick = [&](const std::optional<double>& option, double estimate, double scene_value, bool scene_ok,
                   const char* name) {
     if (option) {
       given += std::string(given.empty() ? "" : ", ") + name;
-      start.origin[which] = StartOrigin::kGiven;
       return *option;
     }
     if (est.found) {
       from_data += std::string(from_data.empty() ? "" : ", ") + name;
-      start.origin[which] = StartOrigin::kRecording;
       return estimate;
     }
     if (!scene_ok)
       throw NotIdentifiable("no start for the " + std::string(name) + ": " + est.why +
                             "; give --stiffness-start and --damping-start");
     from_scene += std::string(from_scene.empty() ? "" : ", ") + name;
-    start.origin[which] = StartOrigin::kScene;
     return scene_value;
   };
-  double theta[3];
-  theta[0] = pick(0, o.stiffness_start, est.stiffness, scene.stiffness, scene.stiffness > 0.0, "stiffness");
-  if (o.hold_damping) {
+  theta[0] = pick(o.stiffness_start, est.stiffness, scene.stiffness, scene.stiffness > 0.0, "stiffness");
+  if (o.hold_damping)
     theta[1] = o.damping_start ? *o.damping_start : scene.damping;
-    start.origin[1] = o.damping_start ? StartOrigin::kGiven : StartOrigin::kScene;
-  } else {
-    theta[1] = pick(1, o.damping_start, est.damping, scene.damping, scene.stiffness > 0.0, "damping");
-  }
-  if (o.fit_rest_angle) {
-    theta[2] = pick(2, o.rest_angle_start, est.rest_angle, scene.rest_angle, true, "rest_angle");
-  } else {
+  else
+    theta[1] = pick(o.damping_start, est.damping, scene.damping, scene.stiffness > 0.0, "damping");
+  if (o.fit_rest_angle)
+    theta[2] = pick(o.rest_angle_start, est.rest_angle, scene.rest_angle, true, "rest_angle");
+  else
     theta[2] = o.rest_angle_start ? *o.rest_angle_start : scene.rest_angle;
-    start.origin[2] = o.rest_angle_start ? StartOrigin::kGiven : StartOrigin::kScene;
-  }
-  if (o.stiffness_start && !(*o.stiffness_start >= 0.0))
-    throw InvalidInput("--stiffness-start", format(*o.stiffness_start) + ": a stiffness is >= 0");
-  if (o.damping_start && !(*o.damping_start >= 0.0))
-    throw InvalidInput("--damping-start", format(*o.damping_start) + ": a damping is >= 0");
-  start.value = {theta[0], theta[1], theta[2]};
+  if (!(theta[0] >= 0.0) || !(theta[1] >= 0.0))
+    throw InvalidInput("--stiffness-start/--damping-start", "starts must be >= 0");
   out.start_stiffness = theta[0];
   out.start_damping = theta[1];
   out.start_rest_angle = theta[2];
@@ -192,30 +165,52 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   if (!from_scene.empty()) out.start += std::string(out.start.empty() ? "" : "; ") + "the scene's (" + from_scene + ")";
   if (out.start.empty()) out.start = "given";
 
-  // --- Frequencies: what the sampling allows, sub-steps, segments, weights --
+  // --- Frequencies: sub-steps, segments, defect weights -------------------
   Eigen::Vector2d mean_angle = joint.initial_angle;
   for (int i = 0; i < N; ++i)
     if (data.has(i)) mean_angle[i] = std::accumulate(data.angle[i].begin(), data.angle[i].end(), 0.0) / n;
-  const SpringSampling sampling = checkSpringSampling(joint, data, ic, start, mean_angle, o.substeps, o.max_substeps);
-  out.substeps = sampling.substeps;
-  p.substeps = out.substeps;
-  const double k_eff_start = theta[0] + joint.gravityStiffness(ic, mean_angle);
-  double omega = std::max(std::sqrt(std::max(k_eff_start, 0.0) / joint.inertiaAbout(ic, mean_angle)),
-                          est.natural_frequency);
+  double omega = 0.0, omega_max = 0.0;
+  for (int i = 0; i < N; ++i) {
+    const double k = (i == ic ? theta[0] : joint.drives[i].stiffness) + joint.gravityStiffness(i, mean_angle);
+    const double w = std::sqrt(std::max(k, 0.0) / joint.inertiaAbout(i, mean_angle));
+    if (i == ic) omega = std::max(w, est.natural_frequency);
+    omega_max = std::max(omega_max, std::max(w, i == ic ? est.natural_frequency : 0.0));
+  }
   const double duration = data.time.back() - data.time.front();
   if (!(omega > 0.0)) omega = 2.0 * kPi / duration;  // no restoring moment: one "period" per record
+  double max_interval = 0.0;
+  for (int j = 0; j + 1 < n; ++j) max_interval = std::max(max_interval, data.time[j + 1] - data.time[j]);
+  // Fewer than two samples per period of the fastest motion the model
+  // predicts (the start's spring plus gravity) cannot determine it (aliasing);
+  // a time column in milliseconds shows up here first.
+  if (o.substeps == 0 && max_interval * omega_max > kPi)
+    throw InvalidInput(data.source + ": t",
+                       "the largest sample interval " + format(max_interval) + " s is longer than half a period (" +
+                           format(kPi / omega_max) + " s) of the fastest oscillation the scene and the starts give (" +
+                           format(omega_max) + " rad/s): the recording cannot resolve it; is t in seconds?");
+  // Substeps per interval in double first: an absurd start (k = 1e100) or a
+  // time column in milliseconds would overflow any integer type.
+  const double per_interval = o.substeps > 0 ? o.substeps
+                                             : std::max(1.0, std::ceil(std::sqrt(3.0) * omega_max * max_interval /
+                                                                       kStepTimesFrequency));
+  const double total_substeps = per_interval * (n - 1);
+  if (!(total_substeps <= static_cast<double>(o.max_substeps)))
+    throw limitExceeded(data.source + ": t", "integration substeps (the largest sample interval " +
+                                                 format(max_interval) + " s at the start's frequency " +
+                                                 format(omega_max) + " rad/s; is t in seconds, are the starts sane?)",
+                        total_substeps, static_cast<double>(o.max_substeps), "--max-substeps");
+  out.substeps = static_cast<int>(per_interval);
+  p.substeps = out.substeps;
   const double period = 2.0 * kPi / omega;
   int segments = 1;
   if (o.shooting == Shooting::kMultiple) {
-    segments = o.segments > 0 ? o.segments
-                              : static_cast<int>(std::lround(std::min(duration / (0.25 * period), double(n))));
+    segments = o.segments > 0 ? o.segments : static_cast<int>(std::lround(duration / (0.25 * period)));
     segments = std::max(1, std::min(segments, (n - 1) / kMinSegmentSamples));
   }
   out.segments = segments;
   out.shooting = shootingName(o.shooting);
   const double mean_dt = duration / (n - 1);
-  const int half_width =
-      std::max(2, static_cast<int>(std::lround(std::min(period / (16.0 * mean_dt), static_cast<double>(n)))));
+  const int half_width = std::max(2, static_cast<int>(std::lround(period / (16.0 * mean_dt))));
 
   // Segment boundaries and initial states from local quadratics.
   std::vector<int> bound(segments + 1);
@@ -228,29 +223,6 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
       state[s][i] = xv[0];
       state[s][N + i] = xv[1];
     }
-
-  // --- The start must integrate -------------------------------------------
-  // A start from which the model leaves the range of usable numbers
-  // (finite_scalar.hpp) is refused before Ceres sees it, naming the start
-  // options when they were given.
-  for (int s = 0; s < segments; ++s) {
-    const bool last = s + 1 == segments;
-    const int to = o.shooting == Shooting::kMultiple ? bound[s + 1] : n - 1;
-    const SpringSegmentCost<N> cost(&p, bound[s], to, last, o.continuity_weight, o.continuity_weight / omega);
-    const int j = cost.firstUnusableSample(theta, state[s].data(), last ? nullptr : state[s + 1].data());
-    if (j < 0) continue;
-    const std::string values = "stiffness " + format(theta[0]) + " N m/rad, damping " + format(theta[1]) +
-                               " N m s/rad, rest angle " + format(theta[2]) + " rad: " + out.start;
-    const std::string where = "t = " + format(data.time[j]) + " s (sample " + std::to_string(j + 1) + ")";
-    const std::string given = givenStarts(o);
-    if (!given.empty())
-      throw InvalidInput(given, "the model integrated from the starts (" + values +
-                                    ") leaves the range of usable numbers by " + where +
-                                    ": give starts of the recording's order of magnitude, or none (the fit then "
-                                    "starts from the recorded angle)");
-    throw FitFailed("the fit failed before the solve: the model integrated from its start (" + values +
-                    ") leaves the range of usable numbers by " + where);
-  }
 
   std::ostringstream message;
   // --- 1. Multiple shooting ----------------------------------------------
@@ -273,7 +245,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
     so.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
-    requireUsable(summary, "multiple shooting", theta, o);
+    requireUsable(summary, "multiple shooting", theta);
     out.multiple_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
     // The defects left by the soft continuity.
     for (int s = 0; s + 1 < segments; ++s) {
@@ -284,7 +256,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
           out.max_continuity_defect = std::max(out.max_continuity_defect, std::abs(r[r.size() - 2 * N + 2 * i]));
     }
     message << "multiple shooting (" << segments << " segments, " << out.multiple_shooting_iterations
-            << " iterations): " << stopReason(summary, o.max_iterations) << "; ";
+            << " iterations): " << summary.message << "; ";
   }
 
   // --- 2. Single shooting from there ---------------------------------------
@@ -298,12 +270,11 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   so.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  requireUsable(summary, "single shooting", theta, o);
+  requireUsable(summary, "single shooting", theta);
   out.single_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.iterations = out.multiple_shooting_iterations + out.single_shooting_iterations;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
-  message << "single shooting (" << out.single_shooting_iterations
-          << " iterations): " << stopReason(summary, o.max_iterations);
+  message << "single shooting (" << out.single_shooting_iterations << " iterations): " << summary.message;
   out.message = message.str();
   out.stiffness = theta[0];
   out.damping = theta[1];
@@ -316,23 +287,9 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   double motion = 0.0;
   for (int j = 0; j < n; ++j) motion += std::pow(data.angle[ic][j] - mean_angle[ic], 2);
   motion = std::sqrt(motion / n);
-  // Blame the data when the angle barely moves against its own noise
-  // (estimated without the fit); otherwise a residual as large as the motion
-  // is the fit's failure to follow the data (a local minimum from the start).
-  const double noise = angleNoiseFromDifferences(data.angle[ic]);
-  if (motion < o.min_motion_to_noise * noise)
+  if (motion < o.min_motion_to_noise * out.rms_residual)
     throw NotIdentifiable("the joint angle barely moves: RMS " + format(motion) + " rad about its mean against " +
-                          format(noise) + " rad of noise (from the third differences of " + data.column[ic] + ")");
-  if (motion < o.min_motion_to_noise * out.rms_residual) {
-    const std::string given = givenStarts(o);
-    throw FitFailed("the fitted model does not follow the recorded angle: residual RMS " + format(out.rms_residual) +
-                    " rad against the angle's RMS motion of " + format(motion) + " rad about its mean (its noise: " +
-                    format(noise) + " rad); the solver ended in a local minimum at stiffness " + format(theta[0]) +
-                    ", damping " + format(theta[1]) + ", rest angle " + format(theta[2]) + " from the start (" +
-                    out.start + "): " +
-                    (given.empty() ? "give --stiffness-start and --damping-start near the expected values"
-                                   : "give starts nearer the recording's values (" + given + "), or none"));
-  }
+                          format(out.rms_residual) + " rad of residual");
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
   co.num_threads = 1;

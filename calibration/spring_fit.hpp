@@ -36,7 +36,6 @@
 #include <Eigen/Core>
 
 #include "calibration/spring_data.hpp"
-#include "calibration/spring_sampling.hpp"
 #include "joints/grounded_joint_scene.hpp"
 
 namespace lieflow {
@@ -73,8 +72,6 @@ struct SpringFitOptions {
   long max_substeps = kMaxSubsteps;
   /// Called at every solver iteration (fit_progress.hpp); may be empty.
   FitProgress progress;
-  /// Ceres logs every iteration (seen with --verbose, solver_log.hpp).
-  bool log_iterations = false;
   /// Continuity weight w of the multiple-shooting defects.
   double continuity_weight = 30.0;
   // ceres::Solver::Options (Levenberg–Marquardt).
@@ -83,15 +80,17 @@ struct SpringFitOptions {
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;
   // Identifiability: fewer samples, a 1σ of k above max_relative_sigma times
-  // the restoring stiffness (k plus gravity's), or a recorded motion whose
-  // RMS about its mean is below min_motion_to_noise times the angle's noise
-  // (from its third differences), throw NotIdentifiable. A motion below
-  // min_motion_to_noise times the fit's residual RMS otherwise is the fit's
-  // failure to follow the data (a local minimum): FitFailed.
+  // the restoring stiffness (k plus gravity's), or
+  // a recorded motion whose RMS about equilibrium is below
+  // min_motion_to_noise times the residual RMS, throw NotIdentifiable.
   int min_samples = 20;
   double max_relative_sigma = 0.5;
   double min_motion_to_noise = 1.5;
 };
+
+/// h·ω bound of the automatic step (rkmk4's relative frequency error is then
+/// (hω)⁴/120 ≈ 1e-6).
+constexpr double kStepTimesFrequency = 0.1;
 
 struct SpringFit {
   double stiffness = 0.0, damping = 0.0, rest_angle = 0.0;

@@ -10,19 +10,11 @@
 /// j of the segment (the last sample only in the last segment) and every
 /// recorded coordinate i, φ_i(t_j) − φ̃_i(t_j) in radians; then the
 /// continuity defects w (φ(t_end) − φ_next) and (w/ω)(φ̇(t_end) − φ̇_next).
-///
-/// A state or residual that is not usable (finite_scalar.hpp: NaN, inf, a
-/// derivative that overflowed, or beyond kMaxResidualMagnitude) makes the
-/// functor return false: Ceres then rejects the trial step, and a start from
-/// which the model cannot be integrated is found before the solve
-/// (firstUnusableSample).
 #pragma once
 
 #include <array>
 #include <cmath>
-#include <vector>
 
-#include "calibration/finite_scalar.hpp"
 #include "calibration/spring_data.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/rkmk.hpp"
@@ -69,19 +61,9 @@ class SpringSegmentCost {
     return evaluate(theta, s, next, r);
   }
 
-  /// The first sample (index into the data) at which the model integrated
-  /// in double from θ and s is no longer usable, or −1 when it stays usable
-  /// (`next` may be null for the last segment).
-  int firstUnusableSample(const double* theta, const double* s, const double* next) const {
-    std::vector<double> r(residualCount());
-    int failed = -1;
-    evaluate(theta, s, next, r.data(), &failed);
-    return failed;
-  }
-
  private:
   template <typename T>
-  bool evaluate(const T* theta, const T* s, const T* next, T* r, int* failed_at = nullptr) const {
+  bool evaluate(const T* theta, const T* s, const T* next, T* r) const {
     const SpringData& data = *p_->data;
     GroundedJointForces<T, N> forces;
     for (int i = 0; i < N; ++i) {
@@ -99,30 +81,22 @@ class SpringSegmentCost {
       y.x[i] = s[i];
       y.v[i] = s[N + i];
     }
-    auto fail = [failed_at](int j) {
-      if (failed_at) *failed_at = j;
-      return false;
-    };
     int k = 0;
     for (int j = first_;; ++j) {
-      for (int i = 0; i < N; ++i)  // a blown-up trial step: Ceres rejects it
-        if (!isUsable(y.x[i]) || !isUsable(y.v[i])) return fail(j);
       if (j < last_ || final_)
         for (int i = 0; i < N; ++i)
-          if (data.has(i)) {
-            r[k] = y.x[i] - T(data.angle[i][j]);
-            if (!isUsable(r[k++])) return fail(j);
-          }
+          if (data.has(i)) r[k++] = y.x[i] - T(data.angle[i][j]);
       if (j == last_) break;
       const double t0 = data.time[j];
       const double h = (data.time[j + 1] - t0) / p_->substeps;
       for (int m = 0; m < p_->substeps; ++m) y = stepper.step(system, T(t0 + m * h), y, T(h));
+      for (int i = 0; i < N; ++i)  // a blown-up trial step: Ceres rejects it
+        if (!std::isfinite(scalarValue(y.x[i])) || !std::isfinite(scalarValue(y.v[i]))) return false;
     }
     if (!final_)
       for (int i = 0; i < N; ++i) {
         r[k++] = T(w_angle_) * (y.x[i] - next[i]);
         r[k++] = T(w_rate_) * (y.v[i] - next[N + i]);
-        if (!isUsable(r[k - 2]) || !isUsable(r[k - 1])) return fail(last_);
       }
     return true;
   }
