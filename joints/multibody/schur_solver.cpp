@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/OrderingMethods>
+#include <limits>
 
 namespace lieflow {
 namespace multibody {
@@ -14,17 +13,6 @@ int SchurSolver::groupOfRow(int r) const {
 
 void SchurSolver::clearBlocks(int g) {
   for (auto& b : blocks_[g]) b.setZero(groups_[g].rows, 6);
-}
-
-// Position in A_.valuePtr() of entry (row_[k] + r, row_[l] + c).
-Eigen::Index SchurSolver::slot(int k, int l, int r, int c) const {
-  int offk = 0;
-  for (const auto& kv : coupled_[l])
-    if (kv.first == k) {
-      offk = kv.second;
-      break;
-    }
-  return A_.outerIndexPtr()[row_[l] + c] + offk + r;
 }
 
 void SchurSolver::setup(const std::vector<char>& rotation_only, const std::vector<RowGroup>& groups) {
@@ -38,81 +26,57 @@ void SchurSolver::setup(const std::vector<char>& rotation_only, const std::vecto
   row_.assign(ng + 1, 0);
   for (int g = 0; g < ng; ++g) row_[g + 1] = row_[g] + groups_[g].rows;
   m_ = row_[ng];
-  body_groups_.assign(nb, {});
+  // The groups of each body, (group, slot).
+  std::vector<std::vector<std::pair<int, int>>> body_groups(nb);
   for (int g = 0; g < ng; ++g)
     for (int s = 0; s < kMaxGroupBodies; ++s)
-      if (groups_[g].bodies[s] != kGround) body_groups_[groups_[g].bodies[s]].emplace_back(g, s);
-  coupled_.assign(ng, {});
-  for (int l = 0; l < ng; ++l) {
-    std::vector<int> ks{l};
-    for (int b : groups_[l].bodies)
-      if (b != kGround)
-        for (const auto& gs : body_groups_[b]) ks.push_back(gs.first);
-    std::sort(ks.begin(), ks.end());
-    ks.erase(std::unique(ks.begin(), ks.end()), ks.end());
-    int o = 0;
-    for (int k : ks) {
-      coupled_[l].emplace_back(k, o);
-      o += groups_[k].rows;
+      if (groups_[g].bodies[s] != kGround) body_groups[groups_[g].bodies[s]].emplace_back(g, s);
+  std::vector<std::pair<int, int>> couplings;
+  for (int b = 0; b < nb; ++b)
+    for (const auto& k : body_groups[b])
+      for (const auto& l : body_groups[b])
+        if (k.first < l.first) couplings.emplace_back(k.first, l.first);
+  std::sort(couplings.begin(), couplings.end());
+  couplings.erase(std::unique(couplings.begin(), couplings.end()), couplings.end());
+  std::vector<int> sizes(ng);
+  for (int g = 0; g < ng; ++g) sizes[g] = groups_[g].rows;
+  ldlt_.analyze(sizes, couplings);
+  pattern_nonzeros_ = 0;
+  for (int g = 0; g < ng; ++g) pattern_nonzeros_ += static_cast<Eigen::Index>(sizes[g]) * sizes[g];
+  for (const auto& c : couplings)
+    pattern_nonzeros_ += 2 * static_cast<Eigen::Index>(sizes[c.first]) * sizes[c.second];
+  // S_kl = Σ over the bodies b both groups touch of G_kb B_lbᵀ: one
+  // contribution per (body, ordered pair of its groups) that lands in the
+  // stored (lower) block.
+  contributions_.clear();
+  for (int b = 0; b < nb; ++b)
+    for (const auto& k : body_groups[b])
+      for (const auto& l : body_groups[b]) {
+        if (k.first == l.first) {
+          if (k.second == l.second)
+            contributions_.push_back({k.first, k.second, l.first, l.second, ldlt_.diagonalSlot(k.first)});
+          continue;  // (a group listing a body twice is not built)
+        }
+        const BlockLdlt::Place p = ldlt_.offDiagonalPlace(k.first, l.first);
+        if (p.transposed) continue;  // the pair (l, k) writes this block
+        contributions_.push_back({k.first, k.second, l.first, l.second, p.slot});
+      }
+  blocks_.assign(ng, {});
+  padded_.assign(ng, {});
+  gpadded_.assign(ng, {});
+  for (int g = 0; g < ng; ++g) {
+    clearBlocks(g);
+    for (int s = 0; s < kMaxGroupBodies; ++s) {
+      padded_[g][s].setZero();
+      gpadded_[g][s].setZero();
     }
   }
-  blocks_.assign(ng, {});
-  gblocks_.assign(ng, {});
-  for (int g = 0; g < ng; ++g) clearBlocks(g);
   invm_.assign(nb, 1.0);
   Jinv_.assign(nb, Eigen::Matrix3d::Identity());
   diagA_.resize(m_);
+  scale_.assign(ng, BlockLdlt::BlockVector::Zero());
+  x_.assign(ng, BlockLdlt::BlockVector::Zero());
   analyzed_ = true;
-  A_.resize(m_, m_);
-  if (m_ == 0) return;  // (Eigen's reserve/makeCompressed misbehave on 0 × 0)
-  // Compressed column pattern of S (m × m), dense group-by-group blocks.
-  std::vector<int> colnnz(m_, 0);
-  for (int l = 0; l < ng; ++l) {
-    int len = 0;
-    for (const auto& kv : coupled_[l]) len += groups_[kv.first].rows;
-    for (int c = row_[l]; c < row_[l + 1]; ++c) colnnz[c] = len;
-  }
-  A_.reserve(colnnz);
-  for (int l = 0; l < ng; ++l)
-    for (int c = row_[l]; c < row_[l + 1]; ++c)
-      for (const auto& kv : coupled_[l])
-        for (int r = row_[kv.first]; r < row_[kv.first + 1]; ++r) A_.insert(r, c) = 0.0;
-  A_.makeCompressed();
-  diag_slot_.resize(m_);
-  for (int l = 0; l < ng; ++l)
-    for (int c = 0; c < groups_[l].rows; ++c) diag_slot_[row_[l] + c] = slot(l, l, c, c);
-  // AMD on the symmetric pattern; the permuted upper triangle Ap = (P S Pᵀ)ᵤ
-  // is kept with a value map, so factorize (natural ordering) reads it in
-  // place instead of building a permuted copy every time.
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
-  Eigen::AMDOrdering<int>()(A_, pinv);
-  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pm = pinv.inverse();
-  perm_ = pm.indices();  // row r goes to position perm_[r]
-  orig_.resize(m_);
-  for (int r = 0; r < m_; ++r) orig_[perm_[r]] = r;
-  std::vector<Eigen::Triplet<double, int>> t;
-  for (int c = 0; c < m_; ++c)
-    for (SpMat::InnerIterator it(A_, c); it; ++it) {
-      const int pr = perm_[it.row()], pc = perm_[c];
-      if (pr <= pc) t.emplace_back(pr, pc, 0.0);
-    }
-  Ap_.resize(m_, m_);
-  Ap_.setFromTriplets(t.begin(), t.end());
-  Ap_.makeCompressed();
-  ap_slot_.assign(A_.nonZeros(), -1);
-  for (int c = 0; c < m_; ++c)
-    for (Eigen::Index q = A_.outerIndexPtr()[c]; q < A_.outerIndexPtr()[c + 1]; ++q) {
-      const int pr = perm_[A_.innerIndexPtr()[q]], pc = perm_[c];
-      if (pr > pc) continue;
-      const int* b = Ap_.innerIndexPtr() + Ap_.outerIndexPtr()[pc];
-      const int* e = Ap_.innerIndexPtr() + Ap_.outerIndexPtr()[pc + 1];
-      ap_slot_[q] = std::lower_bound(b, e, pr) - Ap_.innerIndexPtr();
-    }
-  ap_diag_slot_.resize(m_);
-  for (int r = 0; r < m_; ++r) ap_diag_slot_[r] = ap_slot_[diag_slot_[r]];
-  rhsp_.resize(m_);
-  xp_.resize(m_);
-  ldlt_.analyzePattern(Ap_);
   ++analyze_count_;
 }
 
@@ -120,92 +84,64 @@ FactorStatus SchurSolver::factor(double shift) {
   FactorStatus status;
   if (m_ == 0) return status;
   const int ng = groupCount();
-  // G = B M⁻¹ per block (δp columns zero for rotation-only bodies).
-  for (int g = 0; g < ng; ++g)
+  // B padded to kMaxGroupRows rows and G = B M⁻¹ (δp columns zero for a
+  // rotation-only body, so G Bᵀ uses its δθ columns only).
+  for (int g = 0; g < ng; ++g) {
+    const int rows = groups_[g].rows;
     for (int s = 0; s < kMaxGroupBodies; ++s) {
       const int b = groups_[g].bodies[s];
       if (b == kGround) continue;
-      const GroupBlock& B = blocks_[g][s];
-      GroupBlock& G = gblocks_[g][s];
-      G.resize(B.rows(), 6);
+      Padded& B = padded_[g][s];
+      Padded& G = gpadded_[g][s];
+      B.topRows(rows) = blocks_[g][s];
       if (rot_[b])
         G.leftCols<3>().setZero();
       else
         G.leftCols<3>() = B.leftCols<3>() * invm_[b];
       G.rightCols<3>().noalias() = B.rightCols<3>() * Jinv_[b];
     }
-  // S = Σ_b J_b M_b⁻¹ J_bᵀ written into the fixed pattern.
-  double* val = A_.valuePtr();
-  std::fill(val, val + A_.nonZeros(), 0.0);
-  const int nb = bodyCount();
-  for (int b = 0; b < nb; ++b) {
-    const int c0 = colBegin(b);
-    for (const auto& ls : body_groups_[b]) {
-      const GroupBlock& Bl = blocks_[ls.first][ls.second];
-      for (const auto& ks : body_groups_[b]) {
-        const GroupBlock& Gk = gblocks_[ks.first][ks.second];
-        const int rk = groups_[ks.first].rows, rl = groups_[ls.first].rows;
-        for (int c = 0; c < rl; ++c) {
-          double* col = val + slot(ks.first, ls.first, 0, c);
-          for (int r = 0; r < rk; ++r) col[r] += Gk.row(r).tail(6 - c0).dot(Bl.row(c).tail(6 - c0));
-        }
-      }
+  }
+  ldlt_.clear();
+  for (const Contribution& c : contributions_)
+    ldlt_.value(c.slot).noalias() += gpadded_[c.gk][c.sk] * padded_[c.gl][c.sl].transpose();
+  bool finite = true;
+  for (int g = 0; g < ng; ++g) {
+    BlockLdlt::Block& D = ldlt_.value(ldlt_.diagonalSlot(g));
+    for (int r = 0; r < groups_[g].rows; ++r) {
+      const double d = D(r, r);
+      diagA_[row_[g] + r] = d;
+      scale_[g][r] = d;
+      finite = finite && std::isfinite(d);
+      if (shift != 0.0) D(r, r) += shift * d;
     }
   }
-  for (int r = 0; r < m_; ++r) diagA_[r] = val[diag_slot_[r]];
-  double* pval = Ap_.valuePtr();
-  for (Eigen::Index q = 0; q < A_.nonZeros(); ++q)
-    if (ap_slot_[q] >= 0) pval[ap_slot_[q]] = val[q];
-  if (shift != 0.0)
-    for (int r = 0; r < m_; ++r) pval[ap_diag_slot_[r]] += shift * diagA_[r];
-
-  auto singularRow = [&](FactorStatus* st) {
-    const Eigen::VectorXd D = ldlt_.vectorD();
-    for (int p = 0; p < m_; ++p) {
-      const int r = orig_[p];
-      if (!std::isfinite(D[p]) || !(D[p] > kPivotTolerance * diagA_[r])) {
-        st->ok = false;
-        st->row = r;
-        st->pivot = D[p];
-        st->diagonal = diagA_[r];
-        return;
-      }
-    }
-  };
-  if (!diagA_.allFinite()) {
+  if (!finite) {
     status.ok = false;
     status.row = 0;
-    status.pivot = std::nan("");
+    status.pivot = std::numeric_limits<double>::quiet_NaN();
     return status;
   }
-  ldlt_.factorize(Ap_);
-  if (ldlt_.info() != Eigen::Success) {
-    // An exactly zero pivot stops Eigen's factorization: locate the row on
-    // S + 1e-12 diag(S) (same pattern), whose redundant rows then have
-    // pivots ≈ 1e-12 × their diagonal.
-    for (int r = 0; r < m_; ++r) pval[ap_diag_slot_[r]] += 1e-12 * std::max(diagA_[r], 1e-300);
-    ldlt_.factorize(Ap_);
+  const BlockLdlt::Status st = ldlt_.factor(scale_, kPivotTolerance);
+  if (!st.ok) {
     status.ok = false;
-    status.row = 0;
-    if (ldlt_.info() == Eigen::Success) {
-      FactorStatus st;
-      singularRow(&st);
-      if (!st.ok) status.row = st.row;
-      status.diagonal = diagA_[status.row];
-    }
-    status.pivot = 0.0;
-    return status;
+    status.row = row_[st.block] + st.row;
+    status.pivot = st.pivot;
+    status.diagonal = diagA_[status.row];
   }
-  singularRow(&status);
   return status;
 }
 
 void SchurSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
   x.resize(m_);
   if (m_ == 0) return;
-  for (int r = 0; r < m_; ++r) rhsp_[perm_[r]] = rhs[r];
-  xp_ = ldlt_.solve(rhsp_);
-  for (int r = 0; r < m_; ++r) x[r] = xp_[perm_[r]];
+  const int ng = groupCount();
+  for (int g = 0; g < ng; ++g) {
+    const int rows = groups_[g].rows;
+    x_[g].setZero();
+    x_[g].head(rows) = rhs.segment(row_[g], rows);
+  }
+  ldlt_.solveInPlace(x_);
+  for (int g = 0; g < ng; ++g) x.segment(row_[g], groups_[g].rows) = x_[g].head(groups_[g].rows);
 }
 
 void SchurSolver::multiplyJ(const Eigen::VectorXd& u, Eigen::VectorXd& out) const {
@@ -245,9 +181,7 @@ void SchurSolver::applyInverseMass(const Eigen::VectorXd& x, Eigen::VectorXd& y)
   }
 }
 
-Eigen::Index SchurSolver::factorNonzeros() const {
-  return m_ == 0 ? 0 : ldlt_.matrixL().nestedExpression().nonZeros();
-}
+Eigen::Index SchurSolver::factorNonzeros() const { return m_ == 0 ? 0 : ldlt_.factorNonzeros(); }
 
 }  // namespace multibody
 }  // namespace lieflow

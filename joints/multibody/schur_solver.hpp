@@ -13,11 +13,13 @@
 /// δθ columns (the right three of its blocks).
 ///
 /// Sparsity: two groups couple in S only when they share a body, so S is
-/// block-tridiagonal along a chain. Its pattern is built once per topology
-/// (explicit zeros kept, so it does not depend on the state), ordered by AMD
-/// and symbolically analysed once; factor() refills values in place and calls
-/// SimplicialLDLT::factorize. Fill and cost grow linearly along chains and
-/// trees; nothing dense of the whole system is ever formed.
+/// block-tridiagonal along a chain. Its block pattern is built once per
+/// topology (block_ldlt.hpp: AMD on the block graph, elimination tree, fill)
+/// together with the list of body contributions G_k B_lᵀ (G = B M⁻¹) each
+/// block receives; factor() zeroes the blocks, adds the contributions with
+/// fixed 5 × 6 products and factors blockwise. Fill and cost grow linearly
+/// along chains and trees; nothing dense of the whole system is ever formed,
+/// and nothing is allocated after setup().
 ///
 /// Redundant rows make S singular: a pivot d of the factor with
 /// d ≤ kPivotTolerance · S_rr (or non-finite) is reported with its row.
@@ -29,8 +31,8 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
+
+#include "joints/multibody/block_ldlt.hpp"
 
 namespace lieflow {
 namespace multibody {
@@ -43,7 +45,7 @@ constexpr int kGround = -1;
 constexpr double kPivotTolerance = 1e-10;
 
 constexpr int kMaxGroupBodies = 4;
-constexpr int kMaxGroupRows = 5;
+constexpr int kMaxGroupRows = kMaxBlockRows;
 
 /// A group's block for one body: rows × 6 without heap allocation.
 using GroupBlock = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxGroupRows, 6>;
@@ -114,8 +116,8 @@ class SchurSolver {
   /// y = M⁻¹ x (per body).
   void applyInverseMass(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
 
-  /// Stored entries (both triangles, explicit zeros kept) of S.
-  Eigen::Index patternNonzeros() const { return A_.nonZeros(); }
+  /// Entries (both triangles) of the block pattern of S.
+  Eigen::Index patternNonzeros() const { return pattern_nonzeros_; }
   /// Nonzeros of the strictly lower factor L.
   Eigen::Index factorNonzeros() const;
   /// Number of symbolic analyses (setup calls with rows) so far.
@@ -124,28 +126,28 @@ class SchurSolver {
   const Eigen::VectorXd& diagonal() const { return diagA_; }
 
  private:
-  using SpMat = Eigen::SparseMatrix<double>;
+  using Padded = Eigen::Matrix<double, kMaxGroupRows, 6>;
+  /// ldlt_.value(slot) += G[gk][sk] · B[gl][sl]ᵀ (the stored block has the rows of gk).
+  struct Contribution {
+    int gk, sk, gl, sl, slot;
+  };
   int colBegin(int b) const { return rot_[b] ? 3 : 0; }
-  Eigen::Index slot(int k, int l, int r, int c) const;
 
   bool analyzed_ = false;
   int analyze_count_ = 0;
   int n_ = 0, m_ = 0;
+  Eigen::Index pattern_nonzeros_ = 0;
   std::vector<char> rot_;
   std::vector<RowGroup> groups_;
   std::vector<int> off_, row_;
-  std::vector<std::vector<std::pair<int, int>>> body_groups_;  // (group, slot)
-  std::vector<std::vector<std::pair<int, int>>> coupled_;      // (group k, row offset in column)
   std::vector<std::array<GroupBlock, kMaxGroupBodies>> blocks_;
-  std::vector<std::array<GroupBlock, kMaxGroupBodies>> gblocks_;  // B M⁻¹
+  std::vector<std::array<Padded, kMaxGroupBodies>> padded_, gpadded_;  // B and B M⁻¹, padded
+  std::vector<Contribution> contributions_;
   std::vector<double> invm_;
   std::vector<Eigen::Matrix3d> Jinv_;
-  std::vector<Eigen::Index> diag_slot_, ap_slot_, ap_diag_slot_;
-  std::vector<int> orig_;
-  Eigen::VectorXi perm_;
-  SpMat A_, Ap_;
-  Eigen::SimplicialLDLT<SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
-  Eigen::VectorXd diagA_, rhsp_, xp_;
+  BlockLdlt ldlt_;
+  std::vector<BlockLdlt::BlockVector> scale_, x_;
+  Eigen::VectorXd diagA_;
 };
 
 }  // namespace multibody
