@@ -107,7 +107,7 @@ void BM_ChainStep_rkmk4(benchmark::State& st) {
                      RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())));
 }
 BENCHMARK(BM_ChainStep_rkmk4)
-    ->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
 
 // Collects real time per iteration of every BM_.../N for the summary (every
@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
   for (const char* peer : {"BM_ChainStep_mujoco_rk4", "BM_ChainStep_mujoco_euler"}) {
     if (!rep.ns.count(peer) || !rep.ns.count(lieflow_family)) continue;
     std::string line;
-    for (int n : {10, 30, 100, 300, 1000}) {
+    for (int n : {1, 2, 10, 30, 100, 300, 1000}) {
       const double a = rep.median(lieflow_family, n), b = rep.median(peer, n);
       if (!(a > 0 && b > 0)) continue;
       char buf[96];

@@ -313,10 +313,10 @@ void BM_ChainStep_mujoco_rk4(benchmark::State& st) { mujocoChainSteps(st, MjInte
 void BM_ChainStep_mujoco_euler(benchmark::State& st) { mujocoChainSteps(st, MjIntegrator::kEuler); }
 
 BENCHMARK(BM_ChainStep_mujoco_rk4)
-    ->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ChainStep_mujoco_euler)
-    ->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -321,6 +321,16 @@ void MultibodySystem::rebaseAngles(State* y) const {
   }
 }
 
+bool MultibodySystem::samePoses(const State& y) const {
+  const auto& P = y.bodies.poses;
+  if (P.size() != factor_cache_.poses.size()) return false;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P[i].p != factor_cache_.poses[i].p ||
+        P[i].R.quaternion().coeffs() != factor_cache_.poses[i].R.quaternion().coeffs())
+      return false;
+  return true;
+}
+
 // --- Dynamics ------------------------------------------------------------------
 
 void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::VectorXd* F) const {
@@ -355,7 +365,9 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
 }
 
 void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,
-                                 Eigen::VectorXd* b, Eigen::VectorXd* c) const {
+                                 Eigen::VectorXd* b, Eigen::VectorXd* c, bool jacobians) const {
+  // New blocks no longer match the factorization held by the solvers.
+  if (jacobians) factor_cache_.valid = false;
   const int nj = static_cast<int>(model_.joints.size());
   int g = 0;
   for (int k = 0; k < nj; ++k, ++g) {
@@ -367,9 +379,11 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
     if (rows == 0) continue;
     std::visit(
         [&](const auto& con) {
-          const auto J = con.jacobians(pa, pb);
-          S.block(g, 0) = J[0].bottomRows(rows);
-          S.block(g, 1) = J[1].bottomRows(rows);
+          if (jacobians) {
+            const auto J = con.jacobians(pa, pb);
+            S.block(g, 0) = J[0].bottomRows(rows);
+            S.block(g, 1) = J[1].bottomRows(rows);
+          }
           if (phi) phi->segment(r0, rows) = con.residual(pa, pb).tail(rows);
           if (b) b->segment(r0, rows).setZero();
           if (c) c->segment(r0, rows) = con.convective(pa, pb, va, vb).tail(rows);
@@ -377,13 +391,17 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
         j.constraint);
   }
   for (const CoordinateRef& p : prescribed_) {
-    Row6 Ja, Jb;
-    const double value = coordinate(y, p.joint, p.coordinate, &Ja, &Jb);
     const TimeFunction& f = *drives_[p.joint][p.coordinate].prescribed;
-    S.block(g, 0) = Ja;
-    S.block(g, 1) = Jb;
+    if (jacobians || phi) {
+      Row6 Ja, Jb;
+      const double value = coordinate(y, p.joint, p.coordinate, &Ja, &Jb);
+      if (jacobians) {
+        S.block(g, 0) = Ja;
+        S.block(g, 1) = Jb;
+      }
+      if (phi) (*phi)[S.rowBegin(g)] = value - f(t);
+    }
     const int r0 = S.rowBegin(g);
-    if (phi) (*phi)[r0] = value - f(t);
     if (b) (*b)[r0] = f.derivative(t);
     if (c) (*c)[r0] = coordinateConvective(y, p.joint, p.coordinate) - f.secondDerivative(t);
     ++g;
@@ -402,12 +420,14 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
             X[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
             V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
           }
-          const auto B = con.rows(X);
           const int rows = static_cast<int>(sel.size());
-          for (std::size_t s = 0; s < C::kBodies; ++s) {
-            GroupBlock& blk = S.block(g, static_cast<int>(s));
-            blk.resize(rows, 6);
-            for (int r = 0; r < rows; ++r) blk.row(r) = B[s].row(sel[r]);
+          if (jacobians) {
+            const auto B = con.rows(X);
+            for (std::size_t s = 0; s < C::kBodies; ++s) {
+              GroupBlock& blk = S.block(g, static_cast<int>(s));
+              blk.resize(rows, 6);
+              for (int r = 0; r < rows; ++r) blk.row(r) = B[s].row(sel[r]);
+            }
           }
           const int r0 = S.rowBegin(g);
           if (b) b->segment(r0, rows).setZero();
@@ -425,15 +445,28 @@ bool MultibodySystem::factorConstraints(double t, const State& y, RowSet set, st
                                         Eigen::VectorXd* b, Eigen::VectorXd* c) const {
   SchurSolver& S = schur(set);
   const bool gears = &S == &all_ && hasGears();
+  if (b) b->resize(S.rows());
+  if (c) c->resize(S.rows());
+  if (factor_cache_.valid && factor_cache_.solver == &S && samePoses(y)) {
+    // S already holds J(q) and its factorization at these positions (the
+    // velocity projection of the last step, for the first stage of the
+    // next): only the velocity-dependent targets are new.
+    if (b || c) fillGroups(t, y, S, gears, nullptr, b, c, false);
+    return true;
+  }
   for (int i = 0; i < bodyCount(); ++i) {
     const RigidBody& body = model_.bodies[i];
     S.setInverseMass(i, body.rotation_only ? 0.0 : 1.0 / body.mass, body.inertia.inverse());
   }
-  if (b) b->resize(S.rows());
-  if (c) c->resize(S.rows());
   fillGroups(t, y, S, gears, nullptr, b, c);
   const FactorStatus st = S.factor();
-  if (st.ok) return true;
+  if (st.ok) {
+    factor_cache_.valid = true;
+    factor_cache_.solver = &S;
+    factor_cache_.poses.resize(y.bodies.poses.size());
+    std::copy(y.bodies.poses.begin(), y.bodies.poses.end(), factor_cache_.poses.begin());
+    return true;
+  }
   if (why) {
     const int g = S.groupOfRow(st.row);
     const int nj = static_cast<int>(model_.joints.size());
@@ -488,13 +521,20 @@ bool MultibodySystem::accelerations(double t, const State& y, Eigen::VectorXd* u
 
 void MultibodySystem::velocity(double t, const State& y, Eigen::VectorXd* f) const {
   f->resize(2 * n_);
-  f->head(n_) = y.velocities();
-  Eigen::VectorXd udot;
-  if (!accelerations(t, y, &udot, nullptr, nullptr)) {
+  for (int i = 0; i < bodyCount(); ++i) {
+    const int o = off_[i];
+    if (rot_[i]) {
+      f->segment<3>(o) = y.bodies.velocities[i].omega;
+    } else {
+      f->segment<3>(o) = y.bodies.velocities[i].v;
+      f->segment<3>(o + 3) = y.bodies.velocities[i].omega;
+    }
+  }
+  if (!accelerations(t, y, &udot_, nullptr, nullptr)) {
     f->tail(n_).setConstant(std::numeric_limits<double>::quiet_NaN());
     return;
   }
-  f->tail(n_) = udot;
+  f->tail(n_) = udot_;
 }
 
 // --- Constraints ---------------------------------------------------------------
@@ -597,15 +637,25 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
   if (iterations) *iterations = 0;
   if (pos_groups_.empty()) return true;
   const double tolerance = achievablePositionTolerance(*y, requested_tolerance);
-  Eigen::VectorXd phi;
+  Eigen::VectorXd& phi = phi_;
   positionResidual(t, *y, &phi);
   if (phi.lpNorm<Eigen::Infinity>() <= tolerance) return true;
-  if (!factorConstraints(t, *y, RowSet::kPosition, why)) return false;
   SchurSolver& S = schur(RowSet::kPosition);
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(2 * n_);
-  double previous = std::numeric_limits<double>::infinity();
+  // A factorization of the position rows at nearby positions (the last
+  // stage of the step just taken) serves the simplified Newton as well as
+  // one at y: the iteration contracts by a factor of the order of the
+  // distance between the two. It is kept while each iteration reduces max |Φ|
+  // by kStaleContraction; otherwise y goes back to where that iteration
+  // started and S is factored there.
+  bool fresh = !(factor_cache_.valid && factor_cache_.solver == &S);
+  if (fresh && !factorConstraints(t, *y, RowSet::kPosition, why)) return false;
+  Eigen::VectorXd& d = projection_step_;
+  d.setZero(2 * n_);
+  double previous = phi.lpNorm<Eigen::Infinity>();
+  int fresh_iterations = 0;
   for (int it = 1; it <= max_iterations; ++it) {
-    // Δq = −M⁻¹ Jᵀ S⁻¹ Φ (simplified Newton: J and S from the start point).
+    if (!fresh) projection_backup_ = *y;
+    // Δq = −M⁻¹ Jᵀ S⁻¹ Φ (simplified Newton: J and S held fixed).
     S.solve(phi, lam_);
     tmp_.setZero(n_);
     S.addJTranspose(lam_, -1.0, tmp_);
@@ -616,7 +666,20 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
     positionResidual(t, *y, &phi);
     const double err = phi.lpNorm<Eigen::Infinity>();
     if (err <= tolerance) return true;
-    if (!(err < previous) && it > 2) break;  // not contracting (or NaN)
+    if (!fresh) {
+      if (err <= kStaleContraction * previous) {
+        previous = err;
+        continue;
+      }
+      *y = projection_backup_;
+      positionResidual(t, *y, &phi);
+      if (!factorConstraints(t, *y, RowSet::kPosition, why)) return false;
+      fresh = true;
+      previous = phi.lpNorm<Eigen::Infinity>();
+      continue;
+    }
+    ++fresh_iterations;
+    if (!(err < previous) && fresh_iterations > 2) break;  // not contracting (or NaN)
     previous = err;
   }
   if (why) {

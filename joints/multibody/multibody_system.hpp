@@ -217,10 +217,15 @@ class MultibodySystem {
   /// 50 km of a 100000-rod chain, where a fixed 1e-12 can never be met).
   double achievablePositionTolerance(const State& y, double tolerance) const;
   static constexpr double kPositionRoundoffUlps = 16.0;
+  /// A held factorization is reused by projectPositions while each
+  /// iteration reduces max |Φ| at least this much.
+  static constexpr double kStaleContraction = 0.1;
 
   /// Position projection onto Φ = 0 (M-orthogonal, simplified Newton with S
-  /// factored at the start point): stops when max |Φ| ≤ the achievable
-  /// tolerance; false with `why` if max_iterations pass first or S is singular.
+  /// factored at the start point, or the factorization the solver already
+  /// holds from nearby positions while it contracts by kStaleContraction per
+  /// iteration): stops when max |Φ| ≤ the achievable tolerance; false with
+  /// `why` if max_iterations pass first or S is singular.
   bool projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
                         std::string* why) const;
 
@@ -255,8 +260,21 @@ class MultibodySystem {
   double coordinate(const State& y, int k, int i, Eigen::Matrix<double, 1, 6>* Ja,
                     Eigen::Matrix<double, 1, 6>* Jb) const;
   double coordinateConvective(const State& y, int k, int i) const;
+  /// Writes the Jacobian blocks of the groups into S (if `jacobians`) and Φ,
+  /// the velocity targets b and the convective terms c where asked.
   void fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,
-                  Eigen::VectorXd* b, Eigen::VectorXd* c) const;
+                  Eigen::VectorXd* b, Eigen::VectorXd* c, bool jacobians = true) const;
+  /// True when y's poses are bitwise those of the cached factorization.
+  bool samePoses(const State& y) const;
+
+  /// The last successful factorConstraints: which solver holds it and at
+  /// which poses (J and S depend on q only). Any rewrite of the blocks
+  /// (fillGroups with Jacobians) invalidates it.
+  struct FactorCache {
+    bool valid = false;
+    const SchurSolver* solver = nullptr;
+    std::vector<BodyPose<double>> poses;
+  };
 
   /// Rows of joint k's constraint that are imposed: all but the first
   /// skip_rows_[k] (3 when the point rows are identically satisfied).
@@ -273,6 +291,9 @@ class MultibodySystem {
   std::vector<CoordinateRef> prescribed_;
   std::vector<RowGroup> all_groups_, pos_groups_;
   mutable SchurSolver all_, pos_;
+  mutable FactorCache factor_cache_;
+  mutable State projection_backup_;
+  mutable Eigen::VectorXd phi_, projection_step_, udot_;
   mutable Eigen::VectorXd F_, y_, rhs_, c_, lam_, tmp_;
 };
 
