@@ -4,8 +4,11 @@
 //    cached ConstrainedAccelerationSolver (pattern analysed once, factorize +
 //    solve per iteration);
 //  * BM_ChainStep_<integrator>: one full step of a constrained integrator on
-//    the MultibodySystem (projected RKMK4: 4 acceleration solves + position
-//    and velocity projections).
+//    the MultibodySystem (projected RKMK4 and CF4: 4 acceleration solves +
+//    position and velocity projections; lgvi: the RATTLE step; genalpha: the
+//    index-3 generalized-α step at ρ∞ = 0.9, since ρ∞ = 1 is unstable at
+//    index 3 on chains). Every kResetSteps steps (1 s) the chain starts
+//    again from rest, outside the timing, as the MuJoCo runs do.
 //
 // After the benchmarks, prints time(1000)/time(100) for each family against
 // the target ≤ 12 (cost per step linear in N) and time(100)/time(10), medians
@@ -21,15 +24,20 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
 
 #include "bench/multibody/chain_scene.hpp"
 #include "integrators/butcher_tableau.hpp"
+#include "integrators/commutator_free.hpp"
+#include "integrators/constrained_generalized_alpha.hpp"
+#include "integrators/constrained_lgvi.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
+#include "joints/multibody/kkt_assembly.hpp"
 #include "joints/multibody/multibody_system.hpp"
 
 namespace {
@@ -77,6 +85,10 @@ void BM_ChainFreeFunction(benchmark::State& st) {
 }
 BENCHMARK(BM_ChainFreeFunction)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+/// The chain starts again from rest every kResetSteps steps (1 s at h =
+/// 1e-3), outside the timing, as bench_chain_mujoco.cpp's runs do.
+constexpr long kResetSteps = 1000;
+
 /// One full step of `stepper` on the chain (h = 1e-3), state carried over.
 template <typename Stepper>
 void chainSteps(benchmark::State& st, Stepper stepper) {
@@ -86,16 +98,24 @@ void chainSteps(benchmark::State& st, Stepper stepper) {
   // Released at rest (the random joint rates of the chain builder add up to
   // tip speeds of ~N rad/s, beyond what h = 1e-3 resolves at N = 1000).
   for (auto& v : s.velocities) v = BodyVelocity<double>{};
-  MultibodyGroupState y = system.makeState(s);
+  const MultibodyGroupState y0 = system.makeState(s);
+  MultibodyGroupState y = y0;
   double t = 0.0;
-  const double h = 1e-3;
+  const double h = bench::kChainStep;
   StepReport report;
+  long steps = 0;
   for (auto _ : st) {
     y = stepper.step(system, t, y, h, &report);
     t += h;
     if (!report.converged) {
       st.SkipWithError(report.failure);
       break;
+    }
+    if (++steps % kResetSteps == 0) {
+      st.PauseTiming();
+      y = y0;
+      t = 0.0;
+      st.ResumeTiming();
     }
   }
   st.counters["constraint_error"] = system.constraintError(t, y);
@@ -109,6 +129,24 @@ void BM_ChainStep_rkmk4(benchmark::State& st) {
 BENCHMARK(BM_ChainStep_rkmk4)
     ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_cf4(benchmark::State& st) {
+  chainSteps(st, ProjectedStepper<CommutatorFree4Stepper<MultibodyGroupState>>(
+                     CommutatorFree4Stepper<MultibodyGroupState>()));
+}
+BENCHMARK(BM_ChainStep_cf4)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_lgvi(benchmark::State& st) {
+  chainSteps(st, ConstrainedLgviStepper<MultibodySystem>(ConstrainedLgviOptions{}));
+}
+BENCHMARK(BM_ChainStep_lgvi)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_genalpha(benchmark::State& st) {
+  ConstrainedGeneralizedAlphaOptions o;
+  o.rho_inf = 0.9;
+  chainSteps(st, ConstrainedGeneralizedAlphaStepper<MultibodySystem>(o));
+}
+BENCHMARK(BM_ChainStep_genalpha)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
@@ -185,9 +223,16 @@ int main(int argc, char** argv) {
                 peer ? "MuJoCo, for comparison; lieflow's target <= 12: " : "target <= 12: ",
                 r1 <= 12.0 ? "met" : "NOT met", r2);
   }
-  // lieflow's projected RKMK4 step against MuJoCo's steps, N by N.
-  const char* lieflow_family = "BM_ChainStep_rkmk4";
-  for (const char* peer : {"BM_ChainStep_mujoco_rk4", "BM_ChainStep_mujoco_euler"}) {
+  // lieflow's steps against MuJoCo's, N by N: the explicit fourth-order
+  // methods against RK4 and Euler, RATTLE against Euler, generalized-α
+  // against MuJoCo's implicit integrator.
+  const std::pair<const char*, const char*> pairs[] = {
+      {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_rk4"},  {"BM_ChainStep_cf4", "BM_ChainStep_mujoco_rk4"},
+      {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_euler"}, {"BM_ChainStep_lgvi", "BM_ChainStep_mujoco_euler"},
+      {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"}};
+  for (const auto& pair : pairs) {
+    const char* lieflow_family = pair.first;
+    const char* peer = pair.second;
     if (!rep.ns.count(peer) || !rep.ns.count(lieflow_family)) continue;
     std::string line;
     for (int n : {1, 2, 10, 30, 100, 300, 1000}) {

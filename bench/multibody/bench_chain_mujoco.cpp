@@ -1,8 +1,10 @@
 // MuJoCo beside bench_chain.cpp: the same chain of N rods on revolute joints
-// (chain_scene.hpp) as an MJCF model, stepped by mj_step with MuJoCo's RK4 and
+// (chain_scene.hpp) as an MJCF model, stepped by mj_step with MuJoCo's RK4, implicit and
 // semi-implicit Euler integrators at h = 1e-3, released at rest like
 // BM_ChainStep_rkmk4:
-//  * BM_ChainStep_mujoco_rk4/N, BM_ChainStep_mujoco_euler/N: one mj_step.
+//  * BM_ChainStep_mujoco_rk4/N, BM_ChainStep_mujoco_euler/N,
+//    BM_ChainStep_mujoco_implicit/N (MuJoCo 2.2's "implicit": Euler with the
+//    velocity derivatives of the passive forces taken implicitly): one mj_step.
 //
 // Compiled only when CMake found MuJoCo (CMakeLists.txt: the detection of
 // bench/integrators, define LIEFLOW_BENCH_CHAIN_MUJOCO); bench_chain.cpp's
@@ -71,7 +73,7 @@ using namespace lieflow::multibody;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-enum class MjIntegrator { kEuler, kRk4 };
+enum class MjIntegrator { kEuler, kRk4, kImplicit };
 
 /// Hinge axis of joint i in its parent's (= its own) frame, as chain_builder.hpp.
 Vector3d hingeAxis(int i) { return (i % 2) ? Vector3d(0, 1, 0) : Vector3d(0, 0, 1); }
@@ -119,7 +121,9 @@ std::vector<std::pair<std::string, std::string>> chainXml(const LieflowChain& c,
                 "    <include file=\"%s\"/>\n"
                 "  </worldbody>\n"
                 "</mujoco>\n",
-                n, h, integrator == MjIntegrator::kRk4 ? "RK4" : "Euler", fileName(1).c_str());
+                n, h, integrator == MjIntegrator::kRk4        ? "RK4"
+                : integrator == MjIntegrator::kImplicit ? "implicit"
+                                                        : "Euler", fileName(1).c_str());
   files.emplace_back(fileName(0), buf);
   for (int k = 1, first = 0; first < n; ++k, first += kBodiesPerFile) {
     const int last = std::min(n, first + kBodiesPerFile);
@@ -311,6 +315,7 @@ void mujocoChainSteps(benchmark::State& st, MjIntegrator integrator) {
 
 void BM_ChainStep_mujoco_rk4(benchmark::State& st) { mujocoChainSteps(st, MjIntegrator::kRk4); }
 void BM_ChainStep_mujoco_euler(benchmark::State& st) { mujocoChainSteps(st, MjIntegrator::kEuler); }
+void BM_ChainStep_mujoco_implicit(benchmark::State& st) { mujocoChainSteps(st, MjIntegrator::kImplicit); }
 
 BENCHMARK(BM_ChainStep_mujoco_rk4)
     ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
@@ -318,5 +323,6 @@ BENCHMARK(BM_ChainStep_mujoco_rk4)
 BENCHMARK(BM_ChainStep_mujoco_euler)
     ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ChainStep_mujoco_implicit)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
