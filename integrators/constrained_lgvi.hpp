@@ -192,16 +192,21 @@ class ConstrainedLgviStepper {
   const ConstrainedLgviOptions& options() const { return options_; }
   int order() const { return kOrder; }
 
-  /// One step of size h ≠ 0 from (t, y); see the file comment.
-  State step(const System& system, double t, const State& y, double h, StepReport* report = nullptr) const {
+  /// One step of size h ≠ 0 from (t, y); see the file comment. The result
+  /// lives in the stepper until its next step (y must not be that result);
+  /// a failed step returns y. The step's vectors and states are kept between
+  /// steps: nothing is allocated on the heap after the first step.
+  const State& step(const System& system, double t, const State& y, double h,
+                    StepReport* report = nullptr) const {
     StepReport local;
     StepReport& rep = report ? *report : local;
     rep = StepReport{};
     if (h == 0.0) return y;
-    Step s(system, t, y, h, options_);
+    Step& s = step_;
+    s.begin(system, t, y, h, options_);
     if (!s.factor(&rep)) return y;
     if (!s.solveMultipliers(&rep)) return y;
-    State y1 = s.endKick(&rep);
+    const State& y1 = s.endKick(&rep);
     if (!rep.converged) return y;
     if (!isFinite(y1)) {
       rep.fail("constrained LGVI: the state became non-finite", std::numeric_limits<double>::infinity());
@@ -219,11 +224,12 @@ class ConstrainedLgviStepper {
     Eigen::Quaterniond F;         ///< the relative rotation R_k⁻¹ R_{k+1}
   };
 
-  /// One step's work: the iteration over λ and the end kick.
+  /// One step's work: the iteration over λ and the end kick. Its vectors,
+  /// states and per-body data persist from step to step (the workspace).
   class Step {
    public:
-    Step(const System& system, double t, const State& y, double h, const ConstrainedLgviOptions& options)
-        : sys_(system), t_(t), y_(y), h_(h), opt_(options), n_(system.dofs()), u_(y.velocities()) {
+    /// Starts a step from (t, y).
+    void begin(const System& system, double t, const State& y, double h, const ConstrainedLgviOptions& options) {
       bodies_.resize(system.bodyCount());
       for (int i = 0; i < system.bodyCount(); ++i) {
         Body& b = bodies_[i];
@@ -231,7 +237,15 @@ class ConstrainedLgviStepper {
         b.J = system.bodyInertia(i);
         b.J_inv = b.J.inverse();
       }
-      d_ = y.zeroTangent();
+      sys_ = &system;
+      t_ = t;
+      y_ = &y;
+      h_ = h;
+      opt_ = &options;
+      n_ = system.dofs();
+      rows_ = position_rows_ = 0;
+      y.velocitiesInto(&u_);
+      d_.setZero(y.tangentSize());
       xi_.setZero(n_);
       gears_ = system.hasGears();
       system.forces(t, y, false, &F0_);  // F(t_k, q_k, u_k)
@@ -239,10 +253,10 @@ class ConstrainedLgviStepper {
 
     /// Factors S(q_k) over all rows (and keeps the gear targets b).
     bool factor(StepReport* rep) {
-      if (!sys_.hasConstraints()) return true;
-      if (!factorAt(t_, y_, &b_, rep)) return false;
-      rows_ = sys_.schur(System::RowSet::kAll).rows();
-      position_rows_ = sys_.positionRowCount();
+      if (!sys().hasConstraints()) return true;
+      if (!factorAt(t_, *y_, &b_, rep)) return false;
+      rows_ = sys().schur(System::RowSet::kAll).rows();
+      position_rows_ = sys().positionRowCount();
       lambda_.setZero(rows_);  // the start (see "The multipliers")
       return true;
     }
@@ -251,27 +265,27 @@ class ConstrainedLgviStepper {
     /// and the bodies' Π⁺ and F at the converged λ.
     bool solveMultipliers(StepReport* rep) {
       double previous = std::numeric_limits<double>::infinity();
-      Eigen::VectorXd correction;
+      Eigen::VectorXd& correction = correction_;
       for (int it = 0;; ++it) {
         if (!evaluate(rep)) return false;
         const double err = rows_ > 0 ? residual_.lpNorm<Eigen::Infinity>() : 0.0;
         rep->residual = err;
         rep->newton_iterations = it;
-        if (err <= sys_.achievablePositionTolerance(y1_, opt_.tolerance)) return true;
+        if (err <= sys().achievablePositionTolerance(y1_, opt_->tolerance)) return true;
         const bool stalled = it >= 2 && !(err < previous);
-        if (!std::isfinite(err) || stalled || it == opt_.max_iterations) {
+        if (!std::isfinite(err) || stalled || it == opt_->max_iterations) {
           rep->fail("constrained LGVI: the constraint iteration did not converge", err);
           std::ostringstream s;
-          s << "max |Phi| = " << err << " (tolerance " << sys_.achievablePositionTolerance(y1_, opt_.tolerance) << ") after " << it
+          s << "max |Phi| = " << err << " (tolerance " << sys().achievablePositionTolerance(y1_, opt_->tolerance) << ") after " << it
             << " quasi-Newton corrections; ";
-          if (it == opt_.max_iterations && !stalled)
+          if (it == opt_->max_iterations && !stalled)
             s << "max_iterations reached";
           else
             s << "not contracting: the step h = " << h_ << " is too large for the constraint iteration";
           rep->detail = s.str();
           return false;
         }
-        sys_.schur(System::RowSet::kAll).solve(residual_, correction);
+        sys().schur(System::RowSet::kAll).solve(residual_, correction);
         lambda_ += (2.0 / (h_ * h_)) * correction;
         previous = err;
       }
@@ -282,76 +296,86 @@ class ConstrainedLgviStepper {
     /// D(u_{k+1})), P the mass-orthogonal projection onto J(q_{k+1}) u = b
     /// (the μ of the file comment) and D the dashpot forces — a fixed point
     /// when there are dampers, one projection otherwise.
-    State endKick(StepReport* rep) {
-      State y1 = y1_;
-      y1.setVelocities(Eigen::VectorXd::Zero(n_));
-      Eigen::VectorXd F1;
-      sys_.forces(t_ + h_, y1, false, &F1);  // no dashpot at u = 0
-      Eigen::VectorXd u_star(n_);
-      for (int i = 0; i < sys_.bodyCount(); ++i) {
+    const State& endKick(StepReport* rep) {
+      State& y1 = result_;
+      y1 = y1_;
+      u_star_.setZero(n_);
+      y1.setVelocities(u_star_);
+      Eigen::VectorXd& F1 = F1_;
+      sys().forces(t_ + h_, y1, false, &F1);  // no dashpot at u = 0
+      Eigen::VectorXd& u_star = u_star_;
+      for (int i = 0; i < sys().bodyCount(); ++i) {
         const Body& b = bodies_[i];
-        const int o = sys_.dofBegin(i), r = sys_.rotationOnly(i) ? 0 : 3;
+        const int o = sys().dofBegin(i), r = sys().rotationOnly(i) ? 0 : 3;
         if (r) u_star.segment<3>(o) = xi_.segment<3>(o) + (0.5 * h_ / b.mass) * F1.segment<3>(o);
         // Π_{k+1} = Fᵀ Π⁺ + (h/2) τ_{k+1}.
         const Eigen::Vector3d Pi = b.F.conjugate() * b.Pi_plus + (0.5 * h_) * F1.segment<3>(o + r);
         u_star.segment<3>(o + r) = detail::solveInertia<double>(b.J, b.J_inv, Pi);
       }
-      if (!sys_.hasConstraints()) {
+      if (!sys().hasConstraints()) {
         y1.setVelocities(u_star);
         return y1;
       }
-      Eigen::VectorXd b1;
+      Eigen::VectorXd& b1 = b1_;
       if (!factorAt(t_ + h_, y1, &b1, rep)) return y1;
-      Eigen::VectorXd u = u_star;
+      Eigen::VectorXd& u = u1_;
+      u = u_star;
       project(b1, &u);
-      if (sys_.hasDampers() && !dampedEndKick(y1, F1, u_star, b1, &u, rep)) return y1;
+      if (sys().hasDampers() && !dampedEndKick(F1, u_star, b1, &u, rep)) return y1;
       y1.setVelocities(u);
       return y1;
     }
 
    private:
-    bool factorAt(double t, const State& y, Eigen::VectorXd* b, StepReport* rep) const {
-      std::string why;
-      if (sys_.factorConstraints(t, y, System::RowSet::kAll, &why, b, nullptr)) return true;
+    const System& sys() const { return *sys_; }
+
+    bool factorAt(double t, const State& y, Eigen::VectorXd* b, StepReport* rep) {
+      std::string& why = why_;
+      if (sys().factorConstraints(t, y, System::RowSet::kAll, &why, b, nullptr)) return true;
       rep->fail("constrained LGVI: singular constraint system", std::numeric_limits<double>::infinity());
       rep->detail = why;
       return false;
     }
 
     /// u ← u − M⁻¹ Jᵀ S⁻¹ (J u − b) with the factorization in schur(kAll).
-    void project(const Eigen::VectorXd& b, Eigen::VectorXd* u) const {
-      auto& S = sys_.schur(System::RowSet::kAll);
-      Eigen::VectorXd Ju, nu, JTnu = Eigen::VectorXd::Zero(n_), du;
-      S.multiplyJ(*u, Ju);
-      S.solve(Ju - b, nu);
-      S.addJTranspose(nu, 1.0, JTnu);
-      S.applyInverseMass(JTnu, du);
-      *u -= du;
+    void project(const Eigen::VectorXd& b, Eigen::VectorXd* u) {
+      auto& S = sys().schur(System::RowSet::kAll);
+      S.multiplyJ(*u, Ju_);
+      Ju_ -= b;
+      S.solve(Ju_, nu_);
+      JTnu_.setZero(n_);
+      S.addJTranspose(nu_, 1.0, JTnu_);
+      S.applyInverseMass(JTnu_, du_);
+      *u -= du_;
     }
 
     /// The dashpot fixed point u ← P(u* + (h/2) M⁻¹ D(q_{k+1}, u)), D =
     /// F(t_{k+1}, q_{k+1}, u) − F(t_{k+1}, q_{k+1}, 0). Its contraction factor
     /// is about h c / (2 I), I the effective inertia of the damped coordinate.
-    bool dampedEndKick(State y1, const Eigen::VectorXd& F_undamped, const Eigen::VectorXd& u_star,
-                       const Eigen::VectorXd& b, Eigen::VectorXd* u, StepReport* rep) const {
-      auto& S = sys_.schur(System::RowSet::kAll);
-      Eigen::VectorXd F, MinvD, next;
+    /// (Works on the state damped_ at q_{k+1}; result_ keeps u*.)
+    bool dampedEndKick(const Eigen::VectorXd& F_undamped, const Eigen::VectorXd& u_star, const Eigen::VectorXd& b,
+                       Eigen::VectorXd* u, StepReport* rep) {
+      auto& S = sys().schur(System::RowSet::kAll);
+      State& y1 = damped_;
+      y1 = result_;
+      Eigen::VectorXd &F = F_, &MinvD = MinvD_, &next = next_;
       double change = std::numeric_limits<double>::infinity();
-      for (int pass = 1; pass <= opt_.max_iterations; ++pass) {
+      for (int pass = 1; pass <= opt_->max_iterations; ++pass) {
         y1.setVelocities(*u);
-        sys_.forces(t_ + h_, y1, false, &F);
-        S.applyInverseMass(F - F_undamped, MinvD);
+        sys().forces(t_ + h_, y1, false, &F);
+        F -= F_undamped;
+        S.applyInverseMass(F, MinvD);
         next = u_star + (0.5 * h_) * MinvD;
         project(b, &next);
         change = (next - *u).lpNorm<Eigen::Infinity>();
         *u = next;
         rep->newton_iterations += 1;
-        if (change <= opt_.velocity_tolerance * (1.0 + u->lpNorm<Eigen::Infinity>())) return true;
+        if (change <= opt_->velocity_tolerance * (1.0 + u->lpNorm<Eigen::Infinity>())) return true;
         if (!std::isfinite(change)) break;
       }
       rep->fail("constrained LGVI: the implicit dashpot end kick did not converge", change);
       std::ostringstream s;
-      s << "last velocity change " << change << " after " << opt_.max_iterations
+      s << "last velocity change " << change << " after " << opt_->max_iterations
         << " passes; h c / (2 I) of a damped joint coordinate is too large at h = " << h_;
       rep->detail = s.str();
       return false;
@@ -362,16 +386,16 @@ class ConstrainedLgviStepper {
     /// rotation equation has no solution.
     bool evaluate(StepReport* rep) {
       impulse_ = F0_;  // F_k − Jᵀλ
-      if (rows_ > 0) sys_.schur(System::RowSet::kAll).addJTranspose(lambda_, -1.0, impulse_);
-      for (int i = 0; i < sys_.bodyCount(); ++i)
+      if (rows_ > 0) sys().schur(System::RowSet::kAll).addJTranspose(lambda_, -1.0, impulse_);
+      for (int i = 0; i < sys().bodyCount(); ++i)
         if (!driftBody(i, rep)) return false;
-      y1_ = y_.rplus(d_);
+      y1_ = *y_;
+      y1_.rplusInPlace(d_);
       if (rows_ == 0) return true;
       residual_.resize(rows_);
-      Eigen::VectorXd phi;
-      sys_.positionResidual(t_ + h_, y1_, &phi);
-      residual_.head(position_rows_) = phi;
-      if (gears_) residual_.tail(rows_ - position_rows_) = gearDefect();
+      sys().positionResidual(t_ + h_, y1_, &phi_);
+      residual_.head(position_rows_) = phi_;
+      if (gears_) gearDefect(residual_.tail(rows_ - position_rows_));
       return true;
     }
 
@@ -379,7 +403,7 @@ class ConstrainedLgviStepper {
     /// h Π⁺^ = F J_d − J_d Fᵀ; the increments (h v⁺, log F) into d_ and ξ.
     bool driftBody(int i, StepReport* rep) {
       Body& b = bodies_[i];
-      const int o = sys_.dofBegin(i), r = sys_.rotationOnly(i) ? 0 : 3;
+      const int o = sys().dofBegin(i), r = sys().rotationOnly(i) ? 0 : 3;
       if (r) {
         const Eigen::Vector3d v_plus = u_.segment<3>(o) + (0.5 * h_ / b.mass) * impulse_.segment<3>(o);
         xi_.segment<3>(o) = v_plus;
@@ -387,20 +411,20 @@ class ConstrainedLgviStepper {
       }
       b.Pi_plus = b.J * u_.segment<3>(o + r) + (0.5 * h_) * impulse_.segment<3>(o + r);
       const Eigen::Vector3d rhs = h_ * b.Pi_plus;
-      const LgviSolution<double> sol = solveLgviEquation<double>(b.J, b.J_inv, rhs, opt_.rotation);
+      const LgviSolution<double> sol = solveLgviEquation<double>(b.J, b.J_inv, rhs, opt_->rotation);
       if (!sol.converged || !sol.f.allFinite()) {
         rep->fail("constrained LGVI: a body's rotation update did not converge", sol.residual);
         std::ostringstream s;
         s << "body " << i << ": |G(f)| = " << sol.residual << " after " << sol.iterations
           << " Newton iterations, h|J^-1 Pi+| = " << (b.J_inv * rhs).norm()
-          << (opt_.rotation.map == LgviMap::kExponential
+          << (opt_->rotation.map == LgviMap::kExponential
                   ? " (the exponential-map LGVI equation has no solution for h|omega| >= 1 about a principal axis)"
                   : "");
         rep->detail = s.str();
         return false;
       }
       b.F = Eigen::Quaterniond(1.0 + sol.w_minus_one, sol.vec.x(), sol.vec.y(), sol.vec.z());
-      const Eigen::Vector3d dtheta = opt_.rotation.map == LgviMap::kExponential
+      const Eigen::Vector3d dtheta = opt_->rotation.map == LgviMap::kExponential
                                          ? sol.f
                                          : Eigen::Vector3d(SO3d(b.F.normalized()).log());
       d_.template segment<3>(o + r) = dtheta;
@@ -408,32 +432,36 @@ class ConstrainedLgviStepper {
       return true;
     }
 
-    /// h·½(B(q_k) + B(q_{k+1})) ξ − h b of the gear rows.
-    Eigen::VectorXd gearDefect() const {
-      State a = y_, c = y1_;
-      a.setVelocities(xi_);
-      c.setVelocities(xi_);
-      Eigen::VectorXd Ba, Bc;
-      sys_.gearVelocityResidual(a, &Ba);
-      sys_.gearVelocityResidual(c, &Bc);
-      return h_ * (0.5 * (Ba + Bc) - b_.tail(rows_ - position_rows_));
+    /// out = h·½(B(q_k) + B(q_{k+1})) ξ − h b of the gear rows.
+    template <typename Out>
+    void gearDefect(Out out) {
+      gear_a_ = *y_;
+      gear_c_ = y1_;
+      gear_a_.setVelocities(xi_);
+      gear_c_.setVelocities(xi_);
+      sys().gearVelocityResidual(gear_a_, &Ba_);
+      sys().gearVelocityResidual(gear_c_, &Bc_);
+      out = h_ * (0.5 * (Ba_ + Bc_) - b_.tail(rows_ - position_rows_));
     }
 
-    const System& sys_;
-    const double t_;
-    const State& y_;
-    const double h_;
-    const ConstrainedLgviOptions& opt_;
-    const int n_;
-    const Eigen::VectorXd u_;
+    const System* sys_ = nullptr;
+    double t_ = 0.0;
+    const State* y_ = nullptr;
+    double h_ = 0.0;
+    const ConstrainedLgviOptions* opt_ = nullptr;
+    int n_ = 0;
+    Eigen::VectorXd u_;
     std::vector<Body> bodies_;
     bool gears_ = false;
     int rows_ = 0, position_rows_ = 0;
-    Eigen::VectorXd F0_, impulse_, xi_, lambda_, residual_, b_;
+    Eigen::VectorXd F0_, impulse_, xi_, lambda_, residual_, b_, phi_, correction_;
+    Eigen::VectorXd F1_, u_star_, b1_, u1_, Ju_, nu_, JTnu_, du_, F_, MinvD_, next_, Ba_, Bc_;
+    std::string why_;
     typename State::Tangent d_;
-    State y1_;
+    State y1_, result_, damped_, gear_a_, gear_c_;
   };
 
+  mutable Step step_;
   ConstrainedLgviOptions options_;
 };
 

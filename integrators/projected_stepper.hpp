@@ -15,11 +15,17 @@
 ///   bool projectPositions(t, State*, tol, max_iterations, int* iterations, std::string* why);
 ///   bool projectVelocities(t, State*, std::string* why);
 ///   double constraintError(t, const State&)   (max |Φ|, for the report).
+///
+/// step() returns a reference to the projected state held by the stepper,
+/// valid until its next step (copying into it reuses its storage: no heap
+/// allocation per step when the inner stepper and the system allocate none).
 #pragma once
 
 #include <string>
+#include <type_traits>
 #include <utility>
 
+#include "integrators/state_workspace.hpp"
 #include "integrators/step_report.hpp"
 
 namespace lieflow {
@@ -40,28 +46,44 @@ class ProjectedStepper {
   const Inner& inner() const { return inner_; }
 
   template <typename System, typename State, typename Scalar>
-  State step(const System& system, const Scalar& t, const State& y, const Scalar& h,
-             StepReport* report = nullptr) const {
-    State y1 = inner_.step(system, t, y, h, report);
-    if (!isFinite(y1)) return y1;  // the driver reports the blow-up
-    int iterations = 0;
-    std::string why;
-    const double t1 = t + h;
-    bool ok = system.projectPositions(t1, &y1, options_.tolerance, options_.max_iterations, &iterations, &why);
-    if (ok) ok = system.projectVelocities(t1, &y1, &why);
-    if (report) {
-      report->newton_iterations += iterations;
-      if (!ok) {
-        report->fail("constraint projection failed", system.constraintError(t1, y1));
-        report->detail = why;
-      }
+  state_ops::StepResult<State> step(const System& system, const Scalar& t, const State& y, const Scalar& h,
+                                    StepReport* report = nullptr) const {
+    if constexpr (state_ops::kHeapBacked<State>) {
+      static_assert(std::is_same<State, typename Inner::StateType>::value,
+                    "ProjectedStepper: the state type is the inner stepper's");
+      State& y1 = result_;
+      y1 = inner_.step(system, t, y, h, report);
+      project(system, t + h, &y1, report);
+      return y1;
+    } else {
+      State y1 = inner_.step(system, t, y, h, report);
+      project(system, t + h, &y1, report);
+      return y1;
     }
-    return y1;
   }
 
  private:
+  template <typename System, typename State>
+  void project(const System& system, double t1, State* y1, StepReport* report) const {
+    if (!isFinite(*y1)) return;  // the driver reports the blow-up
+    int iterations = 0;
+    bool ok = system.projectPositions(t1, y1, options_.tolerance, options_.max_iterations, &iterations, &why_);
+    if (ok) ok = system.projectVelocities(t1, y1, &why_);
+    if (report) {
+      report->newton_iterations += iterations;
+      if (!ok) {
+        report->fail("constraint projection failed", system.constraintError(t1, *y1));
+        report->detail = why_;
+      }
+    }
+  }
+
   Inner inner_;
   ProjectionOptions options_;
+  struct NoState {};
+  using Result = typename Inner::StateType;
+  mutable std::conditional_t<state_ops::kHeapBacked<Result>, Result, NoState> result_;
+  mutable std::string why_;  // the projection's failure, reused
 };
 
 }  // namespace lieflow

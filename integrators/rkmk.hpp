@@ -11,13 +11,19 @@
 ///
 /// A State supplies `Tangent`, `rplus(Tangent)`, `zeroTangent()` and
 /// `dexpInvRight(Θ, v, order)` (static or not); a System supplies
-/// `velocity(t, y, Tangent*)`. Fixed-size states allocate nothing per step.
+/// `velocity(t, y, Tangent*)`. The stages live in a workspace held by the
+/// stepper (integrators/state_workspace.hpp), so that no step allocates on
+/// the heap after the first, whatever the state's size; a stepper is
+/// therefore used by one thread at a time, and step() returns a reference to
+/// the workspace's result, valid until the next step.
 #pragma once
 
 #include <algorithm>
 #include <array>
+#include <type_traits>
 
 #include "integrators/butcher_tableau.hpp"
+#include "integrators/state_workspace.hpp"
 #include "integrators/step_report.hpp"
 #include "liegroup/scalar.hpp"
 
@@ -26,6 +32,7 @@ namespace lieflow {
 template <typename State>
 class RkmkStepper {
  public:
+  using StateType = State;
   using Scalar = typename State::Scalar;
   using Tangent = typename State::Tangent;
 
@@ -35,16 +42,27 @@ class RkmkStepper {
   const ButcherTableau& tableau() const { return tableau_; }
   int order() const { return tableau_.order; }
 
-  /// One step of size h from (t, y).
+  /// One step of size h from (t, y). For a heap-backed state the result
+  /// lives in the stepper until its next step (y may be that result).
   template <typename System>
-  State step(const System& system, const Scalar& t, const State& y, const Scalar& h,
-             StepReport* /*report*/ = nullptr) const {
-    std::array<Tangent, ButcherTableau::kMaxStages> K;
-    computeStages(system, t, y, h, &K);
-    Tangent theta = y.zeroTangent();
-    for (int i = 0; i < tableau_.stages; ++i)
-      if (tableau_.b[i] != 0.0) theta += (h * Scalar(tableau_.b[i])) * K[i];
-    return y.rplus(theta);
+  state_ops::StepResult<State> step(const System& system, const Scalar& t, const State& y, const Scalar& h,
+                                    StepReport* /*report*/ = nullptr) const {
+    if constexpr (state_ops::kHeapBacked<State>) {
+      computeStages(system, t, y, h, &work_.K);
+      Tangent& theta = work_.theta;
+      state_ops::setZeroTangent(y, &theta);
+      for (int i = 0; i < tableau_.stages; ++i)
+        if (tableau_.b[i] != 0.0) theta.noalias() += (h * Scalar(tableau_.b[i])) * work_.K[i];
+      state_ops::rplusInto(y, theta, &work_.result);
+      return work_.result;
+    } else {
+      std::array<Tangent, ButcherTableau::kMaxStages> K;
+      computeStages(system, t, y, h, &K);
+      Tangent theta = y.zeroTangent();
+      for (int i = 0; i < tableau_.stages; ++i)
+        if (tableau_.b[i] != 0.0) theta += (h * Scalar(tableau_.b[i])) * K[i];
+      return y.rplus(theta);
+    }
   }
 
   using Stages = std::array<Tangent, ButcherTableau::kMaxStages>;
@@ -91,20 +109,49 @@ class RkmkStepper {
   template <typename System>
   void computeStages(const System& system, const Scalar& t, const State& y, const Scalar& h,
                      std::array<Tangent, ButcherTableau::kMaxStages>* K) const {
-    Tangent f = y.zeroTangent();
-    system.velocity(t, y, &f);
-    (*K)[0] = f;
-    for (int i = 1; i < tableau_.stages; ++i) {
-      Tangent theta = y.zeroTangent();
-      for (int j = 0; j < i; ++j)
-        if (tableau_.a[i][j] != 0.0) theta += (h * Scalar(tableau_.a[i][j])) * (*K)[j];
-      system.velocity(t + Scalar(tableau_.c[i]) * h, y.rplus(theta), &f);
-      (*K)[i] = dexp_order_ == 0 ? f : y.dexpInvRight(theta, f, dexp_order_);
+    if constexpr (state_ops::kHeapBacked<State>) {
+      Tangent& f = work_.f;
+      Tangent& theta = work_.stage_theta;
+      state_ops::setZeroTangent(y, &f);
+      system.velocity(t, y, &f);
+      (*K)[0] = f;
+      for (int i = 1; i < tableau_.stages; ++i) {
+        state_ops::setZeroTangent(y, &theta);
+        for (int j = 0; j < i; ++j)
+          if (tableau_.a[i][j] != 0.0) theta.noalias() += (h * Scalar(tableau_.a[i][j])) * (*K)[j];
+        state_ops::rplusInto(y, theta, &work_.stage);
+        system.velocity(t + Scalar(tableau_.c[i]) * h, work_.stage, &f);
+        if (dexp_order_ == 0)
+          (*K)[i] = f;
+        else
+          state_ops::dexpInvRightInto(y, theta, f, dexp_order_, &(*K)[i]);
+      }
+    } else {
+      Tangent f = y.zeroTangent();
+      system.velocity(t, y, &f);
+      (*K)[0] = f;
+      for (int i = 1; i < tableau_.stages; ++i) {
+        Tangent theta = y.zeroTangent();
+        for (int j = 0; j < i; ++j)
+          if (tableau_.a[i][j] != 0.0) theta += (h * Scalar(tableau_.a[i][j])) * (*K)[j];
+        system.velocity(t + Scalar(tableau_.c[i]) * h, y.rplus(theta), &f);
+        (*K)[i] = dexp_order_ == 0 ? f : y.dexpInvRight(theta, f, dexp_order_);
+      }
     }
   }
 
+  /// Reused every step by a heap-backed state: stage derivatives,
+  /// increments, the stage point and the result (empty otherwise).
+  struct Workspace {
+    std::array<Tangent, ButcherTableau::kMaxStages> K;
+    Tangent f, theta, stage_theta;
+    State stage, result;
+  };
+
   ButcherTableau tableau_;
   int dexp_order_;
+  struct NoWorkspace {};
+  mutable std::conditional_t<state_ops::kHeapBacked<State>, Workspace, NoWorkspace> work_;
 };
 
 }  // namespace lieflow

@@ -19,13 +19,20 @@ MultibodyGroupState::Tangent MultibodyGroupState::zeroTangent() const {
   return Tangent::Zero(2 * system->dofs());
 }
 
+int MultibodyGroupState::tangentSize() const { return 2 * system->dofs(); }
+
 MultibodyGroupState MultibodyGroupState::rplus(const Tangent& d) const {
   MultibodyGroupState out = *this;
+  out.rplusInPlace(d);
+  return out;
+}
+
+void MultibodyGroupState::rplusInPlace(const Tangent& d) {
   const int n = system->dofs();
   for (int i = 0; i < system->bodyCount(); ++i) {
     const int o = system->dofBegin(i);
-    BodyPose<double>& P = out.bodies.poses[i];
-    BodyVelocity<double>& V = out.bodies.velocities[i];
+    BodyPose<double>& P = bodies.poses[i];
+    BodyVelocity<double>& V = bodies.velocities[i];
     if (system->rotationOnly(i)) {
       P.R = P.R * SO3d::exp(d.segment<3>(o));
       V.omega += d.segment<3>(n + o);
@@ -36,18 +43,22 @@ MultibodyGroupState MultibodyGroupState::rplus(const Tangent& d) const {
       V.omega += d.segment<3>(n + o + 3);
     }
   }
-  system->rebaseAngles(&out);
-  return out;
+  system->rebaseAngles(this);
 }
 
 MultibodyGroupState::Tangent MultibodyGroupState::dexpInvRight(const Tangent& theta, const Tangent& v,
                                                                int order) const {
-  Tangent out = v;
+  Tangent out;
+  dexpInvRightInto(theta, v, order, &out);
+  return out;
+}
+
+void MultibodyGroupState::dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const {
+  *out = v;
   for (int i = 0; i < system->bodyCount(); ++i) {
     const int o = system->dofBegin(i) + (system->rotationOnly(i) ? 0 : 3);
-    out.segment<3>(o) = detail::so3DexpInvRight<double>(theta.segment<3>(o), v.segment<3>(o), order);
+    out->segment<3>(o) = detail::so3DexpInvRight<double>(theta.segment<3>(o), v.segment<3>(o), order);
   }
-  return out;
 }
 
 MultibodyGroupState::Tangent MultibodyGroupState::magnitude() const {
@@ -59,7 +70,14 @@ MultibodyGroupState::Tangent MultibodyGroupState::magnitude() const {
 }
 
 Eigen::VectorXd MultibodyGroupState::velocities() const {
-  Eigen::VectorXd u(system->dofs());
+  Eigen::VectorXd u;
+  velocitiesInto(&u);
+  return u;
+}
+
+void MultibodyGroupState::velocitiesInto(Eigen::VectorXd* out) const {
+  Eigen::VectorXd& u = *out;
+  u.resize(system->dofs());
   for (int i = 0; i < system->bodyCount(); ++i) {
     const int o = system->dofBegin(i);
     if (system->rotationOnly(i)) {
@@ -69,7 +87,6 @@ Eigen::VectorXd MultibodyGroupState::velocities() const {
       u.segment<3>(o + 3) = bodies.velocities[i].omega;
     }
   }
-  return u;
 }
 
 void MultibodyGroupState::setVelocities(const Eigen::VectorXd& u) {
@@ -558,9 +575,8 @@ void MultibodySystem::positionResidual(double t, const State& y, Eigen::VectorXd
 
 double MultibodySystem::constraintError(double t, const State& y) const {
   if (pos_groups_.empty()) return 0.0;
-  Eigen::VectorXd phi;
-  positionResidual(t, y, &phi);
-  return phi.lpNorm<Eigen::Infinity>();
+  positionResidual(t, y, &residual_);
+  return residual_.lpNorm<Eigen::Infinity>();
 }
 
 double MultibodySystem::velocityConstraintError(double t, const State& y) const {
@@ -610,10 +626,11 @@ void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) c
 
 bool MultibodySystem::projectVelocities(double t, State* y, std::string* why) const {
   if (!hasConstraints()) return true;
-  Eigen::VectorXd b;
+  Eigen::VectorXd& b = b_;
   if (!factorConstraints(t, *y, RowSet::kAll, why, &b, nullptr)) return false;
   SchurSolver& S = all_;
-  Eigen::VectorXd u = y->velocities();
+  Eigen::VectorXd& u = u_;
+  y->velocitiesInto(&u);
   S.multiplyJ(u, rhs_);
   rhs_ -= b;
   S.solve(rhs_, lam_);
@@ -661,7 +678,7 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
     S.addJTranspose(lam_, -1.0, tmp_);
     S.applyInverseMass(tmp_, y_);
     d.head(n_) = y_;
-    *y = y->rplus(d);
+    y->rplusInPlace(d);
     if (iterations) *iterations = it;
     positionResidual(t, *y, &phi);
     const double err = phi.lpNorm<Eigen::Infinity>();

@@ -95,13 +95,21 @@ struct MultibodyGroupState {
   const MultibodySystem* system = nullptr;
 
   Tangent zeroTangent() const;
+  /// 2 · dofs (δq then δu).
+  int tangentSize() const;
   MultibodyGroupState rplus(const Tangent& d) const;
+  /// *this = rplus(d) without allocating (integrators/state_workspace.hpp).
+  void rplusInPlace(const Tangent& d);
   /// Right-trivialized dexp⁻¹ blockwise (so(3) series on the δθ blocks).
   Tangent dexpInvRight(const Tangent& theta, const Tangent& v, int order) const;
+  /// *out = dexpInvRight(theta, v, order); out must not alias theta or v.
+  void dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const;
   /// Per-component size for error control: 1 for positions, |u| for velocities.
   Tangent magnitude() const;
   /// The stacked body velocities u (size n).
   Eigen::VectorXd velocities() const;
+  /// The same into *out (resized; no allocation when it has the size).
+  void velocitiesInto(Eigen::VectorXd* out) const;
   void setVelocities(const Eigen::VectorXd& u);
 };
 
@@ -293,7 +301,7 @@ class MultibodySystem {
   mutable SchurSolver all_, pos_;
   mutable FactorCache factor_cache_;
   mutable State projection_backup_;
-  mutable Eigen::VectorXd phi_, projection_step_, udot_;
+  mutable Eigen::VectorXd phi_, projection_step_, udot_, residual_, b_, u_;
   mutable Eigen::VectorXd F_, y_, rhs_, c_, lam_, tmp_;
 };
 
