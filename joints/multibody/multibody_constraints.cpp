@@ -1,0 +1,191 @@
+// MultibodySystem: constraint residuals, Jacobians and the position and
+// velocity projections.
+#include "joints/multibody/multibody_system.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace lieflow {
+namespace multibody {
+
+using constraints::BodyPose;
+using constraints::BodyVelocity;
+using Row6 = Eigen::Matrix<double, 1, 6>;
+
+// --- Constraints ---------------------------------------------------------------
+
+void MultibodySystem::positionResidual(double t, const State& y, Eigen::VectorXd* phi) const {
+  phi->resize(positionRowCount());
+  int r = 0;
+  for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const Joint& j = model_.joints[k];
+    const int rows = constraintRows(j.constraint) - skip_rows_[k];
+    if (rows == 0) continue;
+    BodyPose<double> pa, pb;
+    poses(y, j.main, j.secondary, &pa, &pb, nullptr, nullptr);
+    std::visit([&](const auto& con) { phi->segment(r, rows) = con.residual(pa, pb).tail(rows); }, j.constraint);
+    r += rows;
+  }
+  for (const CoordinateRef& p : prescribed_)
+    (*phi)[r++] = coordinate(y, p.joint, p.coordinate, nullptr, nullptr) -
+                  (*drives_[p.joint][p.coordinate].prescribed)(t);
+}
+
+double MultibodySystem::constraintError(double t, const State& y) const {
+  if (pos_groups_.empty()) return 0.0;
+  positionResidual(t, y, &residual_);
+  return residual_.lpNorm<Eigen::Infinity>();
+}
+
+double MultibodySystem::velocityConstraintError(double t, const State& y) const {
+  if (!hasConstraints()) return 0.0;
+  SchurSolver& S = all_;
+  Eigen::VectorXd b(S.rows());  // fillGroups writes segments: size it first
+  fillGroups(t, y, S, hasGears(), nullptr, &b, nullptr);
+  Eigen::VectorXd Ju;
+  S.multiplyJ(y.velocities(), Ju);
+  return (Ju - b).lpNorm<Eigen::Infinity>();
+}
+
+void MultibodySystem::constraintJacobians(double t, const State& y, Eigen::VectorXd* phi,
+                                          Eigen::VectorXd* b) const {
+  // Position rows come first in all_, so Φ fills the head of the row range.
+  if (phi) phi->resize(positionRowCount());
+  if (b) b->resize(all_.rows());
+  fillGroups(t, y, all_, hasGears(), phi, b, nullptr);
+}
+
+void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) const {
+  int rows = 0;
+  for (const std::vector<int>& sel : gear_rows_) rows += static_cast<int>(sel.size());
+  r->resize(rows);
+  int r0 = 0;
+  for (std::size_t gi = 0; gi < gears_.size(); ++gi) {
+    const Gear& gear = gears_[gi];
+    const std::vector<int>& sel = gear_rows_[gi];  // the imposed rows, as in fillGroups
+    std::visit(
+        [&](const auto& con) {
+          using C = std::decay_t<decltype(con)>;
+          typename C::Poses X;
+          typename C::Velocities V;
+          for (std::size_t s = 0; s < C::kBodies; ++s) {
+            const int body = gear.bodies[s];
+            X[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
+            V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
+            if (body != kGround && rot_[body]) V[s].v.setZero();  // no δp columns (as multiplyJ)
+          }
+          const auto Bu = con.velocity(X, V);
+          for (std::size_t k = 0; k < sel.size(); ++k) (*r)[r0 + static_cast<int>(k)] = Bu[sel[k]];
+          r0 += static_cast<int>(sel.size());
+        },
+        gear.constraint);
+  }
+}
+
+bool MultibodySystem::projectVelocities(double t, State* y, std::string* why) const {
+  if (!hasConstraints()) return true;
+  Eigen::VectorXd& b = b_;
+  if (!factorConstraints(t, *y, RowSet::kAll, why, &b, nullptr)) return false;
+  SchurSolver& S = all_;
+  Eigen::VectorXd& u = u_;
+  y->velocitiesInto(&u);
+  S.multiplyJ(u, rhs_);
+  rhs_ -= b;
+  S.solve(rhs_, lam_);
+  tmp_.setZero(n_);
+  S.addJTranspose(lam_, 1.0, tmp_);
+  S.applyInverseMass(tmp_, y_);
+  u -= y_;
+  y->setVelocities(u);
+  return true;
+}
+
+double MultibodySystem::achievablePositionTolerance(const State& y, double tolerance) const {
+  double extent = 1.0;
+  for (int i = 0; i < bodyCount(); ++i)
+    if (!rotationOnly(i)) extent = std::max(extent, y.bodies.poses[i].p.lpNorm<Eigen::Infinity>());
+  return std::max(tolerance, kPositionRoundoffUlps * std::numeric_limits<double>::epsilon() * extent);
+}
+
+bool MultibodySystem::projectPositions(double t, State* y, double requested_tolerance, int max_iterations,
+                                       int* iterations, std::string* why) const {
+  if (iterations) *iterations = 0;
+  if (pos_groups_.empty()) return true;
+  const double tolerance = achievablePositionTolerance(*y, requested_tolerance);
+  Eigen::VectorXd& phi = phi_;
+  positionResidual(t, *y, &phi);
+  if (phi.lpNorm<Eigen::Infinity>() <= tolerance) return true;
+  SchurSolver& S = schur(RowSet::kPosition);
+  // A factorization of the position rows at nearby positions (the last
+  // stage of the step just taken) serves the simplified Newton as well as
+  // one at y: the iteration contracts by a factor of the order of the
+  // distance between the two. It is kept while each iteration reduces max |Φ|
+  // by kStaleContraction; otherwise y goes back to where that iteration
+  // started and S is factored there.
+  bool fresh = !(factor_cache_.valid && factor_cache_.solver == &S);
+  if (fresh && !factorConstraints(t, *y, RowSet::kPosition, why)) return false;
+  Eigen::VectorXd& d = projection_step_;
+  d.setZero(2 * n_);
+  double previous = phi.lpNorm<Eigen::Infinity>();
+  int fresh_iterations = 0;
+  for (int it = 1; it <= max_iterations; ++it) {
+    if (!fresh) projection_backup_ = *y;
+    // Δq = −M⁻¹ Jᵀ S⁻¹ Φ (simplified Newton: J and S held fixed).
+    S.solve(phi, lam_);
+    tmp_.setZero(n_);
+    S.addJTranspose(lam_, -1.0, tmp_);
+    S.applyInverseMass(tmp_, y_);
+    d.head(n_) = y_;
+    y->rplusInPlace(d);
+    if (iterations) *iterations = it;
+    positionResidual(t, *y, &phi);
+    const double err = phi.lpNorm<Eigen::Infinity>();
+    if (err <= tolerance) return true;
+    if (!fresh) {
+      if (err <= kStaleContraction * previous) {
+        previous = err;
+        continue;
+      }
+      *y = projection_backup_;
+      positionResidual(t, *y, &phi);
+      if (!factorConstraints(t, *y, RowSet::kPosition, why)) return false;
+      fresh = true;
+      previous = phi.lpNorm<Eigen::Infinity>();
+      continue;
+    }
+    ++fresh_iterations;
+    if (!(err < previous) && fresh_iterations > 2) break;  // not contracting (or NaN)
+    previous = err;
+  }
+  if (why) {
+    std::ostringstream s;
+    s << "position projection did not converge: max |Phi| = " << phi.lpNorm<Eigen::Infinity>() << " after "
+      << (iterations ? *iterations : max_iterations) << " iterations (tolerance " << tolerance
+      << "); the step left the constraints too far to return, as beyond the integrator's stability limit";
+    *why = s.str();
+  }
+  return false;
+}
+
+std::vector<CoordinateElement> MultibodySystem::coordinateElements(const State& y) const {
+  std::vector<CoordinateElement> out;
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+      const CoordinateDrive& d = drives_[k][i];
+      if (d.stiffness == 0.0 && d.damping == 0.0) continue;
+      CoordinateElement e;
+      e.joint = static_cast<int>(k);
+      e.coordinate = i;
+      e.main = model_.joints[k].main;
+      e.secondary = model_.joints[k].secondary;
+      coordinate(y, e.joint, i, &e.J_main, &e.J_secondary);
+      e.stiffness = d.stiffness;
+      e.damping = d.damping;
+      out.push_back(e);
+    }
+  return out;
+}
+
+}  // namespace multibody
+}  // namespace lieflow

@@ -1,0 +1,140 @@
+// MultibodySystem: energy, angular momentum and the joint outputs.
+#include "joints/multibody/multibody_system.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace lieflow {
+namespace multibody {
+
+using constraints::BodyPose;
+using constraints::BodyVelocity;
+using Row6 = Eigen::Matrix<double, 1, 6>;
+
+// --- Observables ---------------------------------------------------------------
+
+double MultibodySystem::energy(const State& y) const {
+  double E = 0.0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const RigidBody& b = model_.bodies[i];
+    const Eigen::Vector3d& w = y.bodies.velocities[i].omega;
+    E += 0.5 * w.dot(b.inertia * w);
+    if (!rot_[i]) {
+      const Eigen::Vector3d& v = y.bodies.velocities[i].v;
+      E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(y.bodies.poses[i].p);
+    }
+  }
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+      const CoordinateDrive& d = drives_[k][i];
+      if (d.stiffness == 0.0) continue;
+      const double e = y.angles[2 * k + i] - d.rest_angle;
+      E += 0.5 * d.stiffness * e * e;
+    }
+  return E;
+}
+
+Eigen::Vector3d MultibodySystem::angularMomentum(const State& y) const {
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const RigidBody& b = model_.bodies[i];
+    const auto& P = y.bodies.poses[i];
+    const auto& V = y.bodies.velocities[i];
+    L += P.R * (b.inertia * V.omega);
+    if (!rot_[i]) L += P.p.cross(b.mass * V.v);
+  }
+  return L;
+}
+
+bool MultibodySystem::conservesAngularMomentum() const {
+  // External moments about the origin come from gravity (unless every body
+  // is rotation-only, held at its centre of mass), from the ground side of
+  // joints and gears, and from the supports of rotation-only bodies whenever
+  // a joint passes a force to them (its point rows are imposed). Joint
+  // springs, dashpots, applied moments and prescribed motion between two
+  // bodies act in equal and opposite pairs.
+  bool all_rotation_only = true;
+  for (int i = 0; i < bodyCount(); ++i) all_rotation_only = all_rotation_only && rot_[i];
+  if (model_.gravity.squaredNorm() != 0.0 && !all_rotation_only) return false;
+  for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const Joint& j = model_.joints[k];
+    if (j.main == kGround || j.secondary == kGround) return false;
+    if ((rot_[j.main] || rot_[j.secondary]) && skip_rows_[k] != 3) return false;
+  }
+  for (const Gear& g : gears_)
+    for (int b : g.bodies)
+      if (b == kGround || rot_[b]) return false;
+  return true;
+}
+
+std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y) const {
+  const int nj = static_cast<int>(model_.joints.size());
+  std::vector<JointOutput> out(nj);
+  bool any = false;
+  for (int k = 0; k < nj; ++k) {
+    out[k].coordinates = coordinateCount(k);
+    any = any || out[k].coordinates > 0;
+  }
+  if (!any) return out;
+  Eigen::VectorXd udot, lambda;
+  std::string why;
+  const bool solved = hasConstraints() && accelerations(t, y, &udot, &lambda, &why);
+  SchurSolver& S = all_;
+  // Prescribed row of (k, i), or −1.
+  auto prescribedRow = [&](int k, int i) {
+    int g = nj;
+    for (const CoordinateRef& p : prescribed_) {
+      if (p.joint == k && p.coordinate == i) return S.rowBegin(g);
+      ++g;
+    }
+    return -1;
+  };
+  for (int k = 0; k < nj; ++k) {
+    JointOutput& o = out[k];
+    if (o.coordinates == 0) continue;
+    const Joint& j = model_.joints[k];
+    BodyPose<double> pa, pb;
+    BodyVelocity<double> va, vb;
+    poses(y, j.main, j.secondary, &pa, &pb, &va, &vb);
+    // Generalized force (f world, τ body) of the joint on the main body (or on
+    // the secondary when main is ground, negated at the end).
+    const bool use_main = j.main != kGround;
+    const BodyPose<double>& P = use_main ? pa : pb;
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    if (solved) g -= S.block(k, use_main ? 0 : 1).transpose() * lambda.segment(S.rowBegin(k), S.groupRows(k));
+    std::array<Eigen::Vector3d, 2> axes;
+    Eigen::Vector3d anchor;
+    if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
+      axes[0] = pa.R * rev->axis_main;
+      anchor = pa.toWorld(rev->point.anchor_main);
+    } else {
+      const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
+      axes[0] = pa.R * uni.axis1_main;
+      axes[1] = pb.R * uni.axis2_secondary;
+      anchor = pa.toWorld(uni.point.anchor_main);
+      o.condition = constraints::universalAngles(uni, pa, pb).condition;
+    }
+    for (int i = 0; i < o.coordinates; ++i) {
+      Row6 Ja, Jb;
+      o.phi[i] = coordinate(y, k, i, &Ja, &Jb);
+      o.phidot[i] = Ja.tail<3>().dot(va.omega) + Jb.tail<3>().dot(vb.omega);
+      const Row6& Jside = use_main ? Ja : Jb;
+      const CoordinateDrive& d = drives_[k][i];
+      double M = 0.0;
+      if (d.hasForce()) {
+        M = -d.stiffness * (o.phi[i] - d.rest_angle) - d.damping * o.phidot[i];
+        if (d.moment) M += (*d.moment)(t);
+      }
+      const int pr = prescribedRow(k, i);
+      if (solved && pr >= 0) M -= lambda[pr];
+      g += Jside.transpose() * M;
+    }
+    const Eigen::Vector3d moment = P.R * g.tail<3>() - (anchor - P.p).cross(g.head<3>());
+    for (int i = 0; i < o.coordinates; ++i) o.moment[i] = (use_main ? 1.0 : -1.0) * moment.dot(axes[i]);
+  }
+  return out;
+}
+
+}  // namespace multibody
+}  // namespace lieflow
