@@ -169,6 +169,10 @@ struct ConstrainedGeneralizedAlphaOptions {
   double constraint_tolerance = 1e-12;
   /// Newton corrections allowed per step (≥ 1).
   int max_iterations = 20;
+  /// 2: the stabilized index-2 formulation (file comment, "Stabilized index
+  /// 2"), stable at ρ∞ = 1; 3: index 3 (BCA 2012), which needs ρ∞ < 1 on
+  /// nonlinear constraints.
+  int index = 2;
 };
 
 /// The index-3 Lie-group generalized-α stepper for a System with
@@ -199,6 +203,8 @@ class ConstrainedGeneralizedAlphaStepper {
     checkTolerance(options.absolute_tolerance, "absolute_tolerance");
     checkTolerance(options.constraint_tolerance, "constraint_tolerance");
     if (options.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
+    if (options.index != 2 && options.index != 3) throw InvalidInput("index", "must be 2 or 3");
+    assembly_.setStabilized(options.index == 2);
     // The pattern is structurally symmetric (J and Jᵀ, coupling blocks both
     // ways): symmetric mode with a relaxed diagonal-preference threshold
     // halves the factor's fill and time on chains against plain partial
@@ -266,26 +272,34 @@ class ConstrainedGeneralizedAlphaStepper {
     const int n = assembly_.dofs();
     const int mp = assembly_.positionRows();
     const int m = mp + assembly_.velocityRows();
+    // Stabilized: ν, one per position row (none without constraints).
+    const bool stabilized = options_.index == 2 && m > 0;
+    const int mnu = stabilized ? mp : 0;
     const double am = c_.alpha_m, af = c_.alpha_f;
     const double beta_p = (1.0 - am) / (c_.beta * (1.0 - af) * h * h);
     const double gamma_p = c_.gamma / (c_.beta * h);
     const double t1 = t + h;
+    if (stabilized) assembly_.startStep(t, y);
 
-    // Predictor: u̇_{n+1} = u̇_n, λ_{n+1} = λ_n; (G3), (G2), (G1).
+    // Predictor: u̇_{n+1} = u̇_n, λ_{n+1} = λ_n, ν = 0; (G3), (G2), (G1).
     const Vector u0 = Assembly::velocity(y);
     Vector udot1 = udot_;
     Vector lambda1 = lambda_;
+    Vector nu1 = Vector::Zero(mnu);
     const Vector a1 = (af * udot_ - am * a_ + (1.0 - af) * udot1) / (1.0 - am);
     Vector u1 = u0 + (h * (1.0 - c_.gamma)) * a_ + (h * c_.gamma) * a1;
+    // hdq: the increment h Δq_n of (G1) without the ν correction; dq_total
+    // with it (the increment q_{n+1} = q_n exp(dq_total) is taken with).
     Vector hdq = h * (u0 + (h * (0.5 - c_.beta)) * a_ + (h * c_.beta) * a1);
-    State y1 = Assembly::advance(y, hdq, u1);
+    Vector dq_total = hdq;
+    State y1 = Assembly::advance(y, dq_total, u1);
 
     const double eps = std::numeric_limits<double>::epsilon();
     int iterations = 0;
     bool converged = false;
     const char* failure = nullptr;
     bool singular = false;
-    Norms now = evaluate(t1, y1, udot1, lambda1, mp, m, h, beta_p, gamma_p);
+    Norms now = evaluate(t1, y1, udot1, lambda1, mp, m, stabilized, h, beta_p, gamma_p);
     for (;;) {
       if (!now.finite) {
         failure = "generalized-alpha: non-finite residual";
@@ -301,7 +315,8 @@ class ConstrainedGeneralizedAlphaStepper {
       }
       // The scaled iteration matrix and right-hand side (file comment), at the
       // iterate of the last evaluate().
-      const Eigen::SparseMatrix<double>& A = assembly_.matrix(y1, hdq, gamma_p / beta_p, 1.0 / beta_p, lambda1);
+      const Eigen::SparseMatrix<double>& A =
+          assembly_.matrix(y1, dq_total, gamma_p / beta_p, 1.0 / beta_p, lambda1);
       if (pattern_new_ || A.rows() != size_) {
         lu_->analyzePattern(A);
         ++analyze_count_;
@@ -315,11 +330,25 @@ class ConstrainedGeneralizedAlphaStepper {
         singular = true;
         break;
       }
-      rhs_.resize(n + m);
+      rhs_.resize(n + m + mnu);
       rhs_.head(n) = -r_ / beta_p;
-      if (mp > 0) rhs_.segment(n, mp) = -cr_.head(mp);
-      if (m > mp) rhs_.tail(m - mp) = -cr_.tail(m - mp) / gamma_p;
+      if (stabilized) {
+        // Rows: velocity (all m), then position (m_p); cr_ = [Φ; J u − b].
+        rhs_.segment(n, m) = -cr_.tail(m) / gamma_p;
+        rhs_.tail(mp) = -cr_.head(mp);
+      } else {
+        if (mp > 0) rhs_.segment(n, mp) = -cr_.head(mp);
+        if (m > mp) rhs_.tail(m - mp) = -cr_.tail(m - mp) / gamma_p;
+      }
       x_ = lu_->solve(rhs_);
+      // The correction of a_{n+1}'s part of the increment: x's first block
+      // (index 3: ΔΔ; stabilized: ΔQ, and ΔΔ = ΔQ − M⁻¹ J_nᵀ Δν).
+      dd_ = x_.head(n);
+      if (stabilized) {
+        dnu_ = -x_.tail(mp);
+        assembly_.addStartCorrection(dnu_, &dd_);
+        dnu_ = x_.tail(mp);
+      }
       // Damped Newton: the full correction unless it fails to decrease the
       // scaled residual (Armijo, halving the step up to kMaxBacktracks times;
       // the last trial is taken in any case). Near the solution the full
@@ -328,30 +357,38 @@ class ConstrainedGeneralizedAlphaStepper {
       Norms trial;
       State y_trial;
       for (int k = 0;; ++k) {
-        hdq_t_ = hdq + alpha * x_.head(n);
-        u_t_ = u1 + (alpha * gamma_p) * x_.head(n);
-        udot_t_ = udot1 + (alpha * beta_p) * x_.head(n);
+        hdq_t_ = hdq + alpha * dd_;
+        u_t_ = u1 + (alpha * gamma_p) * dd_;
+        udot_t_ = udot1 + (alpha * beta_p) * dd_;
         lambda_t_ = lambda1;
-        if (m > 0) lambda_t_ += (alpha * beta_p) * x_.tail(m);
-        y_trial = Assembly::advance(y, hdq_t_, u_t_);
-        trial = evaluate(t1, y_trial, udot_t_, lambda_t_, mp, m, h, beta_p, gamma_p);
+        if (m > 0) lambda_t_ += (alpha * beta_p) * x_.segment(n, m);
+        dq_t_ = hdq_t_;
+        if (stabilized) {
+          nu_t_ = nu1 + alpha * dnu_;
+          assembly_.addStartCorrection(nu_t_, &dq_t_);
+        }
+        y_trial = Assembly::advance(y, dq_t_, u_t_);
+        trial = evaluate(t1, y_trial, udot_t_, lambda_t_, mp, m, stabilized, h, beta_p, gamma_p);
         if (trial.small || (trial.finite && trial.merit <= (1.0 - 1e-4 * alpha) * now.merit) || k == kMaxBacktracks)
           break;
         alpha *= 0.5;
         ++backtracks_;
       }
       hdq.swap(hdq_t_);
+      dq_total.swap(dq_t_);
       u1.swap(u_t_);
       udot1.swap(udot_t_);
       lambda1.swap(lambda_t_);
+      if (stabilized) nu1.swap(nu_t_);
       y1 = std::move(y_trial);
       now = trial;
       ++iterations;
       // A full correction at the rounding level of the unknowns: converged.
       if (alpha == 1.0 && now.finite &&
-          detail::maxAbsValue(x_.head(n)) <= kRoundingFloor * eps * detail::maxAbsValue(hdq) &&
-          (m == 0 ||
-           beta_p * detail::maxAbsValue(x_.tail(m)) <= kRoundingFloor * eps * detail::maxAbsValue(lambda1))) {
+          detail::maxAbsValue(dd_) <= kRoundingFloor * eps * detail::maxAbsValue(hdq) &&
+          (m == 0 || beta_p * detail::maxAbsValue(x_.segment(n, m)) <=
+                         kRoundingFloor * eps * detail::maxAbsValue(lambda1)) &&
+          (mnu == 0 || detail::maxAbsValue(dnu_) <= kRoundingFloor * eps * detail::maxAbsValue(nu1))) {
         converged = true;
         break;
       }
@@ -388,17 +425,19 @@ class ConstrainedGeneralizedAlphaStepper {
   };
 
   /// Evaluates r_, cr_ at an iterate and measures them.
-  Norms evaluate(double t1, const State& y1, const Vector& udot1, const Vector& lambda1, int mp, int m, double h,
-                 double beta_p, double gamma_p) {
+  /// cr_ = [Φ; B u − b] (index 3) or [Φ; J u − b] over all m rows (stabilized).
+  Norms evaluate(double t1, const State& y1, const Vector& udot1, const Vector& lambda1, int mp, int m,
+                 bool stabilized, double h, double beta_p, double gamma_p) {
     Norms out;
     const double scale = assembly_.residual(t1, y1, udot1, lambda1, &r_, &cr_);
+    const int mv = stabilized ? m : m - mp;  // velocity rows
     out.force = detail::maxAbsValue(r_);
     out.bound = options_.tolerance * scale + options_.absolute_tolerance;
     out.position = mp > 0 ? detail::maxAbsValue(cr_.head(mp)) : 0.0;
-    out.velocity = m > mp ? h * detail::maxAbsValue(cr_.tail(m - mp)) : 0.0;
+    out.velocity = mv > 0 ? h * detail::maxAbsValue(cr_.tail(mv)) : 0.0;
     double merit2 = r_.squaredNorm() / (beta_p * beta_p);
     if (mp > 0) merit2 += cr_.head(mp).squaredNorm();
-    if (m > mp) merit2 += cr_.tail(m - mp).squaredNorm() / (gamma_p * gamma_p);
+    if (mv > 0) merit2 += cr_.tail(mv).squaredNorm() / (gamma_p * gamma_p);
     out.merit = std::sqrt(merit2);
     out.finite = std::isfinite(out.force) && std::isfinite(out.position) && std::isfinite(out.velocity) &&
                  std::isfinite(out.merit) && std::isfinite(scale);
@@ -433,7 +472,9 @@ class ConstrainedGeneralizedAlphaStepper {
   State last_{};
   Vector udot_, a_, lambda_;
   Vector r_, cr_, rhs_, x_;
-  Vector hdq_t_, u_t_, udot_t_, lambda_t_;  ///< trial iterate of the line search
+  Vector hdq_t_, u_t_, udot_t_, lambda_t_, nu_t_, dq_t_;  ///< trial iterate of the line search
+  Vector dd_;   ///< the iteration's ΔΔ
+  Vector dnu_;  ///< stabilized: its Δν
   long backtracks_ = 0;
   StepReport last_report_{};
 };

@@ -429,6 +429,7 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
     g.rho_inf = option(o, "rho_inf", g.rho_inf);
     g.tolerance = option(o, "tolerance", g.tolerance);
     g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
+    g.index = static_cast<int>(option(o, "index", g.index));
     return fixed(ConstrainedGeneralizedAlphaStepper<multibody::MultibodySystem>(g));
   }
   throw InvalidInput("--integrator", "'" + name + "' is not available for scenes with joints");

@@ -89,7 +89,49 @@ bool KktAssembly::bind(const MultibodySystem& system) {
       }
     }
   }
-  const int N = n_ + m_;
+  // Stabilized: position rows below the velocity rows, ν columns right of
+  // the λ columns (header comment); the blocks of the position rows (Φ_q T),
+  // of the force rows in the ν columns (−(M + c_C C) M⁻¹ J_nᵀ, per body) and
+  // of the velocity rows in the ν columns (−J M⁻¹ J_nᵀ, per pair of groups
+  // sharing a body).
+  const int mnu = stabilized_ ? mp_ : 0;
+  pj_block_.assign(ng, {});
+  fnu_block_.assign(ng, {});
+  vnu_contributions_.clear();
+  if (stabilized_) {
+    start_.resize(ng);
+    std::vector<std::vector<std::pair<int, int>>> all_of(nb), position_of(nb);  // (group, slot) per body
+    for (int g = 0; g < ng; ++g) {
+      pj_block_[g].fill(-1);
+      fnu_block_[g].fill(-1);
+      if (groups_[g].rows == 0) continue;
+      const bool position = S.rowBegin(g) < mp_;
+      for (int sl = 0; sl < kMaxGroupBodies; ++sl) {
+        const int b = groups_[g].bodies[sl];
+        if (b == kGround) continue;
+        all_of[b].emplace_back(g, sl);
+        if (!position) continue;
+        position_of[b].emplace_back(g, sl);
+        pj_block_[g][sl] = static_cast<int>(places.size());
+        places.push_back({n_ + m_ + S.rowBegin(g), system.dofBegin(b), groups_[g].rows, dof(b)});
+        fnu_block_[g][sl] = static_cast<int>(places.size());
+        places.push_back({system.dofBegin(b), n_ + m_ + S.rowBegin(g), dof(b), groups_[g].rows});
+      }
+    }
+    std::map<std::pair<int, int>, int> vnu;
+    for (int b = 0; b < nb; ++b)
+      for (const auto& k : all_of[b])
+        for (const auto& l : position_of[b]) {
+          auto it = vnu.find({k.first, l.first});
+          if (it == vnu.end()) {
+            it = vnu.emplace(std::make_pair(k.first, l.first), static_cast<int>(places.size())).first;
+            places.push_back({n_ + S.rowBegin(k.first), n_ + m_ + S.rowBegin(l.first), groups_[k.first].rows,
+                              groups_[l.first].rows});
+          }
+          vnu_contributions_.push_back({it->second, k.first, k.second, l.first, l.second});
+        }
+  }
+  const int N = n_ + m_ + mnu;
   std::vector<Eigen::Triplet<double, int>> t;
   for (const Place& p : places)
     for (int c = 0; c < p.cols; ++c)
@@ -207,6 +249,41 @@ bool KktAssembly::accelerations(double t, const State& y, Eigen::VectorXd* udot,
   return system_->accelerations(t, y, udot, lambda, why);
 }
 
+void KktAssembly::startStep(double t, const State& y) {
+  if (!stabilized_ || mp_ == 0) return;
+  const MultibodySystem& s = *system_;
+  s.constraintJacobians(t, y, nullptr, nullptr);
+  const SchurSolver& S = s.schur(RowSet::kAll);
+  for (int g = 0; g < static_cast<int>(groups_.size()); ++g) {
+    if (S.rowBegin(g) >= mp_) continue;
+    for (int sl = 0; sl < kMaxGroupBodies; ++sl) start_[g][sl] = S.block(g, sl);
+  }
+}
+
+void KktAssembly::addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd* dq) const {
+  if (!stabilized_ || mp_ == 0) return;
+  const MultibodySystem& s = *system_;
+  const SchurSolver& S = s.schur(RowSet::kAll);
+  for (int g = 0; g < static_cast<int>(groups_.size()); ++g) {
+    const int rows = groups_[g].rows;
+    if (S.rowBegin(g) >= mp_ || rows == 0) continue;
+    const auto ng = nu.segment(S.rowBegin(g), rows);
+    for (int sl = 0; sl < kMaxGroupBodies; ++sl) {
+      const int b = groups_[g].bodies[sl];
+      if (b == kGround) continue;
+      const GroupBlock& J = start_[g][sl];
+      const int o = s.dofBegin(b);
+      const RigidBody& body = s.model().bodies[b];
+      if (rot_[b]) {
+        dq->segment<3>(o) += body.inertia.inverse() * (J.rightCols<3>().transpose() * ng);
+      } else {
+        dq->segment<3>(o) += (J.leftCols<3>().transpose() * ng) / body.mass;
+        dq->segment<3>(o + 3) += body.inertia.inverse() * (J.rightCols<3>().transpose() * ng);
+      }
+    }
+  }
+}
+
 // --- Residual --------------------------------------------------------------------------
 
 double KktAssembly::residual(double t, const State& y, const Eigen::VectorXd& udot, const Eigen::VectorXd& lambda,
@@ -226,14 +303,19 @@ double KktAssembly::residual(double t, const State& y, const Eigen::VectorXd& ud
     }
   }
   JTl_.setZero(n_);
-  c->resize(m_);
+  c->resize(stabilized_ ? mp_ + m_ : m_);
   if (m_ > 0) {
     s.constraintJacobians(t, y, &phi_, &b_);
     const SchurSolver& S = s.schur(RowSet::kAll);
     S.addJTranspose(lambda, 1.0, JTl_);
     c->head(mp_) = phi_;
-    if (m_ > mp_) {
-      S.multiplyJ(y.velocities(), Ju_);
+    if (stabilized_) {
+      y.velocitiesInto(&u_);
+      S.multiplyJ(u_, Ju_);
+      c->tail(m_) = Ju_ - b_;
+    } else if (m_ > mp_) {
+      y.velocitiesInto(&u_);
+      S.multiplyJ(u_, Ju_);
       c->tail(m_ - mp_) = Ju_.tail(m_ - mp_) - b_.tail(m_ - mp_);
     }
   }
@@ -288,16 +370,52 @@ const Eigen::SparseMatrix<double>& KktAssembly::matrix(const State& y, const Eig
           addBlock(j_block_[g][sl], J.leftCols<3>());
           addBlock(jt_block_[g][sl], J.leftCols<3>().transpose());
         }
-        addBlock(j_block_[g][sl], (J.rightCols<3>() * Jr_[b]).eval(), 0, r0);
+        // Index 3: the rows are Φ_q T (gear rows too: their ∂(B u)/∂ΔΔ =
+        // γ' B is taken as B T, which costs iterations, not accuracy).
+        // Stabilized: the velocity rows J (∂(J u)/∂δq T / γ' below).
+        if (stabilized_) {
+          addBlock(j_block_[g][sl], J.rightCols<3>(), 0, r0);
+          if (pj_block_[g][sl] >= 0) {  // Φ_q T; −(M + c_C C) M⁻¹ J_nᵀ
+            const GroupBlock& Jn = start_[g][sl];
+            const RigidBody& body = s.model().bodies[b];
+            const Eigen::Vector3d& w = y.bodies.velocities[b].omega;
+            const Eigen::Matrix3d C = SO3d::hat(w) * body.inertia - SO3d::hat(body.inertia * w);
+            if (!rot_[b]) {
+              addBlock(pj_block_[g][sl], J.leftCols<3>());
+              addBlock(fnu_block_[g][sl], (-Jn.leftCols<3>().transpose()).eval());
+            }
+            addBlock(pj_block_[g][sl], (J.rightCols<3>() * Jr_[b]).eval(), 0, r0);
+            addBlock(fnu_block_[g][sl],
+                     (-(body.inertia + damping_factor * C) * body.inertia.inverse() * Jn.rightCols<3>().transpose())
+                         .eval(),
+                     r0, 0);
+          }
+        } else {
+          addBlock(j_block_[g][sl], (J.rightCols<3>() * Jr_[b]).eval(), 0, r0);
+        }
         addBlock(jt_block_[g][sl], J.rightCols<3>().transpose(), r0, 0);
       }
-    if (options_.geometric_stiffness) geometricStiffness(y, lambda, stiffness_factor, Jr_);
+    // Stabilized: −J M⁻¹ J_nᵀ of the velocity rows in the ν columns.
+    for (const NuContribution& c : vnu_contributions_) {
+      const int b = groups_[c.g].bodies[c.s];
+      const RigidBody& body = s.model().bodies[b];
+      const GroupBlock& J = S.block(c.g, c.s);
+      const GroupBlock& Jn = start_[c.g2][c.s2];
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxGroupRows, kMaxGroupRows> v =
+          -(J.rightCols<3>() * body.inertia.inverse()) * Jn.rightCols<3>().transpose();
+      if (!rot_[b]) v.noalias() -= (J.leftCols<3>() * Jn.leftCols<3>().transpose()) / body.mass;
+      addBlock(c.block, v);
+    }
+    // Stabilized: the velocity rows' ∂(J u)/∂δq T too (scaled by 1/γ' =
+    // c_K / c_C), from the same differences.
+    if (options_.geometric_stiffness)
+      geometricStiffness(y, lambda, stiffness_factor, stabilized_ ? stiffness_factor / damping_factor : 0.0, Jr_);
   }
   return A_;
 }
 
 void KktAssembly::geometricStiffness(const State& y, const Eigen::VectorXd& lambda, double factor,
-                                     const std::vector<Eigen::Matrix3d>& Jr) {
+                                     double velocity_factor, const std::vector<Eigen::Matrix3d>& Jr) {
   // K_λ = ∂(Jᵀλ)/∂δq by one-sided differences of the blocks the system fills
   // itself (MultibodySystem::constraintJacobians), so the rows are exactly
   // the imposed ones. All bodies of one colour are perturbed at once in one
@@ -336,14 +454,25 @@ void KktAssembly::geometricStiffness(const State& y, const Eigen::VectorXd& lamb
           if (j < 3) trow[j] = 1.0;
           else trow.tail<3>() = Jr[b].row(j - 3);
           const int c6 = rot_[b] ? 3 : 0;
+          GroupRows dJu = GroupRows::Zero(G.rows);  // ∂(J u)/∂q_{b,j}
           for (int s2 = 0; s2 < kMaxGroupBodies; ++s2) {
             const int b2 = G.bodies[s2];
             if (b2 == kGround) continue;
-            const Eigen::Matrix<double, 6, 1> col =
-                (S.block(g, s2) - base_[g][s2]).transpose() * lg * (factor / kDifferenceStep);
+            const GroupBlock dJ = S.block(g, s2) - base_[g][s2];
+            const Eigen::Matrix<double, 6, 1> col = dJ.transpose() * lg * (factor / kDifferenceStep);
             const Eigen::Matrix<double, 6, 6> K = col * trow;
             const int r6 = rot_[b2] ? 3 : 0;
             addBlock(pair_block_[g][s2][sl], K.block(r6, c6, 6 - r6, 6 - c6));
+            if (velocity_factor != 0.0) {
+              const BodyVelocity<double>& v = y.bodies.velocities[b2];
+              dJu.noalias() += dJ.rightCols<3>() * v.omega;
+              if (!rot_[b2]) dJu.noalias() += dJ.leftCols<3>() * v.v;
+            }
+          }
+          if (velocity_factor != 0.0) {
+            const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxGroupRows, 6> V =
+                dJu * trow * (velocity_factor / kDifferenceStep);
+            addBlock(j_block_[g][sl], V.rightCols(6 - c6));
           }
         }
       }

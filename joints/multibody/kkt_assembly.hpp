@@ -32,6 +32,21 @@
 /// and trees (measured on revolute chains: ≈ 265–320 LU nonzeros per body at
 /// N = 20…1000).
 ///
+/// Stabilized index 2 (setStabilized(true); the stepper's "Stabilized index
+/// 2"): q_{n+1} = q_n exp(hΔq + P ν), P = M⁻¹ J_nᵀ (J_n: the position rows'
+/// Jacobian at the step's start, stored by startStep()), with the velocity
+/// rows J u = b of all m rows and the position rows Φ = 0. Newton runs on
+/// (ΔQ, Δλ/β', Δν), ΔQ = ΔΔ + P Δν the correction of the whole position
+/// increment: the q-dependent terms see ΔQ, the u- and u̇-dependent ones ΔΔ
+/// = ΔQ − P Δν, and M P = J_nᵀ keeps the ν columns sparse:
+///   A = [ M + c_C C_t + c_K K_t T    Jᵀ   −(M + c_C C_g) M⁻¹ J_nᵀ ]  force (n)
+///       [ J + ∂(J u)/∂δq T / γ'      0    −J M⁻¹ J_nᵀ             ]  velocity (m)
+///       [ Φ_q T                      0    0                       ]  position (m_p)
+/// (C_g the gyroscopic part of C_t; the dashpots' c_C C P is left out, and
+/// ∂(J u)/∂δq comes with the geometric stiffness, from the same differences).
+/// The −J M⁻¹ J_nᵀ blocks couple the groups that share a body (the pattern of
+/// J M⁻¹ Jᵀ); the matrix has n + m + m_p rows.
+///
 /// Joint angles: advance() unwraps them near φ + J_φ(y) dq, the first-order
 /// prediction along the increment, so that a Newton iterate that turns a
 /// joint by more than π (the predictor of a stiff spring at h ω ≫ 1) keeps
@@ -80,6 +95,17 @@ class KktAssembly {
   int positionRows() const { return mp_; }
   int velocityRows() const { return m_ - mp_; }
 
+  /// The stabilized index-2 formulation (file comment) or index 3; a change
+  /// unbinds (the next bind() builds the pattern).
+  void setStabilized(bool stabilized) {
+    if (stabilized != stabilized_) system_ = nullptr;
+    stabilized_ = stabilized;
+  }
+  bool stabilized() const { return stabilized_; }
+  /// Stabilized: stores J(q_n) of the position rows at the step's start.
+  void startStep(double t, const State& y);
+  /// Stabilized: dq += M⁻¹ J(q_n)ᵀ ν (ν of size positionRows()).
+  void addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd* dq) const;
   static Eigen::VectorXd velocity(const State& y) { return y.velocities(); }
   /// (q exp(dq), u): positions moved by dq (δp world, δθ body), velocities
   /// replaced, joint angles unwrapped near y's plus J_φ(y) dq.
@@ -90,7 +116,8 @@ class KktAssembly {
   bool accelerations(double t, const State& y, Eigen::VectorXd* udot, Eigen::VectorXd* lambda,
                      std::string* why) const;
 
-  /// r = M u̇ − F(t, y) + Jᵀλ and c = [Φ(q, t); B u − b]; returns
+  /// r = M u̇ − F(t, y) + Jᵀλ and c = [Φ(q, t); B u − b] (stabilized: c =
+  /// [Φ(q, t); J u − b] over all m rows, size m_p + m); returns
   /// max(‖M u̇‖∞, ‖F‖∞, ‖Jᵀλ‖∞). Leaves J(y) in schur(RowSet::kAll) for
   /// matrix().
   double residual(double t, const State& y, const Eigen::VectorXd& udot, const Eigen::VectorXd& lambda,
@@ -110,10 +137,13 @@ class KktAssembly {
   template <typename Derived>
   void addBlock(int k, const Eigen::MatrixBase<Derived>& value, int r0 = 0, int c0 = 0);
   int rotationBegin(int b) const { return rot_[b] ? 0 : 3; }
-  void geometricStiffness(const State& y, const Eigen::VectorXd& lambda, double factor,
+  /// K_λ T (times `factor`) into the body-pair blocks and, with a nonzero
+  /// velocity_factor, ∂(J u)/∂δq T (times it) into the velocity rows.
+  void geometricStiffness(const State& y, const Eigen::VectorXd& lambda, double factor, double velocity_factor,
                           const std::vector<Eigen::Matrix3d>& Jr);
 
   KktAssemblyOptions options_;
+  bool stabilized_ = false;
   const MultibodySystem* system_ = nullptr;
   std::vector<char> rot_;
   std::vector<RowGroup> groups_;
@@ -124,7 +154,16 @@ class KktAssembly {
   std::vector<int> body_block_;                                   ///< per body
   std::vector<std::array<std::array<int, kMaxGroupBodies>, kMaxGroupBodies>> pair_block_;  ///< per group
   std::vector<std::array<int, kMaxGroupBodies>> j_block_, jt_block_;  ///< per group
-  Eigen::VectorXd F_, phi_, b_, Mu_, JTl_, Ju_;
+  /// Stabilized: per position group, the blocks Φ_q T (position rows) and
+  /// −(M + c_C C) M⁻¹ J_nᵀ (force rows, ν columns); the −J_g M⁻¹ J_n,g2ᵀ
+  /// contributions (block, g, slot in g, g2, slot in g2).
+  std::vector<std::array<int, kMaxGroupBodies>> pj_block_, fnu_block_;
+  struct NuContribution {
+    int block, g, s, g2, s2;
+  };
+  std::vector<NuContribution> vnu_contributions_;
+  std::vector<std::array<GroupBlock, kMaxGroupBodies>> start_;  ///< J(q_n), position groups
+  Eigen::VectorXd F_, phi_, b_, Mu_, JTl_, Ju_, u_, w_;
   std::vector<Eigen::Matrix3d> Jr_;
   double t_ = 0.0;                                   ///< t of the last residual()
   std::vector<int> colour_;                          ///< per body (geometricStiffness)

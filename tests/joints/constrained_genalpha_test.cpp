@@ -1,4 +1,5 @@
-// The index-3 Lie-group generalized-α stepper
+// The index-3 Lie-group generalized-α stepper (option index = 3; the
+// stabilized index-2 default is tested in stabilized_genalpha_test.cpp)
 // (integrators/constrained_generalized_alpha.hpp with the sparse assembly of
 // joints/multibody/kkt_assembly.hpp) against independent references: the 1-D
 // pendulum equation (RK4 at a tiny step), the scalar linear generalized-α
@@ -40,6 +41,7 @@ using testing_support::Pendulum;
 
 Stepper makeStepper(double rho_inf, int max_iterations = 20, double tolerance = 1e-10) {
   ConstrainedGeneralizedAlphaOptions o;
+  o.index = 3;
   o.rho_inf = rho_inf;
   o.max_iterations = max_iterations;
   o.tolerance = tolerance;
