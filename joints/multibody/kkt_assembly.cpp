@@ -91,8 +91,8 @@ bool KktAssembly::bind(const MultibodySystem& system) {
   }
   // Stabilized: position rows below the velocity rows, ν columns right of
   // the λ columns (header comment); the blocks of the position rows (Φ_q T),
-  // of the force rows in the ν columns (−(M + c_C C) M⁻¹ J_nᵀ, per body) and
-  // of the velocity rows in the ν columns (−J M⁻¹ J_nᵀ, per pair of groups
+  // of the force rows in the ν columns (−(M + c_C C) M⁻¹ J̄ᵀ, per body) and
+  // of the velocity rows in the ν columns (−J M⁻¹ J̄ᵀ, per pair of groups
   // sharing a body).
   const int mnu = stabilized_ ? mp_ : 0;
   pj_block_.assign(ng, {});
@@ -100,6 +100,7 @@ bool KktAssembly::bind(const MultibodySystem& system) {
   vnu_contributions_.clear();
   if (stabilized_) {
     start_.resize(ng);
+    mid_.resize(ng);
     std::vector<std::vector<std::pair<int, int>>> all_of(nb), position_of(nb);  // (group, slot) per body
     for (int g = 0; g < ng; ++g) {
       pj_block_[g].fill(-1);
@@ -256,8 +257,9 @@ void KktAssembly::startStep(double t, const State& y) {
   const SchurSolver& S = s.schur(RowSet::kAll);
   for (int g = 0; g < static_cast<int>(groups_.size()); ++g) {
     if (S.rowBegin(g) >= mp_) continue;
-    for (int sl = 0; sl < kMaxGroupBodies; ++sl) start_[g][sl] = S.block(g, sl);
+    for (int sl = 0; sl < kMaxGroupBodies; ++sl) start_[g][sl] = mid_[g][sl] = S.block(g, sl);
   }
+  mid_fixed_ = false;
 }
 
 void KktAssembly::addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd* dq) const {
@@ -271,7 +273,7 @@ void KktAssembly::addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd*
     for (int sl = 0; sl < kMaxGroupBodies; ++sl) {
       const int b = groups_[g].bodies[sl];
       if (b == kGround) continue;
-      const GroupBlock& J = start_[g][sl];
+      const GroupBlock& J = mid_[g][sl];
       const int o = s.dofBegin(b);
       const RigidBody& body = s.model().bodies[b];
       if (rot_[b]) {
@@ -375,8 +377,11 @@ const Eigen::SparseMatrix<double>& KktAssembly::matrix(const State& y, const Eig
         // Stabilized: the velocity rows J (∂(J u)/∂δq T / γ' below).
         if (stabilized_) {
           addBlock(j_block_[g][sl], J.rightCols<3>(), 0, r0);
-          if (pj_block_[g][sl] >= 0) {  // Φ_q T; −(M + c_C C) M⁻¹ J_nᵀ
-            const GroupBlock& Jn = start_[g][sl];
+          if (pj_block_[g][sl] >= 0) {  // Φ_q T; −(M + c_C C) M⁻¹ J̄ᵀ
+            // J̄ = ½ (J(q_n) + J(q̃_{n+1})) at the step's first iterate, kept
+            // for the step: the (nearly) symmetric correction (header comment).
+            if (!mid_fixed_) mid_[g][sl] = 0.5 * (start_[g][sl] + J);
+            const GroupBlock& Jn = mid_[g][sl];
             const RigidBody& body = s.model().bodies[b];
             const Eigen::Vector3d& w = y.bodies.velocities[b].omega;
             const Eigen::Matrix3d C = SO3d::hat(w) * body.inertia - SO3d::hat(body.inertia * w);
@@ -395,12 +400,13 @@ const Eigen::SparseMatrix<double>& KktAssembly::matrix(const State& y, const Eig
         }
         addBlock(jt_block_[g][sl], J.rightCols<3>().transpose(), r0, 0);
       }
-    // Stabilized: −J M⁻¹ J_nᵀ of the velocity rows in the ν columns.
+    mid_fixed_ = true;
+    // Stabilized: −J M⁻¹ J̄ᵀ of the velocity rows in the ν columns.
     for (const NuContribution& c : vnu_contributions_) {
       const int b = groups_[c.g].bodies[c.s];
       const RigidBody& body = s.model().bodies[b];
       const GroupBlock& J = S.block(c.g, c.s);
-      const GroupBlock& Jn = start_[c.g2][c.s2];
+      const GroupBlock& Jn = mid_[c.g2][c.s2];
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxGroupRows, kMaxGroupRows> v =
           -(J.rightCols<3>() * body.inertia.inverse()) * Jn.rightCols<3>().transpose();
       if (!rot_[b]) v.noalias() -= (J.leftCols<3>() * Jn.leftCols<3>().transpose()) / body.mass;

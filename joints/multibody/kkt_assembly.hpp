@@ -33,18 +33,19 @@
 /// N = 20…1000).
 ///
 /// Stabilized index 2 (setStabilized(true); the stepper's "Stabilized index
-/// 2"): q_{n+1} = q_n exp(hΔq + P ν), P = M⁻¹ J_nᵀ (J_n: the position rows'
-/// Jacobian at the step's start, stored by startStep()), with the velocity
+/// 2"): q_{n+1} = q_n exp(hΔq + P ν), P = M⁻¹ J̄ᵀ (J̄ = ½ (J(q_n) + J(q̃_{n+1}))
+/// of the position rows: J(q_n) stored by startStep(), q̃_{n+1} the iterate
+/// of the step's first matrix(), J̄ held for the step), with the velocity
 /// rows J u = b of all m rows and the position rows Φ = 0. Newton runs on
 /// (ΔQ, Δλ/β', Δν), ΔQ = ΔΔ + P Δν the correction of the whole position
 /// increment: the q-dependent terms see ΔQ, the u- and u̇-dependent ones ΔΔ
-/// = ΔQ − P Δν, and M P = J_nᵀ keeps the ν columns sparse:
-///   A = [ M + c_C C_t + c_K K_t T    Jᵀ   −(M + c_C C_g) M⁻¹ J_nᵀ ]  force (n)
-///       [ J + ∂(J u)/∂δq T / γ'      0    −J M⁻¹ J_nᵀ             ]  velocity (m)
-///       [ Φ_q T                      0    0                       ]  position (m_p)
+/// = ΔQ − P Δν, and M P = J̄ᵀ keeps the ν columns sparse:
+///   A = [ M + c_C C_t + c_K K_t T    Jᵀ   −(M + c_C C_g) M⁻¹ J̄ᵀ ]  force (n)
+///       [ J + ∂(J u)/∂δq T / γ'      0    −J M⁻¹ J̄ᵀ             ]  velocity (m)
+///       [ Φ_q T                      0    0                     ]  position (m_p)
 /// (C_g the gyroscopic part of C_t; the dashpots' c_C C P is left out, and
 /// ∂(J u)/∂δq comes with the geometric stiffness, from the same differences).
-/// The −J M⁻¹ J_nᵀ blocks couple the groups that share a body (the pattern of
+/// The −J M⁻¹ J̄ᵀ blocks couple the groups that share a body (the pattern of
 /// J M⁻¹ Jᵀ); the matrix has n + m + m_p rows.
 ///
 /// Joint angles: advance() unwraps them near φ + J_φ(y) dq, the first-order
@@ -104,7 +105,8 @@ class KktAssembly {
   bool stabilized() const { return stabilized_; }
   /// Stabilized: stores J(q_n) of the position rows at the step's start.
   void startStep(double t, const State& y);
-  /// Stabilized: dq += M⁻¹ J(q_n)ᵀ ν (ν of size positionRows()).
+  /// Stabilized: dq += M⁻¹ J̄ᵀ ν (ν of size positionRows(); J̄ = J(q_n) until
+  /// the step's first matrix()).
   void addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd* dq) const;
   static Eigen::VectorXd velocity(const State& y) { return y.velocities(); }
   /// (q exp(dq), u): positions moved by dq (δp world, δθ body), velocities
@@ -155,7 +157,7 @@ class KktAssembly {
   std::vector<std::array<std::array<int, kMaxGroupBodies>, kMaxGroupBodies>> pair_block_;  ///< per group
   std::vector<std::array<int, kMaxGroupBodies>> j_block_, jt_block_;  ///< per group
   /// Stabilized: per position group, the blocks Φ_q T (position rows) and
-  /// −(M + c_C C) M⁻¹ J_nᵀ (force rows, ν columns); the −J_g M⁻¹ J_n,g2ᵀ
+  /// −(M + c_C C) M⁻¹ J̄ᵀ (force rows, ν columns); the −J_g M⁻¹ J̄_g2ᵀ
   /// contributions (block, g, slot in g, g2, slot in g2).
   std::vector<std::array<int, kMaxGroupBodies>> pj_block_, fnu_block_;
   struct NuContribution {
@@ -163,6 +165,8 @@ class KktAssembly {
   };
   std::vector<NuContribution> vnu_contributions_;
   std::vector<std::array<GroupBlock, kMaxGroupBodies>> start_;  ///< J(q_n), position groups
+  std::vector<std::array<GroupBlock, kMaxGroupBodies>> mid_;    ///< J̄ of this step
+  bool mid_fixed_ = false;  ///< J̄ set by this step's first matrix()
   Eigen::VectorXd F_, phi_, b_, Mu_, JTl_, Ju_, u_, w_;
   std::vector<Eigen::Matrix3d> Jr_;
   double t_ = 0.0;                                   ///< t of the last residual()
