@@ -6,8 +6,9 @@
 //  * BM_ChainStep_<integrator>: one full step of a constrained integrator on
 //    the MultibodySystem (projected RKMK4 and CF4: 4 acceleration solves +
 //    position and velocity projections; lgvi: the RATTLE step; genalpha: the
-//    index-3 generalized-α step at ρ∞ = 0.9, since ρ∞ = 1 is unstable at
-//    index 3 on chains). Every kResetSteps steps (1 s) the chain starts
+//    stabilized index-2 generalized-α step at ρ∞ = 1, the defaults, and
+//    genalpha_index3 at ρ∞ = 0.9, since ρ∞ = 1 is unstable at index 3 on
+//    chains). Every kResetSteps steps (1 s) the chain starts
 //    again from rest, outside the timing, as the MuJoCo runs do.
 //
 // After the benchmarks, prints time(1000)/time(100) for each family against
@@ -142,11 +143,17 @@ void BM_ChainStep_lgvi(benchmark::State& st) {
 BENCHMARK(BM_ChainStep_lgvi)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 void BM_ChainStep_genalpha(benchmark::State& st) {
-  ConstrainedGeneralizedAlphaOptions o;
-  o.rho_inf = 0.9;
-  chainSteps(st, ConstrainedGeneralizedAlphaStepper<MultibodySystem>(o));
+  chainSteps(st, ConstrainedGeneralizedAlphaStepper<MultibodySystem>(ConstrainedGeneralizedAlphaOptions{}));
 }
 BENCHMARK(BM_ChainStep_genalpha)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_genalpha_index3(benchmark::State& st) {
+  ConstrainedGeneralizedAlphaOptions o;
+  o.rho_inf = 0.9;
+  o.index = 3;
+  chainSteps(st, ConstrainedGeneralizedAlphaStepper<MultibodySystem>(o));
+}
+BENCHMARK(BM_ChainStep_genalpha_index3)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
@@ -229,7 +236,8 @@ int main(int argc, char** argv) {
   const std::pair<const char*, const char*> pairs[] = {
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_rk4"},  {"BM_ChainStep_cf4", "BM_ChainStep_mujoco_rk4"},
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_euler"}, {"BM_ChainStep_lgvi", "BM_ChainStep_mujoco_euler"},
-      {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"}};
+      {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"},
+      {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"}};
   for (const auto& pair : pairs) {
     const char* lieflow_family = pair.first;
     const char* peer = pair.second;
