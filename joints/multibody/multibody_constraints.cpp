@@ -24,7 +24,13 @@ void MultibodySystem::positionResidual(double t, const State& y, Eigen::VectorXd
     if (rows == 0) continue;
     BodyPose<double> pa, pb;
     poses(y, j.main, j.secondary, &pa, &pb, nullptr, nullptr);
-    std::visit([&](const auto& con) { phi->segment(r, rows) = con.residual(pa, pb).tail(rows); }, j.constraint);
+    if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
+      constraints::RevoluteJoint<double>::Residual res;  // the fused evaluation, Φ only
+      rev->evaluate(pa, pb, nullptr, nullptr, &res, nullptr, nullptr);
+      phi->segment(r, rows) = res.tail(rows);
+    } else {
+      std::visit([&](const auto& con) { phi->segment(r, rows) = con.residual(pa, pb).tail(rows); }, j.constraint);
+    }
     r += rows;
   }
   for (const CoordinateRef& p : prescribed_)

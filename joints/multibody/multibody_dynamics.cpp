@@ -59,6 +59,20 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
     poses(y, j.main, j.secondary, &pa, &pb, &va, &vb);
     const int r0 = S.rowBegin(g), rows = S.groupRows(g);
     if (rows == 0) continue;
+    if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
+      // The fused evaluation (one pair of rotation matrices).
+      constraints::RevoluteJoint<double>::Residual res, conv;
+      constraints::RevoluteJoint<double>::Blocks J;
+      rev->evaluate(pa, pb, &va, &vb, phi ? &res : nullptr, jacobians ? &J : nullptr, c ? &conv : nullptr);
+      if (jacobians) {
+        S.block(g, 0) = J[0].bottomRows(rows);
+        S.block(g, 1) = J[1].bottomRows(rows);
+      }
+      if (phi) phi->segment(r0, rows) = res.tail(rows);
+      if (b) b->segment(r0, rows).setZero();
+      if (c) c->segment(r0, rows) = conv.tail(rows);
+      continue;
+    }
     std::visit(
         [&](const auto& con) {
           if (jacobians) {
