@@ -13,14 +13,12 @@
 /// Simulation::run (2000 steps against 1000).
 ///
 /// Prints one line per case; exit status 1 if anything allocates per step, else 0.
-#include <atomic>
 #include <cstdio>
-#include <cstdlib>
-#include <new>
 #include <string>
 #include <vector>
 
 #include "bench/integrators/free_body_scene.hpp"
+#include "bench/support/counting_new.hpp"
 #include "integrators/adaptive.hpp"
 #include "integrators/commutator_free.hpp"
 #include "integrators/generalized_alpha.hpp"
@@ -31,31 +29,6 @@
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
 
-// The replaced global allocation functions: malloc/free underneath, every
-// operator new counted. (GCC 12's -Wmismatched-new-delete does not know that
-// these are the replacements and flags their free().)
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-static std::atomic<long> g_news{0};
-void* operator new(std::size_t n) {
-  ++g_news;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_news;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_news;
-  return std::malloc(n ? n : 1);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace lieflow;  // NOLINT: a one-purpose program
 constexpr long kSteps = 1000;
@@ -67,9 +40,9 @@ void check(const char* group, const char* name, const System& sys, typename Syst
   const double h = bench::FreeBodyScene().h;
   StepReport report;
   auto y = stepper.step(sys, 0.0, y0, h, &report);  // warm-up (genalpha: history)
-  const long before = g_news.load();
+  const long before = bench::allocationCount();
   for (long k = 1; k <= kSteps; ++k) y = stepper.step(sys, k * h, y, h, &report);
-  const long allocs = g_news.load() - before;
+  const long allocs = bench::allocationCount() - before;
   std::printf("%-6s %-22s %6ld allocations in %ld steps%s\n", group, name, allocs, kSteps,
               allocs ? "   <-- ALLOCATES" : "");
   failures += allocs != 0;
@@ -89,9 +62,9 @@ void checkAll(const char* g, const System& sys, const typename System::State& y0
     const double h = bench::FreeBodyScene().h;
     typename S::Tangent err;
     auto y = dp.stepWithError(sys, 0.0, y0, h, &err);
-    const long before = g_news.load();
+    const long before = bench::allocationCount();
     for (long k = 1; k <= kSteps; ++k) y = dp.stepWithError(sys, k * h, y, h, &err);
-    const long allocs = g_news.load() - before;
+    const long allocs = bench::allocationCount() - before;
     std::printf("%-6s %-22s %6ld allocations in %ld steps%s\n", g, "dopri5-step+error", allocs,
                 kSteps, allocs ? "   <-- ALLOCATES" : "");
     failures += allocs != 0;
@@ -129,10 +102,10 @@ int main() {
   {
     using S = FreeBodyState<double>;
     auto run = [&](long n) {
-      const long before = g_news.load();
+      const long before = bench::allocationCount();
       integrateFixedStep(RkmkStepper<S>(ButcherTableau::rk4()), free_sys, scene.freeBodyState(),
                          0.0, n * scene.h, scene.h, [](long, double, const S&) { return true; });
-      return g_news.load() - before;
+      return bench::allocationCount() - before;
     };
     const long a1 = run(1000), a2 = run(2000);
     std::printf(
@@ -165,9 +138,9 @@ int main() {
           o.dt = scene.h;
           o.t_end = n * scene.h;
           o.diagnostics = diag;
-          const long before = g_news.load();
+          const long before = bench::allocationCount();
           sim.run(o);
-          return g_news.load() - before;
+          return bench::allocationCount() - before;
         };
         run(10);  // first use: function-local statics (registry)
         const long a1 = run(1000), a2 = run(2000);
@@ -199,9 +172,9 @@ int main() {
           o.dt = dt;
           o.t_end = n * o.dt;
           o.diagnostics = false;
-          const long before = g_news.load();
+          const long before = bench::allocationCount();
           ran = !sim.run(o).failed;
-          return g_news.load() - before;
+          return bench::allocationCount() - before;
         };
         for (run(2000); !ran && dt > 1e-6; run(2000)) dt /= 10;
         if (!ran) {

@@ -75,12 +75,7 @@ void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) c
           using C = std::decay_t<decltype(con)>;
           typename C::Poses X;
           typename C::Velocities V;
-          for (std::size_t s = 0; s < C::kBodies; ++s) {
-            const int body = gear.bodies[s];
-            X[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
-            V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
-            if (body != kGround && rot_[body]) V[s].v.setZero();  // no δp columns (as multiplyJ)
-          }
+          gearNodes<C>(gear, y, true, &X, &V);  // no δp columns (as multiplyJ)
           const auto Bu = con.velocity(X, V);
           for (std::size_t k = 0; k < sel.size(); ++k) (*r)[r0 + static_cast<int>(k)] = Bu[sel[k]];
           r0 += static_cast<int>(sel.size());

@@ -111,11 +111,7 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
           using C = std::decay_t<decltype(con)>;
           typename C::Poses X;
           typename C::Velocities V;
-          for (std::size_t s = 0; s < C::kBodies; ++s) {
-            const int body = gear.bodies[s];
-            X[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
-            V[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
-          }
+          gearNodes<C>(gear, y, false, &X, &V);
           const int rows = static_cast<int>(sel.size());
           if (jacobians) {
             const auto B = con.rows(X);

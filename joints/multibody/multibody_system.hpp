@@ -268,6 +268,19 @@ class MultibodySystem {
   double coordinate(const State& y, int k, int i, Eigen::Matrix<double, 1, 6>* Ja,
                     Eigen::Matrix<double, 1, 6>* Jb) const;
   double coordinateConvective(const State& y, int k, int i) const;
+  /// The poses and velocities of gear constraint C's nodes at y (the
+  /// ground's for a ground node); with `as_multiplied`, a rotation-only
+  /// body's v is zeroed, as multiplyJ sees it (no δp columns).
+  template <typename C>
+  void gearNodes(const Gear& gear, const State& y, bool as_multiplied, typename C::Poses* X,
+                 typename C::Velocities* V) const {
+    for (std::size_t s = 0; s < C::kBodies; ++s) {
+      const int body = gear.bodies[s];
+      (*X)[s] = body == kGround ? constraints::groundPose<double>() : y.bodies.poses[body];
+      (*V)[s] = body == kGround ? constraints::groundVelocity<double>() : y.bodies.velocities[body];
+      if (as_multiplied && body != kGround && rot_[body]) (*V)[s].v.setZero();
+    }
+  }
   /// Writes the Jacobian blocks of the groups into S (if `jacobians`) and Φ,
   /// the velocity targets b and the convective terms c where asked.
   void fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,

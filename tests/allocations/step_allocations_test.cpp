@@ -1,46 +1,23 @@
 // No heap allocation per step: every explicit projected stepper and the
 // RATTLE LGVI on every built-in jointed scene (and chain-10), through
 // Simulation::run with diagnostics off. A counting replacement of the global
-// operator new (this executable only: lieflow_tests keeps the sanitizers'
-// own) sees every C++ allocation; the allocations of a 2000-step run must
-// equal those of a 1000-step run (setup allocates, steps must not).
+// operator new (bench/support/counting_new.hpp, in this executable only:
+// lieflow_tests keeps the sanitizers' own) sees every C++ allocation; the
+// allocations of a 2000-step run must equal those of a 1000-step run (setup
+// allocates, steps must not).
 //
 // generalized-α is not listed: its Newton matrix is factored by Eigen's
 // SparseLU, which allocates in every factorize (bench_step_allocations
 // reports it).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 #include <vector>
 
+#include "bench/support/counting_new.hpp"
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
 
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-static std::atomic<long> g_news{0};
-void* operator new(std::size_t n) {
-  ++g_news;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_news;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_news;
-  return std::malloc(n ? n : 1);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace lieflow {
 namespace {
@@ -69,9 +46,9 @@ TEST_P(StepAllocations, NoneAfterTheFirstStep) {
       o.dt = dt;
       o.t_end = steps * dt;
       o.diagnostics = false;
-      const long before = g_news.load();
+      const long before = bench::allocationCount();
       failed = sim.run(o).failed;
-      return g_news.load() - before;
+      return bench::allocationCount() - before;
     };
     for (run(2000); failed && dt > 1e-6; run(2000)) dt /= 10;
     ASSERT_FALSE(failed) << "no step size down to 1e-6 runs 2000 steps";

@@ -13,12 +13,9 @@
 
 #include <gtest/gtest.h>
 
-#include "integrators/butcher_tableau.hpp"
+#include "bench/multibody/three_link_convergence.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
-#include "integrators/projected_stepper.hpp"
-#include "integrators/rkmk.hpp"
-#include "joints/multibody/chain_builder.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
 #include "joints/multibody/multibody_system.hpp"
 #include "joints/scene.hpp"
@@ -29,50 +26,12 @@ namespace lieflow {
 namespace multibody {
 namespace {
 
-using Eigen::Matrix3d;
-using Eigen::Vector3d;
 using Stepper = ConstrainedGeneralizedAlphaStepper<MultibodySystem>;
 using lieflow::testing_support::logLogSlope;
 
-/// Errors of the final state against the reference: positions (max over the
-/// bodies of |Δp| and of the rotation angle of R_refᵀ R), velocities (max
-/// |Δu|) and multipliers (max |Δλ| over max |λ_ref|).
-struct Errors {
-  double q = 0.0, u = 0.0, lambda = 0.0;
-};
-
-Errors compare(const MultibodyGroupState& y, const Eigen::VectorXd& lambda, const MultibodyGroupState& ref,
-               const Eigen::VectorXd& lambda_ref) {
-  Errors e;
-  for (std::size_t i = 0; i < y.bodies.poses.size(); ++i) {
-    e.q = std::max(e.q, (y.bodies.poses[i].p - ref.bodies.poses[i].p).norm());
-    e.q = std::max(e.q, (ref.bodies.poses[i].R.inverse() * y.bodies.poses[i].R).log().norm());
-  }
-  e.u = (y.velocities() - ref.velocities()).lpNorm<Eigen::Infinity>();
-  e.lambda = (lambda - lambda_ref).lpNorm<Eigen::Infinity>() / lambda_ref.lpNorm<Eigen::Infinity>();
-  return e;
-}
-
 TEST(StabilizedGenAlpha, SecondOrderInPositionsVelocitiesAndMultipliers) {
-  MultibodyState s0;
-  const Matrix3d I = Vector3d(0.002, 0.01, 0.012).asDiagonal();
-  const MultibodySystem system(randomRevoluteChain(3, true, I, 7, &s0), {});
-  const MultibodyGroupState y0 = system.makeState(s0);
-  const double T = 0.5;
-
-  // Reference: projected RK4 at h = 1e-4 (fourth order), λ from the index-1
-  // equations at its final state.
-  ProjectedStepper<RkmkStepper<MultibodyGroupState>> rk4(RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4()));
-  MultibodyGroupState ref = y0;
-  const RunSummary rr = integrateFixedStep(rk4, system, y0, 0.0, T, 1e-4, [&](long, double, const MultibodyGroupState& s) {
-    ref = s;
-    return true;
-  });
-  ASSERT_FALSE(rr.failed) << rr.failure;
-  Eigen::VectorXd udot_ref, lambda_ref;
-  std::string why;
-  ASSERT_TRUE(system.accelerations(T, ref, &udot_ref, &lambda_ref, &why)) << why;
-
+  const bench::ThreeLinkConvergence c;  // reference: projected RK4 at h = 1e-4
+  ASSERT_TRUE(c.ok) << c.why;
   for (int index : {2, 3}) {
     for (double rho : {1.0, 0.8}) {
       std::vector<double> hs, eq, eu, el;
@@ -82,16 +41,17 @@ TEST(StabilizedGenAlpha, SecondOrderInPositionsVelocitiesAndMultipliers) {
         o.index = index;
         o.tolerance = 1e-12;
         Stepper stepper(o);
-        MultibodyGroupState y = y0;
+        MultibodyGroupState y = c.y0;
         double cons = 0.0, vcons = 0.0;
-        const RunSummary r = integrateFixedStep(stepper, system, y0, 0.0, T, h, [&](long, double t, const MultibodyGroupState& s) {
-          y = s;
-          cons = std::max(cons, system.constraintError(t, s));
-          vcons = std::max(vcons, system.velocityConstraintError(t, s));
-          return true;
-        });
+        const RunSummary r =
+            integrateFixedStep(stepper, c.system, c.y0, 0.0, c.kEnd, h, [&](long, double t, const MultibodyGroupState& s) {
+              y = s;
+              cons = std::max(cons, c.system.constraintError(t, s));
+              vcons = std::max(vcons, c.system.velocityConstraintError(t, s));
+              return true;
+            });
         ASSERT_FALSE(r.failed) << r.failure;
-        const Errors e = compare(y, stepper.multipliers(), ref, lambda_ref);
+        const auto e = c.errors(y, stepper.multipliers());
         hs.push_back(h);
         eq.push_back(e.q);
         eu.push_back(e.u);
