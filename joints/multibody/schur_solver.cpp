@@ -7,6 +7,16 @@
 namespace lieflow {
 namespace multibody {
 
+int SchurSolver::translationKind(const Padded& B) {
+  const auto T = B.leftCols<3>();
+  if (T.isZero(0.0)) return 0;
+  if (!T.bottomRows<kMaxGroupRows - 3>().isZero(0.0)) return 2;
+  const auto top = T.topRows<3>();
+  if (top == Eigen::Matrix3d::Identity()) return 1;
+  if (top == -Eigen::Matrix3d::Identity()) return -1;
+  return 2;
+}
+
 int SchurSolver::groupOfRow(int r) const {
   return static_cast<int>(std::upper_bound(row_.begin(), row_.end(), r) - row_.begin()) - 1;
 }
@@ -64,6 +74,7 @@ void SchurSolver::setup(const std::vector<char>& rotation_only, const std::vecto
   blocks_.assign(ng, {});
   padded_.assign(ng, {});
   gpadded_.assign(ng, {});
+  kind_.assign(ng, {});
   for (int g = 0; g < ng; ++g) {
     clearBlocks(g);
     for (int s = 0; s < kMaxGroupBodies; ++s) {
@@ -85,7 +96,11 @@ FactorStatus SchurSolver::factor(double shift) {
   if (m_ == 0) return status;
   const int ng = groupCount();
   // B padded to kMaxGroupRows rows and G = B M⁻¹ (δp columns zero for a
-  // rotation-only body, so G Bᵀ uses its δθ columns only).
+  // rotation-only body, so G Bᵀ uses its δθ columns only). The δp columns of
+  // point rows are ±I over zeros (spherical.hpp): such blocks are marked
+  // (kind ±1) and their translational product ±(1/m) I is added directly;
+  // kind 0 marks zero δp columns, kind 2 a general block (G's δp part is
+  // formed only then).
   for (int g = 0; g < ng; ++g) {
     const int rows = groups_[g].rows;
     for (int s = 0; s < kMaxGroupBodies; ++s) {
@@ -94,16 +109,28 @@ FactorStatus SchurSolver::factor(double shift) {
       Padded& B = padded_[g][s];
       Padded& G = gpadded_[g][s];
       B.topRows(rows) = blocks_[g][s];
-      if (rot_[b])
-        G.leftCols<3>().setZero();
-      else
-        G.leftCols<3>() = B.leftCols<3>() * invm_[b];
+      const int kind = rot_[b] ? 0 : translationKind(B);
+      kind_[g][s] = static_cast<signed char>(kind);
+      if (kind == 2) G.leftCols<3>() = B.leftCols<3>() * invm_[b];
       G.rightCols<3>().noalias() = B.rightCols<3>() * Jinv_[b];
     }
   }
   ldlt_.clear();
-  for (const Contribution& c : contributions_)
-    ldlt_.value(c.slot).noalias() += gpadded_[c.gk][c.sk] * padded_[c.gl][c.sl].transpose();
+  for (const Contribution& c : contributions_) {
+    BlockLdlt::Block& V = ldlt_.value(c.slot);
+    const Padded& G = gpadded_[c.gk][c.sk];
+    const Padded& B = padded_[c.gl][c.sl];
+    V.noalias() += G.rightCols<3>() * B.rightCols<3>().transpose();
+    const int ka = kind_[c.gk][c.sk], kb = kind_[c.gl][c.sl];
+    if (ka == 0 || kb == 0) continue;
+    if (ka != 2 && kb != 2)
+      V.topLeftCorner<3, 3>().diagonal().array() += ka * kb * invm_[groups_[c.gk].bodies[c.sk]];
+    else if (ka == 2)
+      V.noalias() += G.leftCols<3>() * B.leftCols<3>().transpose();
+    else  // G_k's δp part was not formed: it is B_k's times 1/m
+      V.noalias() +=
+          (padded_[c.gk][c.sk].leftCols<3>() * invm_[groups_[c.gk].bodies[c.sk]]) * B.leftCols<3>().transpose();
+  }
   bool finite = true;
   for (int g = 0; g < ng; ++g) {
     BlockLdlt::Block& D = ldlt_.value(ldlt_.diagonalSlot(g));

@@ -132,6 +132,9 @@ class SchurSolver {
     int gk, sk, gl, sl, slot;
   };
   int colBegin(int b) const { return rot_[b] ? 3 : 0; }
+  /// The δp columns of a padded block: 0 all zero, ±1 ±I over zero rows
+  /// (point rows), 2 anything else.
+  static int translationKind(const Padded& B);
 
   bool analyzed_ = false;
   int analyze_count_ = 0;
@@ -142,6 +145,7 @@ class SchurSolver {
   std::vector<int> off_, row_;
   std::vector<std::array<GroupBlock, kMaxGroupBodies>> blocks_;
   std::vector<std::array<Padded, kMaxGroupBodies>> padded_, gpadded_;  // B and B M⁻¹, padded
+  std::vector<std::array<signed char, kMaxGroupBodies>> kind_;          // translationKind per block
   std::vector<Contribution> contributions_;
   std::vector<double> invm_;
   std::vector<Eigen::Matrix3d> Jinv_;
