@@ -19,6 +19,7 @@
 
 #include "bench/integrators/free_body_scene.hpp"
 #include "bench/support/counting_new.hpp"
+#include "bench/support/jointed_step_allocations.hpp"
 #include "integrators/adaptive.hpp"
 #include "integrators/commutator_free.hpp"
 #include "integrators/generalized_alpha.hpp"
@@ -154,40 +155,19 @@ int main() {
   // Every constrained stepper on every built-in jointed scene and on
   // chain-10, through Simulation::run (diagnostics off, no row sink): the
   // allocations of 2000 steps against those of 1000.
-  {
-    std::vector<std::string> names;
-    for (const BuiltinScene& b : builtinScenes())
-      if (!loadScene(b.name).joints.empty()) names.push_back(b.name);
-    names.push_back("chain-10");
-    for (const std::string& name : names) {
-      const Simulation sim(loadScene(name));
-      for (const char* integ : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "genalpha"}) {
-        // h = 1e-3, or a tenth of it until 2000 steps run (stiff-hinge under
-        // explicit Euler, fast-top's spin under the exponential LGVI).
-        double dt = 1e-3;
-        bool ran = false;
-        auto run = [&](long n) {
-          SimulationOptions o;
-          o.integrator = integ;
-          o.dt = dt;
-          o.t_end = n * o.dt;
-          o.diagnostics = false;
-          const long before = bench::allocationCount();
-          ran = !sim.run(o).failed;
-          return bench::allocationCount() - before;
-        };
-        for (run(2000); !ran && dt > 1e-6; run(2000)) dt /= 10;
-        if (!ran) {
-          std::printf("%-15s %-10s fails at every h down to 1e-6: not counted   <-- FAILS\n", name.c_str(), integ);
-          ++failures;
-          continue;
-        }
-        run(10);
-        const long a1 = run(1000), a2 = run(2000);
-        std::printf("%-15s %-10s h = %-6g %7ld allocations for 1000 steps, %7ld for 2000 (per step: %.3f)%s\n",
-                    name.c_str(), integ, dt, a1, a2, (a2 - a1) / 1000.0, a2 != a1 ? "   <-- ALLOCATES" : "");
-        failures += a2 != a1;
+  for (const std::string& name : bench::jointedScenes()) {
+    const Simulation sim(loadScene(name));
+    for (const char* integ : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "genalpha"}) {
+      const bench::StepAllocations a = bench::countStepAllocations(sim, integ);
+      if (!a.ran) {
+        std::printf("%-15s %-10s fails at every h down to 1e-6: not counted   <-- FAILS\n", name.c_str(), integ);
+        ++failures;
+        continue;
       }
+      std::printf("%-15s %-10s h = %-6g %7ld allocations for 1000 steps, %7ld for 2000 (per step: %.3f)%s\n",
+                  name.c_str(), integ, a.dt, a.steps_1000, a.steps_2000, (a.steps_2000 - a.steps_1000) / 1000.0,
+                  a.steps_2000 != a.steps_1000 ? "   <-- ALLOCATES" : "");
+      failures += a.steps_2000 != a.steps_1000;
     }
   }
   std::printf("%s\n",
