@@ -13,7 +13,7 @@ int runIntegrators(int argc, char** argv);
 int runScenes(int argc, char** argv);
 int runLiegroup(int argc, char** argv);
 int runStabilityCommand(int argc, char** argv);
-/// `lieflow calibrate`: defined in calibration/command_calibrate.cpp, linked
+/// `lieflow calibrate`: defined in app/command_calibrate.cpp, linked
 /// only when the build has Ceres (LIEFLOW_HAVE_CERES).
 int runCalibrate(int argc, char** argv);
 

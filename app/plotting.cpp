@@ -1,7 +1,10 @@
 #include "app/plotting.hpp"
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 
 #ifndef LIEFLOW_SOURCE_DIR
 #define LIEFLOW_SOURCE_DIR "."
@@ -19,14 +22,41 @@ std::string shellQuoted(const std::string& text) {
   return out + "'";
 }
 
+/// The directory of the binary (executable or shared module) this code was
+/// linked into, empty when unknown.
+std::filesystem::path binaryDirectory() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&binaryDirectory), &info) == 0 || info.dli_fname == nullptr) return {};
+  std::error_code error;
+  const auto path = std::filesystem::canonical(info.dli_fname, error);
+  return error ? std::filesystem::path() : path.parent_path();
+}
+
 }  // namespace
 
 bool runPlotScript(const std::string& script_name, const std::string& dir, std::string* why) {
-  const char* env_dir = std::getenv("LIEFLOW_SCRIPTS_DIR");
-  const std::string script =
-      (env_dir ? std::string(env_dir) : std::string(LIEFLOW_SOURCE_DIR) + "/scripts") + "/" + script_name;
-  if (!std::filesystem::exists(script)) {
-    *why = "plot script " + script + " not found (set LIEFLOW_SCRIPTS_DIR)";
+  // Where the scripts are, first found wins: $LIEFLOW_SCRIPTS_DIR; an
+  // installed tree (PREFIX/bin/lieflow -> PREFIX/share/lieflow/scripts); the
+  // source tree this build came from.
+  std::vector<std::filesystem::path> candidates;
+  if (const char* env_dir = std::getenv("LIEFLOW_SCRIPTS_DIR")) {
+    candidates.emplace_back(env_dir);
+  } else {
+    const auto binary_dir = binaryDirectory();
+    if (!binary_dir.empty()) candidates.push_back(binary_dir.parent_path() / "share" / "lieflow" / "scripts");
+    candidates.emplace_back(std::string(LIEFLOW_SOURCE_DIR) + "/scripts");
+  }
+  std::string script;
+  for (const auto& candidate : candidates) {
+    if (std::filesystem::exists(candidate / script_name)) {
+      script = (candidate / script_name).string();
+      break;
+    }
+  }
+  if (script.empty()) {
+    *why = "plot script " + script_name + " not found in " + candidates.front().string() +
+           (candidates.size() > 1 ? " or " + candidates.back().string() : std::string()) +
+           " (set LIEFLOW_SCRIPTS_DIR)";
     return false;
   }
   // Debian's python3 has python3-matplotlib; a user's own python3 may not.

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# The installed package, as a user outside this tree meets it (issue 13):
+#   test_package.sh install BUILD_DIR PREFIX
+#       cmake --install BUILD_DIR --prefix PREFIX (a fresh prefix)
+#   test_package.sh example PREFIX SOURCE_DIR WORK_DIR
+#       configure, build and run examples/cpp against PREFIX with nothing set
+#       but CMAKE_PREFIX_PATH; a missing component and a too-new version fail
+#   test_package.sh headers PREFIX EIGEN_INCLUDE_DIR
+#       every installed header compiles on its own (one translation unit each)
+#   test_package.sh command PREFIX WORK_DIR
+#       the installed `lieflow` runs a scene and draws its study plots from
+#       PREFIX/share/lieflow, away from the source tree
+set -euo pipefail
+mode=$1
+shift
+jobs=$(nproc)
+
+case "$mode" in
+install)
+  build=$1 prefix=$2
+  rm -rf "$prefix"
+  cmake --install "$build" --prefix "$prefix" >/dev/null
+  for f in bin/lieflow lib/cmake/lieflow/lieflowConfig.cmake lib/cmake/lieflow/lieflowConfigVersion.cmake \
+           lib/cmake/lieflow/lieflowTargets.cmake include/lieflow/liegroup/so3.hpp share/lieflow/scenes/heavy-top.json \
+           share/lieflow/scripts/plot_study.py; do
+    [ -e "$prefix/$f" ] || { echo "not installed: $prefix/$f" >&2; exit 1; }
+  done
+  echo "installed into $prefix"
+  ;;
+example)
+  prefix=$1 source=$2 work=$3
+  rm -rf "$work"
+  mkdir -p "$work"
+  # Only CMAKE_PREFIX_PATH: no lieflow_DIR, no include paths.
+  env -u lieflow_DIR -u CMAKE_PREFIX_PATH cmake -S "$source" -B "$work/build" -DCMAKE_PREFIX_PATH="$prefix" \
+    -DCMAKE_BUILD_TYPE=Release >"$work/configure.log"
+  cmake --build "$work/build" -j "$jobs" >"$work/build.log"
+  "$work/build/gravity_gradient"
+  # What find_package must refuse: an unknown component and a version the
+  # package is not compatible with (0.x: the minor version must match).
+  mkdir -p "$work/refuse"
+  for request in "0.1 CONFIG REQUIRED COMPONENTS no_such_component" "0.99 CONFIG REQUIRED COMPONENTS liegroup"; do
+    printf 'cmake_minimum_required(VERSION 3.18)\nproject(refuse LANGUAGES CXX)\nfind_package(lieflow %s)\n' \
+      "$request" >"$work/refuse/CMakeLists.txt"
+    if cmake -S "$work/refuse" -B "$work/refuse/build" -DCMAKE_PREFIX_PATH="$prefix" >"$work/refuse.log" 2>&1; then
+      echo "find_package(lieflow $request) succeeded; it must fail" >&2
+      exit 1
+    fi
+    rm -rf "$work/refuse/build"
+  done
+  echo "find_package refuses an unknown component and version 0.99"
+  ;;
+headers)
+  prefix=$1 eigen=$2
+  include=$prefix/include/lieflow
+  cxx=${CXX:-c++}
+  count=$(find "$include" -name '*.hpp' | wc -l)
+  [ "$count" -gt 0 ] || { echo "no headers under $include" >&2; exit 1; }
+  # -include on an empty translation unit: the header is all the unit sees.
+  find "$include" -name '*.hpp' -print0 | sort -z |
+    xargs -0 -P "$jobs" -I{} sh -c \
+      'echo "" | "$0" -std=c++17 -fsyntax-only -Wall -Wextra -Werror -I"$1" -isystem "$2" -include "{}" -x c++ - ||
+       { echo "does not compile on its own: {}" >&2; exit 255; }' "$cxx" "$include" "$eigen"
+  echo "$count installed headers compile on their own"
+  ;;
+command)
+  prefix=$1 work=$2
+  rm -rf "$work"
+  mkdir -p "$work"
+  cd "$work"
+  env -u LIEFLOW_SCRIPTS_DIR "$prefix/bin/lieflow" scenes >/dev/null
+  env -u LIEFLOW_SCRIPTS_DIR "$prefix/bin/lieflow" simulate "$prefix/share/lieflow/scenes/heavy-top.json" \
+    --integrator rkmk4 --dt 0.01 --t-end 1 --out run.csv
+  [ "$(wc -l <run.csv)" -eq 102 ] || { echo "run.csv has $(wc -l <run.csv) lines, expected 102" >&2; exit 1; }
+  if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+    env -u LIEFLOW_SCRIPTS_DIR "$prefix/bin/lieflow" study heavy-top --integrators rkmk4,lgvi --dt 0.02,0.01 --t-end 1 --min-time 0.01 \
+      --out study >study.log 2>&1 || { cat study.log >&2; exit 1; }
+    ls study/*.png >/dev/null || { echo "the installed command drew no plots" >&2; cat study.log >&2; exit 1; }
+    echo "the installed lieflow ran a scene and drew its study plots"
+  else
+    echo "the installed lieflow ran a scene (no matplotlib: plots not checked)"
+  fi
+  ;;
+*)
+  echo "unknown mode $mode" >&2
+  exit 2
+  ;;
+esac
