@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
+#include "app/calibrate_outcome.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
@@ -155,20 +156,18 @@ std::string nonFiniteKey(const Json& j, const std::string& path = "") {
   return "";
 }
 
-int finish(const Json& j, bool converged, const std::string& message, const std::string& what) {
+CommandOutcome finish(const Json& j, bool converged, const std::string& message, const std::string& what) {
   // Never a NaN or inf in the output (nlohmann would print it as null, or
   // -nan where it is not JSON): the fit failed, and says which figure.
   const std::string bad = nonFiniteKey(j);
-  if (!bad.empty()) {
-    std::cerr << "lieflow: " << what << ": the fit failed: " << bad << " is not a finite number (" << message << ")\n";
-    return kComputationFailed;
-  }
-  std::cout << j.dump() << "\n";
-  if (!converged) {
-    std::cerr << "lieflow: " << what << ": the solver did not converge: " << message << "\n";
-    return kComputationFailed;
-  }
-  return kSuccess;
+  if (!bad.empty())
+    return {Json(), kComputationFailed, what + ": the fit failed: " + bad + " is not a finite number (" + message + ")"};
+  if (!converged) return {j, kComputationFailed, what + ": the solver did not converge: " + message};
+  return {j, kSuccess, ""};
+}
+
+CommandOutcome failed(const std::string& what, const std::exception& e) {
+  return {Json(), kComputationFailed, what + ": " + e.what()};
 }
 
 /// Recordings above this size get a line on stderr before they are read:
@@ -247,7 +246,7 @@ std::string jointBetween(const SceneDescription& scene, const std::string& joint
   return found.front();
 }
 
-int runSpring(const Arguments& args, const std::string& recording_path) {
+CommandOutcome runSpring(const Arguments& args, const std::string& recording_path) {
   if (!args.has("--scene"))
     throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
   for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
@@ -322,34 +321,52 @@ int runSpring(const Arguments& args, const std::string& recording_path) {
     j["seconds"] = fit.seconds;
     return finish(j, fit.converged, fit.message, what);
   } catch (const calibration::NotIdentifiable& e) {
-    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
-    return kComputationFailed;
+    return failed(what, e);
   } catch (const calibration::FitFailed& e) {
-    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
-    return kComputationFailed;
+    return failed(what, e);
   }
 }
 
 }  // namespace
 
+const std::set<std::string>& calibrateValueFlags() {
+  static const std::set<std::string> flags = {
+      "--main",          "--secondary",     "--use",           "--loss",       "--loss-scale",  "--start-main",
+      "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",      "--joint",
+      "--coordinate",    "--stiffness-start", "--damping-start", "--rest-angle-start", "--shooting", "--segments",
+      "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows"};
+  return flags;
+}
+
+const std::set<std::string>& calibrateSwitches() {
+  static const std::set<std::string> switches = {"--fit-rest-angle", "--hold-damping", "--verbose"};
+  return switches;
+}
+
 int runCalibrate(int argc, char** argv) {
-  const Arguments args(argc, argv,
-                       {"--main", "--secondary", "--use", "--loss", "--loss-scale", "--start-main",
-                        "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",
-                        "--joint", "--coordinate", "--stiffness-start", "--damping-start", "--rest-angle-start",
-                        "--shooting", "--segments", "--integrator", "--substeps", "--max-input-mb", "--max-bodies",
-                        "--max-substeps", "--max-rows"},
-                       {"--fit-rest-angle", "--hold-damping", "--verbose"});
-  // Ceres logs through glog (WARNING: Logging before InitGoogleLogging, E...
-  // trust_region_minimizer.cc ...): those lines are for --verbose; lieflow
-  // says in its own words why a fit stopped.
-  google::InitGoogleLogging("lieflow");
-  FLAGS_logtostderr = true;
-  FLAGS_minloglevel = args.has("--verbose") ? google::GLOG_INFO : google::GLOG_FATAL;
+  const Arguments args(argc, argv, calibrateValueFlags(), calibrateSwitches());
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
   }
+  const CommandOutcome outcome = calibrate(args);
+  if (!outcome.json.is_null()) std::cout << outcome.json.dump() << "\n";
+  if (!outcome.error.empty()) std::cerr << "lieflow: " << outcome.error << "\n";
+  return outcome.status;
+}
+
+CommandOutcome calibrate(const Arguments& args) {
+  // Ceres logs through glog (WARNING: Logging before InitGoogleLogging, E...
+  // trust_region_minimizer.cc ...): those lines are for --verbose; lieflow
+  // says in its own words why a fit stopped. glog is initialized once per
+  // process (the Python module calibrates many times).
+  static const bool glog_initialized = [] {
+    google::InitGoogleLogging("lieflow");
+    FLAGS_logtostderr = true;
+    return true;
+  }();
+  (void)glog_initialized;
+  FLAGS_minloglevel = args.has("--verbose") ? google::GLOG_INFO : google::GLOG_FATAL;
   const std::vector<std::string>& pos = args.positional();
   if (pos.empty())
     throw UsageError("calibrate needs hinge, universal or spring and a RECORDING.csv (see lieflow calibrate --help)");
@@ -391,11 +408,9 @@ int runCalibrate(int argc, char** argv) {
     j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
     return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {
-    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
-    return kComputationFailed;
+    return failed(what, e);
   } catch (const calibration::FitFailed& e) {
-    std::cerr << "lieflow: " << what << ": " << e.what() << "\n";
-    return kComputationFailed;
+    return failed(what, e);
   }
 }
 

@@ -16,6 +16,7 @@
 #include "app/progress.hpp"
 #include "app/recording_noise.hpp"
 #include "app/run_setup.hpp"
+#include "app/simulate_request.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -51,40 +52,18 @@ constexpr const char* kUsage =
     "exit status: 0 success, 1 the simulation failed (blow-up, non-convergence, a non-finite\n"
     "value), 2 bad input\n";
 
-/// The noise options; noise on columns the scene does not have is an error.
-NoiseOptions noiseFrom(const Arguments& args, const std::vector<std::string>& columns) {
-  NoiseOptions noise;
-  noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
-  noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
-  noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
-  noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
-  const RecordingNoise probe(columns, noise);
-  if (noise.angle > 0.0 && !probe.hasAngleColumns())
-    throw UsageError("--noise-angle: the scene has no joint angle columns (J.phi, J.phi1, J.phi2) to perturb");
-  if (args.has("--seed") && !noise.any())
-    throw UsageError("--seed seeds the noise generator: give a --noise-* option too");
-  return noise;
-}
-
 }  // namespace
 
 int runSimulate(int argc, char** argv) {
-  std::set<std::string> flags = {"--integrator", "--dt",          "--t-end",      "--out",
-                                 "--every",      "--options",     "--noise-gyro", "--noise-angle",
-                                 "--noise-quat", "--seed"};
-  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
-  const Arguments args(argc, argv, flags, {"--stats", "--quiet"});
+  const Arguments args(argc, argv, simulateValueFlags(), simulateSwitches());
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
   }
-  if (args.positional().size() != 1)
-    throw UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
-  const ResourceLimits limits = resourceLimitsFrom(args);
-  const Simulation simulation(loadScene(args.positional()[0], limits));
-  SimulationOptions options = simulationOptionsFrom(simulation.scene(), args);
-  options.every = args.positiveInt("--every", 1);
-  const NoiseOptions noise = noiseFrom(args, simulation.columns());
+  SimulateRequest request = simulateRequestFrom(args);
+  const Simulation& simulation = *request.simulation;
+  SimulationOptions& options = request.options;
+  const NoiseOptions& noise = request.noise;
   ProgressReporter progress("simulate " + simulation.scene().name + " with " + options.integrator, options.t_end);
   if (!args.has("--quiet")) options.progress = std::ref(progress);
 

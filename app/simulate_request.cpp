@@ -1,0 +1,63 @@
+#include "app/simulate_request.hpp"
+
+#include <utility>
+#include <vector>
+
+#include "app/cli.hpp"
+#include "app/run_setup.hpp"
+
+namespace lieflow {
+namespace app {
+namespace {
+
+/// The noise options; noise on columns the scene does not have is an error.
+NoiseOptions noiseFrom(const Arguments& args, const std::vector<std::string>& columns) {
+  NoiseOptions noise;
+  noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
+  noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
+  noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
+  noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
+  const RecordingNoise probe(columns, noise);
+  if (noise.angle > 0.0 && !probe.hasAngleColumns())
+    throw UsageError("--noise-angle: the scene has no joint angle columns (J.phi, J.phi1, J.phi2) to perturb");
+  if (args.has("--seed") && !noise.any())
+    throw UsageError("--seed seeds the noise generator: give a --noise-* option too");
+  return noise;
+}
+
+}  // namespace
+
+const std::set<std::string>& simulateValueFlags() {
+  static const std::set<std::string> flags = [] {
+    std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",
+                               "--options",    "--noise-gyro", "--noise-angle", "--noise-quat", "--seed"};
+    f.insert(runLimitFlags().begin(), runLimitFlags().end());
+    return f;
+  }();
+  return flags;
+}
+
+const std::set<std::string>& simulateSwitches() {
+  static const std::set<std::string> switches = {"--stats", "--quiet"};
+  return switches;
+}
+
+SimulateRequest simulateRequestFrom(const Arguments& args, std::optional<SceneDescription> scene) {
+  const ResourceLimits limits = resourceLimitsFrom(args);
+  SimulateRequest request;
+  if (scene) {
+    if (!args.positional().empty()) throw UsageError("simulate: give the scene once");
+    request.simulation = std::make_unique<Simulation>(std::move(*scene));
+  } else {
+    if (args.positional().size() != 1)
+      throw UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
+    request.simulation = std::make_unique<Simulation>(loadScene(args.positional()[0], limits));
+  }
+  request.options = simulationOptionsFrom(request.simulation->scene(), args);
+  request.options.every = args.positiveInt("--every", 1);
+  request.noise = noiseFrom(args, request.simulation->columns());
+  return request;
+}
+
+}  // namespace app
+}  // namespace lieflow
