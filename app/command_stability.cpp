@@ -8,14 +8,13 @@
 #include "app/output_files.hpp"
 #include "app/run_setup.hpp"
 #include "app/stability.hpp"
+#include "app/study_request.hpp"
 
 namespace lieflow {
 namespace app {
 
 int runStabilityCommand(int argc, char** argv) {
-  std::set<std::string> flags = {"--integrators", "--out", "--options"};
-  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
-  const Arguments args(argc, argv, flags, {"--no-plots"});
+  const Arguments args(argc, argv, stabilityValueFlags(), stabilitySwitches());
   if (args.help()) {
     std::cout << "usage: lieflow stability [SCENE...] [--integrators a,b,...] [--options KEY=VALUE,...]\n"
                  "                         [--out DIR] [--no-plots] [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
@@ -30,25 +29,19 @@ int runStabilityCommand(int argc, char** argv) {
                  "table and CSV give the options in force for every integrator.\n";
     return kSuccess;
   }
-  std::vector<std::string> scenes = args.positional();
-  if (scenes.empty()) scenes = {"stiff-spring", "fast-top"};
-  StabilityOptions options;
-  options.integrators = args.list("--integrators");
-  options.integrator_options = parseOptionList(args.list("--options"));
-  options.max_steps = resourceLimitsFrom(args).max_steps;
-  options.progress = &std::cerr;
-  const std::string dir = args.value("--out", "stability");
+  StabilityRequest request = stabilityRequestFrom(args);
+  request.options.progress = &std::cerr;
+  const std::string& dir = request.out_dir;
   prepareOutputDirectory(dir);
   std::vector<StabilityRow> rows;
-  for (const std::string& scene : scenes) {
-    const Simulation sim(loadScene(scene, resourceLimitsFrom(args)));
-    const std::vector<StabilityRow> r = runStability(sim, options);
+  for (const Simulation& sim : request.simulations) {
+    const std::vector<StabilityRow> r = runStability(sim, request.options);
     rows.insert(rows.end(), r.begin(), r.end());
   }
   writeStabilityCsv(rows, dir + "/stability.csv");
   printStabilityTable(std::cout, rows);
   std::cout << "\nwrote " << dir << "/stability.csv\n";
-  if (!args.has("--no-plots")) {
+  if (request.plots) {
     std::string why;
     if (plotStability(dir, &why))
       std::cout << "plot: " << dir << "/stability.png\n";

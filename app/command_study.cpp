@@ -8,6 +8,7 @@
 #include "app/output_files.hpp"
 #include "app/run_setup.hpp"
 #include "app/study.hpp"
+#include "app/study_request.hpp"
 
 namespace lieflow {
 namespace app {
@@ -55,28 +56,14 @@ int studyAndReport(const Simulation& sim, double t_end, StudyOptions options) {
 }  // namespace
 
 int runStudy(int argc, char** argv) {
-  std::set<std::string> flags = {"--integrators", "--dt", "--t-end", "--out", "--min-time", "--options"};
-  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
-  const Arguments args(argc, argv, flags, {"--no-plots"});
+  const Arguments args(argc, argv, studyValueFlags(), studySwitches());
   if (args.help()) {
     std::cout << kUsage;
     return kSuccess;
   }
-  if (args.positional().size() != 1) throw UsageError("study needs exactly one SCENE (see lieflow study --help)");
-  const ResourceLimits limits = resourceLimitsFrom(args);
-  const Simulation sim(loadScene(args.positional()[0], limits));
-  StudyOptions options;
-  options.max_steps = limits.max_steps;
-  options.integrator_options = parseOptionList(args.list("--options"));
-  options.integrators = args.list("--integrators");
-  options.dts = args.positiveNumbers("--dt");
-  options.out_dir = args.value("--out", "study-" + sim.scene().name);
-  options.min_timing_seconds = args.positiveNumber("--min-time", options.min_timing_seconds);
-  options.plots = !args.has("--no-plots");
-  options.progress = &std::cerr;
-  const double t_end = args.positiveNumber("--t-end", sim.scene().has_t_end ? sim.scene().t_end : 0.0);
-  if (!(t_end > 0.0)) throw UsageError("the scene has no t_end: give --t-end");
-  return studyAndReport(sim, t_end, options);
+  StudyRequest request = studyRequestFrom(args);
+  request.options.progress = &std::cerr;
+  return studyAndReport(*request.simulation, request.t_end, request.options);
 }
 
 int runMainJob(int, char**) {

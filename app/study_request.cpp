@@ -1,0 +1,81 @@
+#include "app/study_request.hpp"
+
+#include <utility>
+
+#include "app/cli.hpp"
+#include "app/run_setup.hpp"
+
+namespace lieflow {
+namespace app {
+namespace {
+
+std::set<std::string> withRunLimits(std::set<std::string> flags) {
+  flags.insert(runLimitFlags().begin(), runLimitFlags().end());
+  return flags;
+}
+
+}  // namespace
+
+const std::set<std::string>& studyValueFlags() {
+  static const std::set<std::string> flags =
+      withRunLimits({"--integrators", "--dt", "--t-end", "--out", "--min-time", "--options"});
+  return flags;
+}
+
+const std::set<std::string>& studySwitches() {
+  static const std::set<std::string> switches = {"--no-plots"};
+  return switches;
+}
+
+StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescription> scene) {
+  const ResourceLimits limits = resourceLimitsFrom(args);
+  StudyRequest request;
+  if (scene) {
+    if (!args.positional().empty()) throw UsageError("study: give the scene once");
+    request.simulation = std::make_unique<Simulation>(std::move(*scene));
+  } else {
+    if (args.positional().size() != 1) throw UsageError("study needs exactly one SCENE (see lieflow study --help)");
+    request.simulation = std::make_unique<Simulation>(loadScene(args.positional()[0], limits));
+  }
+  const SceneDescription& s = request.simulation->scene();
+  StudyOptions& options = request.options;
+  options.max_steps = limits.max_steps;
+  options.integrator_options = parseOptionList(args.list("--options"));
+  options.integrators = args.list("--integrators");
+  options.dts = args.positiveNumbers("--dt");
+  options.out_dir = args.value("--out", "study-" + s.name);
+  options.min_timing_seconds = args.positiveNumber("--min-time", options.min_timing_seconds);
+  options.plots = !args.has("--no-plots");
+  request.t_end = args.positiveNumber("--t-end", s.has_t_end ? s.t_end : 0.0);
+  if (!(request.t_end > 0.0)) throw UsageError("the scene has no t_end: give --t-end");
+  return request;
+}
+
+const std::set<std::string>& stabilityValueFlags() {
+  static const std::set<std::string> flags = withRunLimits({"--integrators", "--out", "--options"});
+  return flags;
+}
+
+const std::set<std::string>& stabilitySwitches() { return studySwitches(); }
+
+StabilityRequest stabilityRequestFrom(const Arguments& args, std::vector<SceneDescription> scenes) {
+  const ResourceLimits limits = resourceLimitsFrom(args);
+  StabilityRequest request;
+  request.options.integrators = args.list("--integrators");
+  request.options.integrator_options = parseOptionList(args.list("--options"));
+  request.options.max_steps = limits.max_steps;
+  request.out_dir = args.value("--out", "stability");
+  request.plots = !args.has("--no-plots");
+  if (!scenes.empty()) {
+    if (!args.positional().empty()) throw UsageError("stability: give the scenes once");
+    for (SceneDescription& scene : scenes) request.simulations.emplace_back(std::move(scene));
+    return request;
+  }
+  std::vector<std::string> names = args.positional();
+  if (names.empty()) names = {"stiff-spring", "fast-top"};
+  for (const std::string& name : names) request.simulations.emplace_back(loadScene(name, limits));
+  return request;
+}
+
+}  // namespace app
+}  // namespace lieflow
