@@ -1,0 +1,386 @@
+"""The lieflow commands as functions: the command's flags as keyword
+arguments, its outputs as NumPy arrays and dicts with the command's names.
+
+The arguments are handed to the command's own C++ code, so input is checked
+and refused exactly as on the command line (InputError, the message naming
+the flag or field); a run or fit that fails raises ComputationError unless
+``partial=True`` asks for what was computed.
+"""
+import csv
+import json
+import math
+import numbers
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+from . import _lieflow
+from ._lieflow import ComputationError, InputError
+
+
+class SimulationResult:
+    """What ``simulate`` returns.
+
+    columns: dict of 1-D NumPy arrays, the CSV's columns by their CSV names
+             (t, B.qw, ..., J.phi, ...), one entry per output row;
+    stats:   dict with the keys of ``lieflow simulate --stats``;
+    failed, failure: whether the run failed and why (only seen with
+             ``partial=True``; otherwise a failure raises ComputationError).
+    """
+
+    def __init__(self, scene, columns, stats, failed, failure):
+        self.scene = scene
+        self.columns = columns
+        self.stats = stats
+        self.failed = failed
+        self.failure = failure
+
+    def __repr__(self):
+        rows = len(next(iter(self.columns.values()))) if self.columns else 0
+        state = f"failed: {self.failure}" if self.failed else "ok"
+        return f"lieflow.SimulationResult({self.scene!r}, {rows} rows, {len(self.columns)} columns, {state})"
+
+
+def _number(flag, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{flag}: expected a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(f"{flag}: {value} is not a finite number")
+    return repr(value)
+
+
+def _integer(flag, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{flag}: expected an integer, got {value!r}")
+    return str(int(value))
+
+
+def _text(flag, value):
+    if not isinstance(value, (str, os.PathLike)):
+        raise InputError(f"{flag}: expected a string, got {value!r}")
+    return os.fspath(value)
+
+
+def _numbers(flag, values):
+    if isinstance(values, numbers.Real) and not isinstance(values, bool):
+        values = [values]
+    try:
+        items = list(values)
+    except TypeError:
+        raise InputError(f"{flag}: expected a number or a list of numbers, got {values!r}") from None
+    return ",".join(_number(flag, v) for v in items)
+
+
+def _names(flag, values):
+    if isinstance(values, str):
+        values = [values]
+    return ",".join(_text(flag, v) for v in values)
+
+
+def _options(flag, options):
+    if not isinstance(options, dict):
+        raise InputError(f"{flag}: expected a dict of integrator options, got {options!r}")
+    return ",".join(f"{_text(flag, k)}={_number(flag + '.' + str(k), v)}" for k, v in options.items())
+
+
+def _flags(spec, values):
+    """Command-line tokens for the keyword arguments that are not None:
+    spec maps a keyword to (flag, formatter); a formatter of None marks a
+    switch (given when the value is true)."""
+    tokens = []
+    for key, value in values.items():
+        if value is None or key not in spec:
+            continue
+        flag, fmt = spec[key]
+        if fmt is None:
+            if value:
+                tokens.append(flag)
+            continue
+        tokens += [flag, fmt(flag, value)]
+    return tokens
+
+
+_LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input-mb", _integer),
+           "max_bodies": ("--max-bodies", _integer)}
+
+
+def _scene(scene, what="scene"):
+    """(positional tokens, JSON text): a file or built-in name is passed as the
+    command's SCENE; a dict in the scene schema as JSON text."""
+    if isinstance(scene, dict):
+        return [], json.dumps(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        return [os.fspath(scene)], None
+    raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
+
+
+def scenes():
+    """The built-in scenes: a dict of name -> one-line description."""
+    return dict(_lieflow.scenes())
+
+
+def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, partial=False,
+             max_steps=None, max_input_mb=None, max_bodies=None):
+    """Runs a scene, as ``lieflow simulate SCENE --stats``.
+
+    scene:      a scene file, a built-in name (``lieflow.scenes()``) or a dict
+                in the scene schema;
+    integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
+                (None: the scene's own);
+    options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
+    noise:      dict with any of gyro, angle, quat (standard deviations, as
+                --noise-gyro/--noise-angle/--noise-quat) and seed;
+    partial:    return a failed run's rows and stats instead of raising.
+    Returns a SimulationResult (columns, stats, failed, failure). The run
+    releases the GIL; Ctrl-C stops it (KeyboardInterrupt) at its next
+    progress report (every 65536 steps).
+    """
+    positional, scene_json = _scene(scene)
+    noise = dict(noise or {})
+    unknown = set(noise) - {"gyro", "angle", "quat", "seed"}
+    if unknown:
+        raise InputError(f"noise: unknown key(s) {sorted(unknown)} (gyro, angle, quat, seed)")
+    spec = {"integrator": ("--integrator", _text), "dt": ("--dt", _number), "t_end": ("--t-end", _number),
+            "every": ("--every", _integer), "options": ("--options", _options),
+            "gyro": ("--noise-gyro", _number), "angle": ("--noise-angle", _number),
+            "quat": ("--noise-quat", _number), "seed": ("--seed", _integer), **_LIMITS}
+    tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
+                                            max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
+                                            **noise)) + ["--quiet"]
+    raw = _lieflow.simulate(tokens, scene_json)
+    data = raw["data"]
+    columns = {name: data[:, i].copy() for i, name in enumerate(raw["columns"])}
+    result = SimulationResult(raw["scene"], columns, json.loads(raw["stats"]), raw["failed"], raw["failure"])
+    if result.failed and not partial:
+        error = ComputationError(f"simulation of {raw['scene']} with {result.stats.get('integrator')} failed: "
+                                 f"{result.failure}")
+        error.result = result
+        raise error
+    return result
+
+
+# Columns of the command's CSV files that hold text (quoted by the writer).
+_TEXT_COLUMNS = {"scene", "integrator", "failure", "reference", "options", "first_failure"}
+
+
+def _read_csv(path):
+    """A CSV file the command wrote, as a dict of columns: text columns as
+    lists of strings, true/false as bool arrays, numbers as float arrays (a
+    column with empty cells, meaning "does not apply", as a masked array)."""
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        rows = list(reader)
+    out = {}
+    for i, name in enumerate(header):
+        cells = [r[i] if i < len(r) else "" for r in rows]
+        if name in _TEXT_COLUMNS:
+            out[name] = cells
+        elif cells and all(c in ("true", "false") for c in cells):
+            out[name] = np.array([c == "true" for c in cells])
+        elif all(c != "" for c in cells):
+            out[name] = np.array([float(c) for c in cells])
+        else:
+            out[name] = np.ma.masked_array([float(c) if c else 0.0 for c in cells], mask=[c == "" for c in cells])
+    return out
+
+
+class _OutputDirectory:
+    """The command's output directory: the caller's, or a temporary one that
+    is removed once its files were read."""
+
+    def __init__(self, out):
+        self.given = out is not None
+        self.path = os.fspath(out) if self.given else tempfile.mkdtemp(prefix="lieflow-")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if not self.given:
+            shutil.rmtree(self.path, ignore_errors=True)
+
+
+def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
+          max_steps=None, max_input_mb=None, max_bodies=None):
+    """Work-precision study, as ``lieflow study SCENE``.
+
+    Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
+    wall_seconds, ns_per_step, orientation_error, ..., a masked entry where the
+    CSV cell is empty), "drift" (the columns of drift.csv), "reference",
+    "reference_error", and "out" (the directory with the CSV files and, with
+    plots=True, the plots; None when out was not given: the files were
+    written to a temporary directory and removed).
+    """
+    positional, scene_json = _scene(scene)
+    spec = {"integrators": ("--integrators", _names), "dt": ("--dt", _numbers), "t_end": ("--t-end", _number),
+            "min_time": ("--min-time", _number), "options": ("--options", _options), **_LIMITS}
+    with _OutputDirectory(out) as directory:
+        tokens = positional + _flags(spec, dict(integrators=integrators, dt=dt, t_end=t_end, min_time=min_time,
+                                                options=options, max_steps=max_steps, max_input_mb=max_input_mb,
+                                                max_bodies=max_bodies)) + ["--out", directory.path]
+        if not plots:
+            tokens.append("--no-plots")
+        raw = _lieflow.study(tokens, scene_json)
+        result = {"rows": _read_csv(os.path.join(directory.path, "study.csv")),
+                  "drift": _read_csv(os.path.join(directory.path, "drift.csv")),
+                  "reference": raw["reference"], "reference_error": raw["reference_error"],
+                  "out": directory.path if directory.given else None}
+        if plots and raw["plot_problem"]:
+            result["plot_problem"] = raw["plot_problem"]
+    return result
+
+
+def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
+              max_input_mb=None, max_bodies=None):
+    """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
+    and scene the largest bounded h*omega_c. scenes: a list of files, built-in
+    names or dicts (default stiff-spring and fast-top). Returns a dict:
+    "rows" (the columns of stability.csv) and "out" (as in study)."""
+    if scenes is None:
+        scenes = []
+    elif isinstance(scenes, (str, os.PathLike, dict)):
+        scenes = [scenes]
+    positional, jsons = [], []
+    for s in scenes:
+        p, j = _scene(s, "scenes")
+        positional += p
+        if j is not None:
+            jsons.append(j)
+    if positional and jsons:
+        raise InputError("scenes: give either names and files or dicts, not both")
+    spec = {"integrators": ("--integrators", _names), "options": ("--options", _options), **_LIMITS}
+    with _OutputDirectory(out) as directory:
+        tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
+                                                max_input_mb=max_input_mb, max_bodies=max_bodies))
+        tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
+        raw = _lieflow.stability(tokens, jsons)
+        result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),
+                  "out": directory.path if directory.given else None}
+        if plots and raw["plot_problem"]:
+            result["plot_problem"] = raw["plot_problem"]
+    return result
+
+
+def _write_recording(recording, path):
+    """A recording given as a dict of equal-length 1-D arrays (t first or
+    not), written as the CSV the command reads (17 significant digits)."""
+    if not isinstance(recording, dict) or not recording:
+        raise InputError("recording: expected a CSV file or a non-empty dict of columns")
+    names = list(recording)
+    if "t" in names:
+        names.remove("t")
+        names.insert(0, "t")
+    columns = []
+    for name in names:
+        column = np.asarray(recording[name], dtype=np.float64)
+        if column.ndim != 1:
+            raise InputError(f"recording[{name!r}]: expected a 1-D array, got shape {column.shape}")
+        columns.append(column)
+    n = len(columns[0])
+    for name, column in zip(names, columns):
+        if len(column) != n:
+            raise InputError(f"recording[{name!r}]: {len(column)} values, column {names[0]!r} has {n}")
+    with open(path, "w", newline="") as f:
+        f.write(",".join(names) + "\n")
+        for i in range(n):
+            f.write(",".join(repr(float(c[i])) for c in columns) + "\n")
+
+
+def _calibrate(kind, recording, spec, values, partial):
+    if not _lieflow.have_calibration:
+        raise InputError(f"calibrate_{kind}: this lieflow was built without Ceres (apt-get install libceres-dev, "
+                         "then rebuild with -DLIEFLOW_BUILD_CALIBRATION=ON)")
+    temporary = None
+    try:
+        if isinstance(recording, (str, os.PathLike)):
+            path = os.fspath(recording)
+        else:
+            temporary = tempfile.mkdtemp(prefix="lieflow-recording-")
+            path = os.path.join(temporary, "recording.csv")
+            _write_recording(recording, path)
+        tokens = [kind, path] + _flags(spec, values)
+        text, status, error = _lieflow.calibrate(tokens)
+    finally:
+        if temporary:
+            shutil.rmtree(temporary, ignore_errors=True)
+    result = json.loads(text) if text else None
+    if status != 0:
+        if not partial:
+            failure = ComputationError(error)
+            failure.result = result
+            raise failure
+        result = dict(result or {})
+        result["failed"] = True
+        result["failure"] = error
+    return result
+
+
+_AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "use": ("--use", _text),
+             "loss": ("--loss", _text), "loss_scale": ("--loss-scale", _number),
+             "start_main": ("--start-main", _numbers), "start_secondary": ("--start-secondary", _numbers),
+             "max_iterations": ("--max-iterations", _integer), "max_sigma_deg": ("--max-sigma-deg", _number),
+             "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
+             "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
+
+
+def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None, start_main=None,
+                    start_secondary=None, max_iterations=None, max_sigma_deg=None, min_samples=None,
+                    max_input_mb=None, max_rows=None, verbose=False, partial=False):
+    """The hinge axis in both bodies' frames, as ``lieflow calibrate hinge``.
+    recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...).
+    Returns the command's JSON object as a dict (axis_main, axis_secondary,
+    axis_sigma_deg, rms_residual, converged, message, ...). A fit the data do
+    not identify, or one that does not converge, raises ComputationError (its
+    .result holds the JSON when there is one); partial=True returns it with
+    "failed" and "failure" added instead."""
+    values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
+                  start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
+                  min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose)
+    return _calibrate("hinge", recording, _AXIS_FIT, values, partial)
+
+
+def calibrate_universal(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None,
+                        start_main=None, start_secondary=None, max_iterations=None, max_sigma_deg=None,
+                        min_samples=None, max_input_mb=None, max_rows=None, verbose=False, partial=False):
+    """Both axes of a universal joint, as ``lieflow calibrate universal``
+    (needs orientations); arguments and errors as calibrate_hinge."""
+    values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
+                  start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
+                  min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose)
+    return _calibrate("universal", recording, _AXIS_FIT, values, partial)
+
+
+_SPRING_FIT = {"scene": ("--scene", _text), "joint": ("--joint", _text), "main": ("--main", _text),
+               "secondary": ("--secondary", _text), "coordinate": ("--coordinate", _integer),
+               "fit_rest_angle": ("--fit-rest-angle", None), "hold_damping": ("--hold-damping", None),
+               "stiffness_start": ("--stiffness-start", _number), "damping_start": ("--damping-start", _number),
+               "rest_angle_start": ("--rest-angle-start", _number), "shooting": ("--shooting", _text),
+               "segments": ("--segments", _integer), "integrator": ("--integrator", _text),
+               "substeps": ("--substeps", _integer), "max_iterations": ("--max-iterations", _integer),
+               "min_samples": ("--min-samples", _integer), "max_substeps": ("--max-substeps", _integer),
+               "max_input_mb": ("--max-input-mb", _integer), "max_bodies": ("--max-bodies", _integer),
+               "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
+
+
+def calibrate_spring(recording, scene, joint=None, main=None, secondary=None, coordinate=None,
+                     fit_rest_angle=False, hold_damping=False, stiffness_start=None, damping_start=None,
+                     rest_angle_start=None, shooting=None, segments=None, integrator=None, substeps=None,
+                     max_iterations=None, min_samples=None, max_substeps=None, max_input_mb=None, max_bodies=None,
+                     max_rows=None, verbose=False, partial=False):
+    """Stiffness, damping and rest angle of a joint coordinate, as ``lieflow
+    calibrate spring RECORDING --scene SCENE`` (scene: a file or built-in
+    name). Returns the command's JSON object as a dict; errors as
+    calibrate_hinge."""
+    if isinstance(scene, dict):
+        raise InputError("scene: calibrate_spring takes a scene file or a built-in name")
+    values = dict(scene=scene, joint=joint, main=main, secondary=secondary, coordinate=coordinate,
+                  fit_rest_angle=fit_rest_angle, hold_damping=hold_damping, stiffness_start=stiffness_start,
+                  damping_start=damping_start, rest_angle_start=rest_angle_start, shooting=shooting,
+                  segments=segments, integrator=integrator, substeps=substeps, max_iterations=max_iterations,
+                  min_samples=min_samples, max_substeps=max_substeps, max_input_mb=max_input_mb,
+                  max_bodies=max_bodies, max_rows=max_rows, verbose=verbose)
+    return _calibrate("spring", recording, _SPRING_FIT, values, partial)

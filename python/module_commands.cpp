@@ -1,0 +1,204 @@
+/// \file
+/// simulate, study, stability and calibrate for the Python module. Each takes
+/// the command's own flags as a list of strings (lieflow/commands.py builds
+/// them from keyword arguments), resolves them with the command's own request
+/// code (app/simulate_request.hpp, app/study_request.hpp,
+/// app/calibrate_outcome.hpp), so input is refused with the command's
+/// messages, and returns what the command writes: the trajectory rows and the
+/// `--stats` object, the study's and stability scan's CSV files, the
+/// calibration's JSON. Long runs release the GIL and check for Ctrl-C
+/// (KeyboardInterrupt) at each progress report of the run.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/arguments.hpp"
+#include "app/cli.hpp"
+#include "app/output_files.hpp"
+#include "app/recording_noise.hpp"
+#include "app/run_setup.hpp"
+#include "app/simulate_request.hpp"
+#include "app/study_request.hpp"
+#include "joints/scene.hpp"
+#include "python/module_parts.hpp"
+#ifdef LIEFLOW_HAVE_CERES
+#include "app/calibrate_outcome.hpp"
+#endif
+
+namespace py = pybind11;
+
+namespace lieflow {
+namespace python {
+namespace {
+
+/// argv for app::Arguments from a list of strings (kept alive by `storage`).
+class Argv {
+ public:
+  explicit Argv(std::vector<std::string> tokens) : storage_(std::move(tokens)) {
+    for (std::string& s : storage_) pointers_.push_back(s.data());
+  }
+  int argc() const { return static_cast<int>(pointers_.size()); }
+  char** argv() { return pointers_.data(); }
+
+ private:
+  std::vector<std::string> storage_;
+  std::vector<char*> pointers_;
+};
+
+/// Scenes given as JSON text (a dict on the Python side), with where they
+/// came from for the error messages.
+std::optional<SceneDescription> sceneFrom(const std::optional<std::string>& json, const app::Arguments& args) {
+  if (!json) return std::nullopt;
+  return parseScene(*json, "scene dict", app::resourceLimitsFrom(args).max_bodies);
+}
+
+/// Progress callback that lets Ctrl-C through: with the GIL, ask Python
+/// whether a signal is pending; if so, its KeyboardInterrupt stops the run.
+void checkSignals() {
+  py::gil_scoped_acquire acquire;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+py::dict simulate(std::vector<std::string> tokens, const std::optional<std::string>& scene_json) {
+  Argv argv(std::move(tokens));
+  const app::Arguments args(argv.argc(), argv.argv(), app::simulateValueFlags(), app::simulateSwitches());
+  app::SimulateRequest request = app::simulateRequestFrom(args, sceneFrom(scene_json, args));
+  request.options.progress = [](double, long) { checkSignals(); };
+  const std::vector<std::string> columns = request.simulation->columns();
+  std::vector<double> data;
+  long rows = 0;
+  std::string non_finite;
+  app::RecordingNoise noisy(columns, request.noise);
+  std::vector<double> noisy_row;
+  const auto sink = [&](const std::vector<double>& row) {
+    const std::vector<double>* out = &row;
+    if (request.noise.any()) {
+      noisy_row = row;
+      noisy.apply(&noisy_row);
+      out = &noisy_row;
+    }
+    // Output never holds NaN or inf: the rows stop before such a row, and
+    // the run counts as failed (as the command's CSV writer does).
+    if (!non_finite.empty()) return;
+    for (std::size_t i = 0; i < out->size(); ++i)
+      if (!std::isfinite((*out)[i])) {
+        non_finite = "the output would hold a non-finite number: column " + columns[i] + " at t = " +
+                     std::to_string((*out)[0]);
+        return;
+      }
+    data.insert(data.end(), out->begin(), out->end());
+    ++rows;
+  };
+  SimulationResult result;
+  {
+    py::gil_scoped_release release;
+    result = request.simulation->run(request.options, sink);
+  }
+  if (!non_finite.empty() && !result.failed) {
+    result.failed = true;
+    result.failure = non_finite;
+  }
+  py::array_t<double> table({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(columns.size())});
+  std::copy(data.begin(), data.end(), table.mutable_data());
+  py::dict out;
+  out["columns"] = columns;
+  out["data"] = table;
+  out["stats"] = app::statsJson(result).dump();
+  out["failed"] = result.failed;
+  out["failure"] = result.failure;
+  out["scene"] = request.simulation->scene().name;
+  return out;
+}
+
+/// Runs the study; writes DIR/study.csv and DIR/drift.csv (and the plots when
+/// asked) like the command and returns DIR plus the reference it used.
+py::dict study(std::vector<std::string> tokens, const std::optional<std::string>& scene_json) {
+  Argv argv(std::move(tokens));
+  const app::Arguments args(argv.argc(), argv.argv(), app::studyValueFlags(), app::studySwitches());
+  app::StudyRequest request = app::studyRequestFrom(args, sceneFrom(scene_json, args));
+  app::prepareOutputDirectory(request.options.out_dir);
+  app::StudyResult result;
+  std::string plot_problem;
+  {
+    py::gil_scoped_release release;
+    result = app::runStudy(*request.simulation, request.t_end, request.options);
+    app::writeStudyFiles(result, request.options.out_dir);
+    if (request.options.plots && !app::plotStudy(request.options.out_dir, &plot_problem) && plot_problem.empty())
+      plot_problem = "plotting failed";
+  }
+  py::dict out;
+  out["out"] = request.options.out_dir;
+  out["reference"] = result.reference;
+  out["reference_error"] = result.reference_error;
+  out["plots"] = request.options.plots && plot_problem.empty();
+  out["plot_problem"] = plot_problem;
+  return out;
+}
+
+py::dict stability(std::vector<std::string> tokens, const std::vector<std::string>& scene_jsons) {
+  Argv argv(std::move(tokens));
+  const app::Arguments args(argv.argc(), argv.argv(), app::stabilityValueFlags(), app::stabilitySwitches());
+  std::vector<SceneDescription> scenes;
+  for (const std::string& json : scene_jsons)
+    scenes.push_back(parseScene(json, "scene dict", app::resourceLimitsFrom(args).max_bodies));
+  app::StabilityRequest request = app::stabilityRequestFrom(args, std::move(scenes));
+  app::prepareOutputDirectory(request.out_dir);
+  std::string plot_problem;
+  {
+    py::gil_scoped_release release;
+    std::vector<app::StabilityRow> rows;
+    for (const Simulation& sim : request.simulations) {
+      const std::vector<app::StabilityRow> r = app::runStability(sim, request.options);
+      rows.insert(rows.end(), r.begin(), r.end());
+    }
+    app::writeStabilityCsv(rows, request.out_dir + "/stability.csv");
+    if (request.plots && !app::plotStability(request.out_dir, &plot_problem) && plot_problem.empty())
+      plot_problem = "plotting failed";
+  }
+  py::dict out;
+  out["out"] = request.out_dir;
+  out["plots"] = request.plots && plot_problem.empty();
+  out["plot_problem"] = plot_problem;
+  return out;
+}
+
+#ifdef LIEFLOW_HAVE_CERES
+/// (JSON text or "", status, reason): lieflow/commands.py raises or returns.
+py::tuple calibrate(std::vector<std::string> tokens) {
+  Argv argv(std::move(tokens));
+  const app::Arguments args(argv.argc(), argv.argv(), app::calibrateValueFlags(), app::calibrateSwitches());
+  app::CommandOutcome outcome;
+  {
+    py::gil_scoped_release release;
+    outcome = app::calibrate(args);
+  }
+  return py::make_tuple(outcome.json.is_null() ? std::string() : outcome.json.dump(), outcome.status, outcome.error);
+}
+#endif
+
+}  // namespace
+
+void defineCommands(py::module_& m) {
+  m.def("simulate", &simulate, py::arg("tokens"), py::arg("scene_json") = py::none());
+  m.def("study", &study, py::arg("tokens"), py::arg("scene_json") = py::none());
+  m.def("stability", &stability, py::arg("tokens"), py::arg("scene_jsons"));
+#ifdef LIEFLOW_HAVE_CERES
+  m.def("calibrate", &calibrate, py::arg("tokens"));
+  m.attr("have_calibration") = true;
+#else
+  m.attr("have_calibration") = false;
+#endif
+  m.def("scenes", [] {
+    py::list names;
+    for (const BuiltinScene& s : builtinScenes()) names.append(py::make_tuple(s.name, s.description));
+    return names;
+  });
+}
+
+}  // namespace python
+}  // namespace lieflow

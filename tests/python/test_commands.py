@@ -1,0 +1,218 @@
+"""lieflow.simulate / study / stability / calibrate_*: the same numbers as the
+command on the same input (CSV cells are written with 17 significant digits,
+so they read back exactly), the same refusals with the same messages, and
+long runs that release the GIL and stop on Ctrl-C."""
+import csv
+import json
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import lieflow
+
+SCENES = os.path.join(os.path.dirname(__file__), "..", "..", "scenes")
+TIMING = {"wall_seconds", "ns_per_step", "seconds"}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+@pytest.mark.parametrize("scene,args", [
+    ("double-pendulum", dict(integrator="rkmk4", dt=0.01, t_end=2.0, every=3)),
+    ("heavy-top", dict(integrator="genalpha", dt=0.002, t_end=1.0, options={"rho_inf": 0.8})),
+    ("hinge-pair", dict(dt=0.01, t_end=1.0, noise={"gyro": 0.05, "angle": 0.01, "quat": 0.01, "seed": 5})),
+])
+def test_simulate_equals_the_command(tmp_path, run_command, scene, args):
+    flags = [f"--integrator={args['integrator']}"] if "integrator" in args else []
+    flags += ["--dt", args["dt"], "--t-end", args["t_end"]]
+    if "every" in args:
+        flags += ["--every", args["every"]]
+    if "options" in args:
+        flags += ["--options", ",".join(f"{k}={v}" for k, v in args["options"].items())]
+    noise = args.get("noise", {})
+    for key, flag in (("gyro", "--noise-gyro"), ("angle", "--noise-angle"), ("quat", "--noise-quat"),
+                      ("seed", "--seed")):
+        if key in noise:
+            flags += [flag, noise[key]]
+    status, out, err = run_command("simulate", scene, *flags, "--out", tmp_path / "run.csv", "--stats", "--quiet")
+    assert status == 0, err
+    header, rows = read_csv(tmp_path / "run.csv")
+    command_stats = json.loads(out)
+
+    result = lieflow.simulate(scene, **args)
+    assert list(result.columns) == header
+    for j, name in enumerate(header):
+        np.testing.assert_array_equal(result.columns[name], [float(r[j]) for r in rows], err_msg=name)
+    assert set(result.stats) == set(command_stats)
+    for key in set(command_stats) - TIMING:
+        assert result.stats[key] == command_stats[key], key
+    assert not result.failed and result.failure == ""
+
+
+def test_a_scene_dict_runs_like_its_file():
+    with open(os.path.join(SCENES, "pendulum.json")) as f:
+        scene = json.load(f)
+    from_dict = lieflow.simulate(scene, dt=0.01, t_end=1.0)
+    from_name = lieflow.simulate("pendulum", dt=0.01, t_end=1.0)
+    for name, column in from_name.columns.items():
+        np.testing.assert_array_equal(from_dict.columns[name], column)
+    scene["bodies"][0]["mass"] = -1.0
+    with pytest.raises(lieflow.InputError, match=r"scene dict: bodies\[0\]\.mass"):
+        lieflow.simulate(scene)
+
+
+@pytest.mark.parametrize("kwargs,flags", [
+    (dict(integrator="no-such-integrator"), ["--integrator", "no-such-integrator"]),
+    (dict(options={"rho_inf": 2.0}, integrator="genalpha"), ["--options", "rho_inf=2.0", "--integrator", "genalpha"]),
+    (dict(options={"no_such_option": 1.0}), ["--options", "no_such_option=1.0"]),
+    (dict(noise={"angle": 0.1}), ["--noise-angle", "0.1"]),
+])
+def test_bad_input_raises_input_error_with_the_commands_message(run_command, kwargs, flags):
+    status, _, err = run_command("simulate", "heavy-top", *flags, "--stats", "--quiet")
+    assert status == 2
+    with pytest.raises(lieflow.InputError) as raised:
+        lieflow.simulate("heavy-top", **kwargs)
+    assert isinstance(raised.value, ValueError)
+    assert err.strip() == "lieflow: " + str(raised.value)
+
+
+def test_python_side_refusals():
+    with pytest.raises(lieflow.InputError, match="--dt: expected a number"):
+        lieflow.simulate("pendulum", dt="fast")
+    with pytest.raises(lieflow.InputError, match="not a finite number"):
+        lieflow.simulate("pendulum", t_end=float("inf"))
+    with pytest.raises(lieflow.InputError, match="noise: unknown key"):
+        lieflow.simulate("pendulum", noise={"gyroscope": 0.1})
+    with pytest.raises(lieflow.InputError, match="expected a scene file"):
+        lieflow.simulate(42)
+
+
+def test_a_failed_run_raises_or_returns_its_partial_result(run_command):
+    status, out, err = run_command("simulate", "stiff-spring", "--integrator", "rkmk4", "--dt", "1", "--t-end", "50",
+                                   "--stats", "--quiet")
+    assert status == 1
+    with pytest.raises(lieflow.ComputationError) as raised:
+        lieflow.simulate("stiff-spring", integrator="rkmk4", dt=1.0, t_end=50.0)
+    assert isinstance(raised.value, RuntimeError)
+    assert json.loads(out)["failure"] in str(raised.value)
+    partial = lieflow.simulate("stiff-spring", integrator="rkmk4", dt=1.0, t_end=50.0, partial=True)
+    assert partial.failed and partial.failure == json.loads(out)["failure"]
+    assert partial.stats["failed"] is True
+    assert all(np.all(np.isfinite(c)) for c in partial.columns.values())
+
+
+def test_study_equals_the_command(tmp_path, run_command):
+    args = ["--integrators", "rkmk4,lgvi,cg3", "--dt", "0.004,0.002", "--t-end", "0.5", "--min-time", "0.001"]
+    status, _, err = run_command("study", "dzhanibekov", *args, "--out", tmp_path / "cmd", "--no-plots")
+    assert status == 0, err
+    header, rows = read_csv(tmp_path / "cmd" / "study.csv")
+    result = lieflow.study("dzhanibekov", integrators=["rkmk4", "lgvi", "cg3"], dt=[0.004, 0.002], t_end=0.5,
+                           min_time=0.001, out=tmp_path / "py")
+    assert list(result["rows"]) == header
+    for j, name in enumerate(header):
+        if name in TIMING or name == "repeats":
+            continue
+        column = result["rows"][name]
+        expected = [r[j] for r in rows]
+        if isinstance(column, list):
+            assert column == expected, name
+        elif column.dtype == bool:
+            assert list(column) == [c == "true" for c in expected], name
+        else:
+            filled = np.ma.getmaskarray(column) == np.array([c == "" for c in expected])
+            assert filled.all(), name
+            np.testing.assert_array_equal(np.ma.filled(column, 0.0), [float(c) if c else 0.0 for c in expected])
+    assert result["reference"] == rows[0][header.index("reference")]
+    assert os.path.exists(tmp_path / "py" / "drift.csv") and result["out"] == str(tmp_path / "py")
+    drift_header, _ = read_csv(tmp_path / "cmd" / "drift.csv")
+    assert list(result["drift"]) == drift_header
+
+
+def test_stability_equals_the_command(tmp_path, run_command):
+    status, _, err = run_command("stability", "stiff-spring", "--integrators", "rkmk4,lgvi,genalpha",
+                                 "--out", tmp_path, "--no-plots")
+    assert status == 0, err
+    header, rows = read_csv(tmp_path / "stability.csv")
+    result = lieflow.stability("stiff-spring", integrators=["rkmk4", "lgvi", "genalpha"])
+    assert result["out"] is None and list(result["rows"]) == header
+    h = result["rows"]["h_omega_max"]
+    np.testing.assert_array_equal(h, [float(r[header.index("h_omega_max")]) for r in rows])
+    assert result["rows"]["integrator"] == ["rkmk4", "lgvi", "genalpha"]
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_equals_the_command(tmp_path, run_command):
+    status, _, err = run_command("simulate", "hinge-pair", "--every", "10", "--noise-gyro", "0.02", "--out",
+                                 tmp_path / "rec.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "hinge", tmp_path / "rec.csv")
+    assert status == 0, err
+    command = json.loads(out)
+    recording = lieflow.simulate("hinge-pair", every=10, noise={"gyro": 0.02}).columns
+    for source in (str(tmp_path / "rec.csv"), recording):
+        fit = lieflow.calibrate_hinge(source)
+        assert list(fit) == list(command)
+        for key in set(command) - TIMING:
+            assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_spring_equals_the_command(tmp_path, run_command):
+    status, _, err = run_command("simulate", "spring-hinge", "--every", "10", "--noise-angle", "0.01", "--out",
+                                 tmp_path / "decay.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "spring", tmp_path / "decay.csv", "--scene", "spring-hinge",
+                                   "--fit-rest-angle")
+    assert status == 0, err
+    command = json.loads(out)
+    fit = lieflow.calibrate_spring(str(tmp_path / "decay.csv"), scene="spring-hinge", fit_rest_angle=True)
+    assert list(fit) == list(command)
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_refusals_and_failures(tmp_path):
+    with pytest.raises(lieflow.InputError, match="--loss"):
+        lieflow.calibrate_hinge({"t": [0.0, 0.1], "a.wx": [0, 0], "a.wy": [0, 0], "a.wz": [0, 0],
+                                 "b.wx": [0, 0], "b.wy": [0, 0], "b.wz": [0, 0]}, loss="quadratic")
+    # A joint that never moves cannot be identified: exit 1 on the command line.
+    still = lieflow.simulate("hinge-pair", dt=0.01, t_end=1.0).columns
+    for key in still:
+        if key.endswith((".wx", ".wy", ".wz")):
+            still[key] = np.zeros_like(still[key])
+    with pytest.raises(lieflow.ComputationError):
+        lieflow.calibrate_hinge({k: v for k, v in still.items() if "." not in k or k.split(".")[1][0] == "w"})
+    answer = lieflow.calibrate_hinge({k: v for k, v in still.items() if "." not in k or k.split(".")[1][0] == "w"},
+                                     partial=True)
+    assert answer["failed"] is True and answer["failure"]
+
+
+def test_long_runs_release_the_gil_and_stop_on_ctrl_c():
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.01)
+
+    threading.Thread(target=count, daemon=True).start()
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        # 1e8 steps of the heavy top: minutes, unless interrupted.
+        lieflow.simulate("heavy-top", integrator="rkmk4", dt=1e-4, t_end=1e4, every=1_000_000)
+    elapsed = time.perf_counter() - start
+    stop.set()
+    assert elapsed < 3.0, f"the run stopped {elapsed:.2f} s after it started (SIGINT at 0.5 s)"
+    # The other thread ran while the simulation held no GIL.
+    assert sum(1 for t in ticks if start + 0.1 < t < start + 0.5) >= 10
