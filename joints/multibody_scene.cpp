@@ -32,11 +32,44 @@ std::string fmt(const Eigen::Vector3d& v) {
 }  // namespace
 
 bool needsMultibody(const SceneDescription& scene) {
-  if (scene.bodies.size() != 1 || scene.joints.size() > 1) return true;
+  if (scene.bodies.size() != 1 || scene.joints.size() > 1 || !scene.user_loads.empty()) return true;
   if (scene.joints.empty()) return false;
   const JointDescription& j = scene.joints[0];
   return j.type != "spherical" || (j.main != "ground" && j.secondary != "ground");
 }
+
+namespace {
+
+/// The program's body torques on the system; its joint moments were given to
+/// the drives. Names that match no body, or no joint with coordinates, are
+/// InvalidInput ("torques" / "moments").
+void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
+  const UserLoads& loads = scene.user_loads;
+  out->has_user_loads = !loads.empty();
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  for (const auto& [name, f] : loads.body_torques) {
+    const auto it = index.find(name);
+    if (it == index.end()) throw InvalidInput("torques", "the scene has no body '" + name + "'");
+    const UserLoads::BodyTorque torque = f;
+    out->system->setUserTorque(it->second, [torque](double t, const constraints::BodyPose<double>& pose,
+                                                     const constraints::BodyVelocity<double>& velocity) {
+      return torque(t, pose.R.quaternion(), pose.p, velocity.omega, velocity.v);
+    });
+  }
+  for (const auto& [name, f] : loads.joint_moments) {
+    (void)f;
+    int k = -1;
+    for (std::size_t j = 0; j < scene.joints.size(); ++j)
+      if (scene.joints[j].name == name) k = static_cast<int>(j);
+    if (k < 0) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
+    const std::string& type = scene.joints[k].type;
+    if (type != "revolute" && type != "universal")
+      throw InvalidInput("moments", "joint '" + name + "' is " + type +
+                                        ": a moment acts on the coordinate of a revolute or universal joint");
+  }
+}
+
+}  // namespace
 
 std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene) {
   auto out = std::make_unique<MultibodyScene>();
@@ -117,6 +150,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     model.addJoint(joint);
     out->scene_joint.push_back(static_cast<int>(k));
     std::array<multibody::CoordinateDrive, 2> d;
+    const auto user_moment = scene.user_loads.joint_moments.find(j.name);
     for (int i = 0; i < 2; ++i) {
       const CoordinateDescription& cd = j.coordinates[i];
       d[i].stiffness = cd.stiffness;
@@ -124,10 +158,16 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
       d[i].damping = cd.damping;
       d[i].moment = cd.moment;
       d[i].prescribed = cd.prescribed;
+      const int coordinates = j.type == "universal" ? 2 : j.type == "revolute" ? 1 : 0;
+      if (user_moment != scene.user_loads.joint_moments.end() && i < coordinates) {
+        const UserLoads::JointMoment f = user_moment->second;
+        d[i].user_moment = [f, i](double t, double phi, double phidot) { return f(t, i, phi, phidot); };
+      }
     }
     drives.push_back(d);
   }
   out->system = std::make_unique<multibody::MultibodySystem>(std::move(model), std::move(drives), std::move(gears));
+  attachUserLoads(scene, out.get());
   const multibody::MultibodySystem& sys = *out->system;
   multibody::MultibodyGroupState y = sys.makeState(s);
   // The joint angles at t = 0 are the given initial angles (the principal

@@ -35,10 +35,13 @@ struct MultibodyScene {
   /// position rows, and the largest velocity change).
   double initial_position_correction = 0.0;
   double initial_velocity_correction = 0.0;
+  /// The scene carries loads from a program (SceneDescription::user_loads).
+  bool has_user_loads = false;
 };
 
 /// Whether the scene needs the multibody path (anything but one body with at
-/// most one spherical joint to ground).
+/// most one spherical joint to ground, or any scene with loads from a
+/// program: they act through the multibody system's forces).
 bool needsMultibody(const SceneDescription& scene);
 
 /// Builds the system; throws InvalidInput "SOURCE: joints[k] (name).field"

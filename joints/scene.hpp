@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -99,6 +100,25 @@ struct IntegratorDescription {
   std::map<std::string, double> options;
 };
 
+/// Loads a program supplies as functions of time and state (the Python
+/// module's callables; the JSON scene format has none). A scene with any runs
+/// as a multibody system and with the explicit integrators only (their
+/// forces are evaluated where the stages need them; lgvi and genalpha treat
+/// forces implicitly and are refused).
+struct UserLoads {
+  /// Torque on a body, body frame [N m], about its centre of mass, from the
+  /// time and the body's orientation q (body to world), position p (world),
+  /// body angular velocity ω and velocity v (world).
+  using BodyTorque = std::function<Eigen::Vector3d(double t, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                                                   const Eigen::Vector3d& omega, const Eigen::Vector3d& v)>;
+  /// Moment on joint coordinate `coordinate` (0 or 1) [N m], from the time
+  /// and the coordinate's angle and rate; it acts like the scene's `moment`.
+  using JointMoment = std::function<double(double t, int coordinate, double phi, double phidot)>;
+  std::map<std::string, BodyTorque> body_torques;  ///< by body name
+  std::map<std::string, JointMoment> joint_moments;  ///< by joint name
+  bool empty() const { return body_torques.empty() && joint_moments.empty(); }
+};
+
 struct SceneDescription {
   std::string name;
   /// Where it came from ("path/to/file.json" or "built-in scene 'NAME'"),
@@ -113,6 +133,8 @@ struct SceneDescription {
   double t_end = 0.0;
   /// One line on what the scene shows (built-in scenes).
   std::string description;
+  /// Loads given as functions by a program (none from a scene file).
+  UserLoads user_loads;
 
   /// Index of the body with this name, or -1 (a linear search; code that
   /// looks up every joint's bodies builds bodyIndices() once instead).

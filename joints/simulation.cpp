@@ -417,6 +417,9 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
   if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
   if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
   if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+  if (model.multibody->has_user_loads && (name == "lgvi" || name == "genalpha"))
+    throw InvalidInput("--integrator", "'" + name + "' treats forces implicitly; a scene with loads from a program "
+                                       "(torques, moments) runs with rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3 or cf4");
   if (name == "lgvi") {
     ConstrainedLgviOptions l;
     l.tolerance = option(o, "tolerance", l.tolerance);
@@ -504,6 +507,10 @@ bool Simulation::supports(const std::string& integrator, std::string* why) const
   }
   if (model_->multibody) {
     const IntegratorInfo& info = *findIntegrator(integrator);
+    if (model_->multibody->has_user_loads && (integrator == "lgvi" || integrator == "genalpha")) {
+      if (why) *why = "'" + integrator + "' treats forces implicitly; loads from a program need an explicit integrator";
+      return false;
+    }
     if (info.supports_joints) return true;
     if (why) {
       *why = "'" + integrator + "' is not available for scenes with joints (" + info.joints_note + "; available:";

@@ -13,6 +13,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "app/simulate_request.hpp"
 #include "app/study_request.hpp"
 #include "joints/scene.hpp"
+#include "liegroup/invalid_input.hpp"
 #include "python/module_parts.hpp"
 #ifdef LIEFLOW_HAVE_CERES
 #include "app/calibrate_outcome.hpp"
@@ -57,6 +59,82 @@ std::optional<SceneDescription> sceneFrom(const std::optional<std::string>& json
   return parseScene(*json, "scene dict", app::resourceLimitsFrom(args).max_bodies);
 }
 
+/// A Python callable held by C++ loads: copies share it, and the last one
+/// lets go of it with the GIL held (the run itself holds no GIL).
+struct PyFunction {
+  py::object f;
+  std::string what;  ///< "torques['arm']", for messages
+  ~PyFunction() {
+    py::gil_scoped_acquire acquire;
+    f = py::object();
+  }
+};
+
+/// The callable's answer as n finite numbers, else InputError naming it.
+Eigen::VectorXd finiteAnswer(const PyFunction& fn, const py::object& answer, int n) {
+  const auto fail = [&](const std::string& got) {
+    return InvalidInput(fn.what, "the callable returned " + got + " (expected " +
+                                     (n == 1 ? std::string("a finite number") : std::to_string(n) +
+                                                                                    " finite numbers") + ")");
+  };
+  py::array_t<double, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
+  } catch (const py::error_already_set&) {
+    a = {};
+  }
+  if (!a || a.size() != n || (n > 1 && a.ndim() != 1)) throw fail(py::str(py::repr(answer)).cast<std::string>());
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) {
+    v[i] = a.data()[i];
+    if (!std::isfinite(v[i])) throw fail(py::str(py::repr(answer)).cast<std::string>());
+  }
+  return v;
+}
+
+py::array_t<double> numpyVector(const double* x, int n) {
+  py::array_t<double> a(n);
+  std::copy(x, x + n, a.mutable_data());
+  return a;
+}
+
+/// torques {body: f(t, state)} and moments {joint: f(t, state)} as the
+/// scene's UserLoads. A body's state: q (w, x, y, z), omega (body), p, v
+/// (world); a joint coordinate's: phi, phidot, coordinate (1 or 2).
+UserLoads userLoadsFrom(const py::dict& torques, const py::dict& moments) {
+  UserLoads loads;
+  for (const auto& [key, value] : torques) {
+    const std::string name = py::str(key).cast<std::string>();
+    auto fn = std::make_shared<PyFunction>(PyFunction{py::reinterpret_borrow<py::object>(value),
+                                                      "torques['" + name + "']"});
+    loads.body_torques[name] = [fn](double t, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                                    const Eigen::Vector3d& omega, const Eigen::Vector3d& v) -> Eigen::Vector3d {
+      py::gil_scoped_acquire acquire;
+      const double qa[4] = {q.w(), q.x(), q.y(), q.z()};
+      py::dict state;
+      state["q"] = numpyVector(qa, 4);
+      state["omega"] = numpyVector(omega.data(), 3);
+      state["p"] = numpyVector(p.data(), 3);
+      state["v"] = numpyVector(v.data(), 3);
+      return finiteAnswer(*fn, fn->f(t, state), 3);
+    };
+  }
+  for (const auto& [key, value] : moments) {
+    const std::string name = py::str(key).cast<std::string>();
+    auto fn = std::make_shared<PyFunction>(PyFunction{py::reinterpret_borrow<py::object>(value),
+                                                      "moments['" + name + "']"});
+    loads.joint_moments[name] = [fn](double t, int coordinate, double phi, double phidot) {
+      py::gil_scoped_acquire acquire;
+      py::dict state;
+      state["phi"] = phi;
+      state["phidot"] = phidot;
+      state["coordinate"] = coordinate + 1;
+      return finiteAnswer(*fn, fn->f(t, state), 1)[0];
+    };
+  }
+  return loads;
+}
+
 /// Progress callback that lets Ctrl-C through: with the GIL, ask Python
 /// whether a signal is pending; if so, its KeyboardInterrupt stops the run.
 void checkSignals() {
@@ -64,10 +142,27 @@ void checkSignals() {
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
-py::dict simulate(std::vector<std::string> tokens, const std::optional<std::string>& scene_json) {
+py::dict simulate(std::vector<std::string> tokens, const std::optional<std::string>& scene_json,
+                  const py::dict& torques, const py::dict& moments) {
+  std::optional<SceneDescription> scene;
+  if (!torques.empty() || !moments.empty()) {
+    // The scene is read here (the loads go into it): from the dict, or from
+    // the first token (commands.py puts SCENE first), which then leaves.
+    Argv probe(tokens);
+    const app::Arguments probe_args(probe.argc(), probe.argv(), app::simulateValueFlags(), app::simulateSwitches());
+    if (scene_json) {
+      scene = sceneFrom(scene_json, probe_args);
+    } else {
+      if (probe_args.positional().size() != 1)
+        throw app::UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
+      scene = loadScene(tokens.front(), app::resourceLimitsFrom(probe_args));
+      tokens.erase(tokens.begin());
+    }
+    scene->user_loads = userLoadsFrom(torques, moments);
+  }
   Argv argv(std::move(tokens));
   const app::Arguments args(argv.argc(), argv.argv(), app::simulateValueFlags(), app::simulateSwitches());
-  app::SimulateRequest request = app::simulateRequestFrom(args, sceneFrom(scene_json, args));
+  app::SimulateRequest request = app::simulateRequestFrom(args, scene ? std::move(scene) : sceneFrom(scene_json, args));
   request.options.progress = [](double, long) { checkSignals(); };
   const std::vector<std::string> columns = request.simulation->columns();
   std::vector<double> data;
@@ -184,7 +279,8 @@ py::tuple calibrate(std::vector<std::string> tokens) {
 }  // namespace
 
 void defineCommands(py::module_& m) {
-  m.def("simulate", &simulate, py::arg("tokens"), py::arg("scene_json") = py::none());
+  m.def("simulate", &simulate, py::arg("tokens"), py::arg("scene_json") = py::none(),
+        py::arg("torques") = py::dict(), py::arg("moments") = py::dict());
   m.def("study", &study, py::arg("tokens"), py::arg("scene_json") = py::none());
   m.def("stability", &stability, py::arg("tokens"), py::arg("scene_jsons"));
 #ifdef LIEFLOW_HAVE_CERES

@@ -12,6 +12,8 @@ packages=(
   libbenchmark-dev                              # bench/
   libgtest-dev libgmock-dev                     # tests/
   python3-matplotlib                            # plots of studies and papers/
+  pybind11-dev python3-dev python3-numpy        # the Python module (python/)
+  python3-pytest python3-distributed            # its tests; sweeps on Dask (lieflow.sweep)
 )
 
 missing=()

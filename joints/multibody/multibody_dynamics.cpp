@@ -24,6 +24,8 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
     const int r = rot_[i] ? 0 : 3;
     if (!rot_[i]) F->segment<3>(o) = body.mass * model_.gravity;
     if (gyroscopic) F->segment<3>(o + r) = -w.cross(body.inertia * w);
+    if (!user_torques_.empty() && user_torques_[i])
+      F->segment<3>(o + r) += user_torques_[i](t, y.bodies.poses[i], y.bodies.velocities[i]);
   }
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const int nc = coordinateCount(static_cast<int>(k));
@@ -36,8 +38,7 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
       double phidot = 0.0;
       if (j.main != kGround) phidot += Ja.tail<3>().dot(y.bodies.velocities[j.main].omega);
       if (j.secondary != kGround) phidot += Jb.tail<3>().dot(y.bodies.velocities[j.secondary].omega);
-      double M = -d.stiffness * (phi - d.rest_angle) - d.damping * phidot;
-      if (d.moment) M += (*d.moment)(t);
+      const double M = d.momentAt(t, phi, phidot);
       // Generalized force J_φᵀ M (φ's Jacobian has no translation columns).
       if (j.main != kGround) F->segment<3>(off_[j.main] + (rot_[j.main] ? 0 : 3)) += Ja.tail<3>().transpose() * M;
       if (j.secondary != kGround)

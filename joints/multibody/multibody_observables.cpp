@@ -54,6 +54,7 @@ bool MultibodySystem::conservesAngularMomentum() const {
   // a joint passes a force to them (its point rows are imposed). Joint
   // springs, dashpots, applied moments and prescribed motion between two
   // bodies act in equal and opposite pairs.
+  if (hasUserTorques()) return false;  // a program's torques on bodies are external
   bool all_rotation_only = true;
   for (int i = 0; i < bodyCount(); ++i) all_rotation_only = all_rotation_only && rot_[i];
   if (model_.gravity.squaredNorm() != 0.0 && !all_rotation_only) return false;
@@ -122,10 +123,7 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
       const Row6& Jside = use_main ? Ja : Jb;
       const CoordinateDrive& d = drives_[k][i];
       double M = 0.0;
-      if (d.hasForce()) {
-        M = -d.stiffness * (o.phi[i] - d.rest_angle) - d.damping * o.phidot[i];
-        if (d.moment) M += (*d.moment)(t);
-      }
+      if (d.hasForce()) M = d.momentAt(t, o.phi[i], o.phidot[i]);
       const int pr = prescribedRow(k, i);
       if (solved && pr >= 0) M -= lambda[pr];
       g += Jside.transpose() * M;

@@ -117,6 +117,18 @@ int MultibodySystem::coordinateCount(int k) const {
   }
 }
 
+void MultibodySystem::setUserTorque(int body, UserTorque torque) {
+  LIEFLOW_ASSERT(body >= 0 && body < bodyCount(), "setUserTorque: no such body");
+  if (user_torques_.empty()) user_torques_.resize(bodyCount());
+  user_torques_[body] = std::move(torque);
+}
+
+bool MultibodySystem::hasUserTorques() const {
+  for (const UserTorque& f : user_torques_)
+    if (f) return true;
+  return false;
+}
+
 bool MultibodySystem::hasDampers() const {
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
     for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i)

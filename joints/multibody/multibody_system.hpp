@@ -43,6 +43,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -66,7 +67,18 @@ struct CoordinateDrive {
   double damping = 0.0;     ///< c ≥ 0: dashpot moment −c φ̇
   std::optional<TimeFunction> moment;      ///< applied moment M(t)
   std::optional<TimeFunction> prescribed;  ///< imposed φ(t)
-  bool hasForce() const { return stiffness != 0.0 || damping != 0.0 || moment.has_value(); }
+  /// A program's moment M(t, φ, φ̇) (UserLoads::JointMoment), added to the above.
+  std::function<double(double t, double phi, double phidot)> user_moment;
+  bool hasForce() const {
+    return stiffness != 0.0 || damping != 0.0 || moment.has_value() || static_cast<bool>(user_moment);
+  }
+  /// The moment of the force elements at (t, φ, φ̇).
+  double momentAt(double t, double phi, double phidot) const {
+    double M = -stiffness * (phi - rest_angle) - damping * phidot;
+    if (moment) M += (*moment)(t);
+    if (user_moment) M += user_moment(t, phi, phidot);
+    return M;
+  }
 };
 
 using GearConstraint = std::variant<constraints::GearJoint<double>, constraints::RackPinionJoint<double>,
@@ -153,6 +165,13 @@ class MultibodySystem {
   /// InvalidInput naming the joint and field.
   MultibodySystem(MultibodyModel model, std::vector<std::array<CoordinateDrive, 2>> drives,
                   std::vector<Gear> gears = {});
+
+  /// A program's torque on body i (body frame, about the CoM) as a function
+  /// of time and the body's pose and velocity (UserLoads::BodyTorque).
+  using UserTorque = std::function<Eigen::Vector3d(double t, const constraints::BodyPose<double>& pose,
+                                                   const constraints::BodyVelocity<double>& velocity)>;
+  void setUserTorque(int body, UserTorque torque);
+  bool hasUserTorques() const;
 
   const MultibodyModel& model() const { return model_; }
   const std::vector<std::array<CoordinateDrive, 2>>& drives() const { return drives_; }
@@ -306,6 +325,7 @@ class MultibodySystem {
   MultibodyModel model_;
   std::vector<std::array<CoordinateDrive, 2>> drives_;
   std::vector<Gear> gears_;
+  std::vector<UserTorque> user_torques_;  ///< per body, empty: none
   std::vector<char> rot_;
   std::vector<int> off_;
   int n_ = 0;

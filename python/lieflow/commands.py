@@ -122,8 +122,19 @@ def scenes():
     return dict(_lieflow.scenes())
 
 
-def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, partial=False,
-             max_steps=None, max_input_mb=None, max_bodies=None):
+def _callables(name, loads):
+    if loads is None:
+        return {}
+    if not isinstance(loads, dict):
+        raise InputError(f"{name}: expected a dict of name -> callable, got {type(loads).__name__}")
+    for key, value in loads.items():
+        if not isinstance(key, str) or not callable(value):
+            raise InputError(f"{name}[{key!r}]: expected a name and a callable f(t, state)")
+    return loads
+
+
+def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
+             moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a built-in name (``lieflow.scenes()``) or a dict
@@ -133,6 +144,16 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
     noise:      dict with any of gyro, angle, quat (standard deviations, as
                 --noise-gyro/--noise-angle/--noise-quat) and seed;
+    torques:    {body name: f(t, state)}: a torque on the body [N m], body
+                frame, about its centre of mass; state is a dict with q
+                (w, x, y, z), omega (body frame), p and v (world);
+    moments:    {joint name: f(t, state)}: a moment [N m] on each coordinate
+                of a revolute or universal joint, beside its spring, dashpot
+                and moment; state has phi, phidot and coordinate (1 or 2).
+                With torques or moments the scene runs as a multibody system
+                with an explicit integrator (rkmk-*, cg3, cf4); each stage of
+                each step calls every function once (see the README for
+                the cost per call);
     partial:    return a failed run's rows and stats instead of raising.
     Returns a SimulationResult (columns, stats, failed, failure). The run
     releases the GIL; Ctrl-C stops it (KeyboardInterrupt) at its next
@@ -150,7 +171,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
                                             max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
-    raw = _lieflow.simulate(tokens, scene_json)
+    raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
     data = raw["data"]
     columns = {name: data[:, i].copy() for i, name in enumerate(raw["columns"])}
     result = SimulationResult(raw["scene"], columns, json.loads(raw["stats"]), raw["failed"], raw["failure"])

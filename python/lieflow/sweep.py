@@ -158,8 +158,19 @@ def _merge(all_cases, directory, path):
     return rows
 
 
+def _distributed():
+    """dask.distributed, or an ImportError that says what to install."""
+    try:
+        import dask.distributed
+    except ImportError as e:
+        raise ImportError("lieflow.sweep runs on Dask distributed: apt-get install python3-distributed "
+                          f"(or pip install distributed) ({e})") from None
+    return dask.distributed
+
+
 def _local_cluster(workers):
-    from dask.distributed import Client, LocalCluster
+    distributed = _distributed()
+    Client, LocalCluster = distributed.Client, distributed.LocalCluster
 
     # Worker processes import lieflow from where this process found it.
     package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -190,8 +201,7 @@ def sweep(spec, client=None, out=None, workers=None, progress=None):
     to_run = [c for c in all_cases if not os.path.exists(os.path.join(case_dir, c["case_id"] + ".json"))]
     start = time.perf_counter()
     if to_run:
-        from dask.distributed import as_completed
-
+        as_completed = _distributed().as_completed
         own = None
         if client is None:
             client, own = _local_cluster(workers or os.cpu_count() or 1)
@@ -230,8 +240,7 @@ def main(argv=None):
             raise InputError(f"{args.spec}: {e}") from None
         client = None
         if args.scheduler:
-            from dask.distributed import Client
-            client = Client(args.scheduler)
+            client = _distributed().Client(args.scheduler)
 
         def report(done, total):
             print(f"lieflow sweep: {done}/{total} cases done", file=sys.stderr, flush=True)

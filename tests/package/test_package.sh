@@ -7,6 +7,9 @@
 #       but CMAKE_PREFIX_PATH; a missing component and a too-new version fail
 #   test_package.sh headers PREFIX EIGEN_INCLUDE_DIR
 #       every installed header compiles on its own (one translation unit each)
+#   test_package.sh python PREFIX WORK_DIR
+#       `import lieflow` from PREFIX/lib/python3/dist-packages (nothing else
+#       set), a run, and a study whose plots come from PREFIX/share/lieflow
 #   test_package.sh command PREFIX WORK_DIR
 #       the installed `lieflow` runs a scene and draws its study plots from
 #       PREFIX/share/lieflow, away from the source tree
@@ -80,6 +83,31 @@ command)
   else
     echo "the installed lieflow ran a scene (no matplotlib: plots not checked)"
   fi
+  ;;
+python)
+  prefix=$1 work=$2
+  rm -rf "$work"
+  mkdir -p "$work"
+  cd "$work"
+  env -u LIEFLOW_SCRIPTS_DIR PYTHONPATH="$prefix/lib/python3/dist-packages" /usr/bin/python3 - "$prefix" <<'PY'
+import os, sys
+import lieflow
+prefix = os.path.realpath(sys.argv[1])
+assert os.path.realpath(lieflow.__file__).startswith(prefix), lieflow.__file__
+run = lieflow.simulate("pendulum", dt=0.01, t_end=0.5)
+assert len(run.columns["t"]) == 51 and not run.failed
+assert os.path.realpath(os.environ["LIEFLOW_SCRIPTS_DIR"]) == os.path.join(prefix, "share", "lieflow", "scripts")
+try:
+    import matplotlib  # noqa: F401
+except ImportError:
+    print("lieflow imported from", os.path.dirname(lieflow.__file__), "(no matplotlib: plots not checked)")
+    sys.exit(0)
+study = lieflow.study("heavy-top", integrators=["rkmk4"], dt=[0.002, 0.001], t_end=0.5, min_time=0.001,
+                      out="study", plots=True)
+assert "plot_problem" not in study, study.get("plot_problem")
+assert os.path.exists("study/work_precision.png")
+print("lieflow imported from", os.path.dirname(lieflow.__file__), "ran a scene and drew a study's plots")
+PY
   ;;
 *)
   echo "unknown mode $mode" >&2
