@@ -5,6 +5,7 @@
 /// Defined only in builds with Ceres (LIEFLOW_HAVE_CERES).
 #pragma once
 
+#include <functional>
 #include <set>
 #include <string>
 
@@ -33,7 +34,9 @@ const std::set<std::string>& calibrateSwitches();
 /// InvalidInput naming the flag or field; a fit that cannot identify its
 /// parameters, fails or does not converge comes back with kComputationFailed
 /// and the reason (with the JSON, when the solver stopped without converging).
-CommandOutcome calibrate(const Arguments& args);
+/// `interrupted` (may be empty) is asked at every solver iteration; true
+/// stops the solve (the outcome then says the fit did not converge or failed).
+CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& interrupted = {});
 
 }  // namespace app
 }  // namespace lieflow

@@ -246,7 +246,8 @@ std::string jointBetween(const SceneDescription& scene, const std::string& joint
   return found.front();
 }
 
-CommandOutcome runSpring(const Arguments& args, const std::string& recording_path) {
+CommandOutcome runSpring(const Arguments& args, const std::string& recording_path,
+                         const std::function<bool()>& interrupted) {
   if (!args.has("--scene"))
     throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
   for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
@@ -269,6 +270,7 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   const ResourceLimits limits = resourceLimitsFrom(args);
   o.max_substeps = limits.max_substeps;
   o.progress = fitProgressOnStderr("calibrate spring " + recording_path);
+  o.interrupt = interrupted;
 
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
   const GroundedJointScene joint = groundedJointScene(
@@ -355,7 +357,7 @@ int runCalibrate(int argc, char** argv) {
   return outcome.status;
 }
 
-CommandOutcome calibrate(const Arguments& args) {
+CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& interrupted) {
   // Ceres logs through glog (WARNING: Logging before InitGoogleLogging, E...
   // trust_region_minimizer.cc ...): those lines are for --verbose; lieflow
   // says in its own words why a fit stopped. glog is initialized once per
@@ -374,13 +376,14 @@ CommandOutcome calibrate(const Arguments& args) {
   if (kind != "hinge" && kind != "universal" && kind != "spring")
     throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal, spring)");
   if (pos.size() != 2) throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv");
-  if (kind == "spring") return runSpring(args, pos[1]);
+  if (kind == "spring") return runSpring(args, pos[1], interrupted);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
                            "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   AxisFitOptions options = fitOptions(args);
   options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);
+  options.interrupt = interrupted;
   announceLargeRecording(pos[1], "calibrate " + kind + " " + pos[1]);
   const calibration::Recording recording = calibration::readRecording(pos[1], resourceLimitsFrom(args));
   const calibration::JointSamples joint =

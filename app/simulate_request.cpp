@@ -43,16 +43,8 @@ const std::set<std::string>& simulateSwitches() {
 }
 
 SimulateRequest simulateRequestFrom(const Arguments& args, std::optional<SceneDescription> scene) {
-  const ResourceLimits limits = resourceLimitsFrom(args);
   SimulateRequest request;
-  if (scene) {
-    if (!args.positional().empty()) throw UsageError("simulate: give the scene once");
-    request.simulation = std::make_unique<Simulation>(std::move(*scene));
-  } else {
-    if (args.positional().size() != 1)
-      throw UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
-    request.simulation = std::make_unique<Simulation>(loadScene(args.positional()[0], limits));
-  }
+  request.simulation = simulationFrom(args, std::move(scene), "simulate");
   request.options = simulationOptionsFrom(request.simulation->scene(), args);
   request.options.every = args.positiveInt("--every", 1);
   request.noise = noiseFrom(args, request.simulation->columns());

@@ -31,6 +31,10 @@ SimulationOptions probeRun(const Simulation& sim, const std::string& integrator,
   run.integrator = integrator;
   run.dt = h;
   run.max_steps = o.max_steps;
+  if (o.heartbeat) {
+    o.heartbeat();
+    run.progress = [heartbeat = o.heartbeat](double, long) { heartbeat(); };
+  }
   applyIntegratorOptions(sim.scene(), o.integrator_options, &run);
   return run;
 }

@@ -7,6 +7,7 @@
 /// spring frequency √(k/I_min), whichever is larger.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <ostream>
 #include <string>
@@ -33,6 +34,8 @@ struct StabilityOptions {
   std::map<std::string, double> integrator_options;
   long max_steps = kMaxSteps;
   std::ostream* progress = nullptr;
+  /// As StudyOptions::heartbeat: before every run and during long ones.
+  std::function<void()> heartbeat;
 };
 
 struct StabilityRow {

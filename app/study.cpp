@@ -34,9 +34,18 @@ double omegaError(const std::vector<double>& a, const std::vector<double>& ref) 
   return (w - w_ref).norm() / std::max(w_ref.norm(), 1e-300);
 }
 
+/// The heartbeat before a run and as the run's progress callback.
+void withHeartbeat(const std::function<void()>& heartbeat, SimulationOptions* o) {
+  if (!heartbeat) return;
+  heartbeat();
+  o->progress = [heartbeat](double, long) { heartbeat(); };
+}
+
 std::vector<double> referenceRow(const Simulation& sim, double t_end, const std::string& integrator,
-                                 double rtol, double atol, double dt, long max_steps) {
+                                 double rtol, double atol, double dt, long max_steps,
+                                 const std::function<void()>& heartbeat) {
   SimulationOptions o;
+  withHeartbeat(heartbeat, &o);
   o.max_steps = max_steps;
   o.integrator = integrator;
   o.dt = dt;
@@ -80,7 +89,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   std::string why;
   const bool exact_reference = sim.supports("exact", &why);
   if (exact_reference) {
-    ref = referenceRow(sim, t_end, "exact", 0, 0, t_end, options.max_steps);
+    ref = referenceRow(sim, t_end, "exact", 0, 0, t_end, options.max_steps, options.heartbeat);
     result.reference = "exact flow (Jacobi elliptic functions)";
     result.reference_error = 0.0;
   } else if (!sim.supports("rkmk45", nullptr)) {
@@ -89,8 +98,9 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     // at twice that step (order 4: e(h) ≈ |y_h − y_2h| / 15).
     const double h_ref = dts.back() / 32.0;
     if (options.progress) *options.progress << "study: computing the reference (projected rkmk4, h " << h_ref << ")\n";
-    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps);
-    const std::vector<double> check = referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps);
+    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps, options.heartbeat);
+    const std::vector<double> check =
+        referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps, options.heartbeat);
     result.reference_error = orientationErrorBetweenRows(ref, check) / 15.0;
     std::ostringstream s;
     s << "projected rkmk4 at h = " << number(h_ref) << "; its orientation error is estimated at "
@@ -98,8 +108,10 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     result.reference = s.str();
   } else {
     if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
-    ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end, options.max_steps);
-    const std::vector<double> check = referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps);
+    ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end, options.max_steps,
+                       options.heartbeat);
+    const std::vector<double> check =
+        referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps, options.heartbeat);
     result.reference_error = orientationErrorBetweenRows(ref, check) * (kReferenceRtol / kCheckRtol);
     std::ostringstream s;
     s << "converged rkmk45 run (Dormand-Prince 5(4) on the group, rtol " << kReferenceRtol
@@ -139,6 +151,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       o.dt = dt;
       o.t_end = t_end;
       o.max_steps = options.max_steps;
+      withHeartbeat(options.heartbeat, &o);
       applyIntegratorOptions(sim.scene(), options.integrator_options, &o);
 
       // Diagnostics run: drift figures, failure, Newton iterations; drift

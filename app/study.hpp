@@ -6,6 +6,7 @@
 /// momentum drift over time; written as CSV and drawn with matplotlib.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <ostream>
 #include <string>
@@ -34,6 +35,10 @@ struct StudyOptions {
   long max_steps = kMaxSteps;
   /// Where progress goes (nullptr: silent).
   std::ostream* progress = nullptr;
+  /// Called before every run and every 65536 steps within one
+  /// (SimulationOptions::progress); it may throw to stop the study (the
+  /// Python module's Ctrl-C). May be empty.
+  std::function<void()> heartbeat;
 };
 
 struct StudyRow {

@@ -30,13 +30,7 @@ const std::set<std::string>& studySwitches() {
 StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescription> scene) {
   const ResourceLimits limits = resourceLimitsFrom(args);
   StudyRequest request;
-  if (scene) {
-    if (!args.positional().empty()) throw UsageError("study: give the scene once");
-    request.simulation = std::make_unique<Simulation>(std::move(*scene));
-  } else {
-    if (args.positional().size() != 1) throw UsageError("study needs exactly one SCENE (see lieflow study --help)");
-    request.simulation = std::make_unique<Simulation>(loadScene(args.positional()[0], limits));
-  }
+  request.simulation = simulationFrom(args, std::move(scene), "study");
   const SceneDescription& s = request.simulation->scene();
   StudyOptions& options = request.options;
   options.max_steps = limits.max_steps;

@@ -50,6 +50,8 @@ struct AxisFitOptions {
   int max_iterations = 100;
   /// Called at every solver iteration (fit_progress.hpp); may be empty.
   FitProgress progress;
+  /// Asked at every solver iteration; true stops the solve (may be empty).
+  FitInterrupt interrupt;
   double function_tolerance = 1e-12;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;

@@ -241,7 +241,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
     }
     ceres::Solver::Options so;
     configure(&so, o, true);
-    FitProgressCallback progress(o.progress);
+    FitProgressCallback progress(o.progress, o.interrupt);
     so.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
@@ -266,7 +266,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   problem.AddResidualBlock(segmentCost<N>(&p, 0, n - 1, true, 0.0, 0.0), nullptr, theta, s0.data());
   ceres::Solver::Options so;
   configure(&so, o, false);
-  FitProgressCallback progress(o.progress);
+  FitProgressCallback progress(o.progress, o.interrupt);
   so.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);

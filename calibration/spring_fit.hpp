@@ -72,6 +72,8 @@ struct SpringFitOptions {
   long max_substeps = kMaxSubsteps;
   /// Called at every solver iteration (fit_progress.hpp); may be empty.
   FitProgress progress;
+  /// Asked at every solver iteration; true stops the solve (may be empty).
+  FitInterrupt interrupt;
   /// Continuity weight w of the multiple-shooting defects.
   double continuity_weight = 30.0;
   // ceres::Solver::Options (Levenberg–Marquardt).

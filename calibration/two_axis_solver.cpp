@@ -237,7 +237,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   // 2. Every start; the lowest cost wins. Every end point is kept for the
   // ambiguity check (step 6).
   ceres::Solver::Options solver = solverOptions(options);
-  FitProgressCallback progress(options.progress);
+  FitProgressCallback progress(options.progress, options.interrupt);
   solver.callbacks.push_back(&progress);
   TwoAxisSolution out;
   ceres::Solver::Summary best;

@@ -216,6 +216,7 @@ py::dict study(std::vector<std::string> tokens, const std::optional<std::string>
   Argv argv(std::move(tokens));
   const app::Arguments args(argv.argc(), argv.argv(), app::studyValueFlags(), app::studySwitches());
   app::StudyRequest request = app::studyRequestFrom(args, sceneFrom(scene_json, args));
+  request.options.heartbeat = checkSignals;
   app::prepareOutputDirectory(request.options.out_dir);
   app::StudyResult result;
   std::string plot_problem;
@@ -242,6 +243,7 @@ py::dict stability(std::vector<std::string> tokens, const std::vector<std::strin
   for (const std::string& json : scene_jsons)
     scenes.push_back(parseScene(json, "scene dict", app::resourceLimitsFrom(args).max_bodies));
   app::StabilityRequest request = app::stabilityRequestFrom(args, std::move(scenes));
+  request.options.heartbeat = checkSignals;
   app::prepareOutputDirectory(request.out_dir);
   std::string plot_problem;
   {
@@ -267,10 +269,23 @@ py::dict stability(std::vector<std::string> tokens, const std::vector<std::strin
 py::tuple calibrate(std::vector<std::string> tokens) {
   Argv argv(std::move(tokens));
   const app::Arguments args(argv.argc(), argv.argv(), app::calibrateValueFlags(), app::calibrateSwitches());
+  // Ctrl-C ends the solve (Ceres is not unwound through): the pending
+  // KeyboardInterrupt is kept, the fit stops, and it is raised here.
+  auto interrupt = std::make_shared<std::optional<py::error_already_set>>();
+  const auto interrupted = [interrupt]() {
+    py::gil_scoped_acquire acquire;
+    if (!interrupt->has_value() && PyErr_CheckSignals() != 0) interrupt->emplace();
+    return interrupt->has_value();
+  };
   app::CommandOutcome outcome;
   {
     py::gil_scoped_release release;
-    outcome = app::calibrate(args);
+    outcome = app::calibrate(args, interrupted);
+  }
+  if (interrupt->has_value()) {
+    py::error_already_set error = std::move(**interrupt);
+    interrupt->reset();
+    throw error;
   }
   return py::make_tuple(outcome.json.is_null() ? std::string() : outcome.json.dump(), outcome.status, outcome.error);
 }

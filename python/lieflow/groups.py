@@ -46,9 +46,9 @@ def _shape(out, single, *tail):
 
 
 class _Group:
-    """Shared behaviour of SO3 and SE3 (storage: (N, _STORE) rows)."""
+    """Shared behaviour of SO3 and SE3: N elements stored as the rows of an
+    (N, 4) (SO3: quaternions) or (N, 7) (SE3: quaternion, translation) array."""
 
-    _STORE = 0
     _DOF = 0
     _PREFIX = ""
 
@@ -145,7 +145,6 @@ class _Group:
 class SO3(_Group):
     """Rotations, stored as unit quaternions (w, x, y, z)."""
 
-    _STORE = 4
     _DOF = 3
     _PREFIX = "so3_"
 
@@ -182,7 +181,6 @@ class SO3(_Group):
 class SE3(_Group):
     """Rigid motions, stored as (qw, qx, qy, qz, x, y, z)."""
 
-    _STORE = 7
     _DOF = 6
     _PREFIX = "se3_"
 

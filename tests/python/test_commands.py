@@ -216,3 +216,34 @@ def test_long_runs_release_the_gil_and_stop_on_ctrl_c():
     assert elapsed < 3.0, f"the run stopped {elapsed:.2f} s after it started (SIGINT at 0.5 s)"
     # The other thread ran while the simulation held no GIL.
     assert sum(1 for t in ticks if start + 0.1 < t < start + 0.5) >= 10
+
+
+def interrupt_after(seconds, call):
+    """Sends SIGINT to this process after `seconds`; returns how long after
+    the signal `call` stopped with KeyboardInterrupt."""
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            call()
+    finally:
+        timer.cancel()
+    return time.perf_counter() - start - seconds
+
+
+def test_a_long_study_stops_on_ctrl_c(tmp_path):
+    # The reference alone (projected rkmk4 at h = 3.1e-6 over 300 s, 1e8 steps) would take minutes.
+    late = interrupt_after(0.5, lambda: lieflow.study("double-pendulum", integrators=["rkmk4"], dt=[1e-4],
+                                                      t_end=300.0, out=tmp_path))
+    assert late < 2.0, f"the study stopped {late:.2f} s after SIGINT"
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_a_long_fit_stops_on_ctrl_c(tmp_path, run_command):
+    status, _, err = run_command("simulate", "spring-hinge", "--t-end", "300", "--noise-angle", "0.01", "--out",
+                                 tmp_path / "long.csv", "--quiet")
+    assert status == 0, err
+    late = interrupt_after(1.0, lambda: lieflow.calibrate_spring(str(tmp_path / "long.csv"), scene="spring-hinge",
+                                                                 fit_rest_angle=True, substeps=4))
+    assert late < 2.0, f"the fit stopped {late:.2f} s after SIGINT"
