@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <utility>
 
 #include "app/cli.hpp"
 #include "integrators/registry.hpp"
@@ -88,17 +87,6 @@ std::string describeOptions(const SimulationOptions& o) {
     text += (text.empty() ? "" : ", ") + opt.name + "=" + value;
   }
   return text;
-}
-
-std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<SceneDescription> scene,
-                                           const std::string& command) {
-  if (scene) {
-    if (!args.positional().empty()) throw UsageError(command + ": give the scene once");
-    return std::make_unique<Simulation>(std::move(*scene));
-  }
-  if (args.positional().size() != 1)
-    throw UsageError(command + " needs exactly one SCENE (see lieflow " + command + " --help)");
-  return std::make_unique<Simulation>(loadScene(args.positional()[0], resourceLimitsFrom(args)));
 }
 
 SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args) {

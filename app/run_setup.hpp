@@ -4,10 +4,6 @@
 /// error naming both places.
 #pragma once
 
-#include <memory>
-#include <optional>
-#include <string>
-
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
@@ -15,13 +11,6 @@
 
 namespace lieflow {
 namespace app {
-
-/// The one scene of `command` (simulate, study): its positional argument (a
-/// scene file or a built-in name) or, when given, `scene` (then no positional
-/// argument is allowed), assembled for simulation. Throws UsageError /
-/// InvalidInput.
-std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<SceneDescription> scene,
-                                           const std::string& command);
 
 /// Integrator, dt, t_end and options for `scene` given --integrator, --dt,
 /// --t-end and --options. The scene's integrator options apply only when the

@@ -27,6 +27,17 @@ NoiseOptions noiseFrom(const Arguments& args, const std::vector<std::string>& co
 
 }  // namespace
 
+std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<SceneDescription> scene,
+                                           const std::string& command) {
+  if (scene) {
+    if (!args.positional().empty()) throw UsageError(command + ": give the scene once");
+    return std::make_unique<Simulation>(std::move(*scene));
+  }
+  if (args.positional().size() != 1)
+    throw UsageError(command + " needs exactly one SCENE (see lieflow " + command + " --help)");
+  return std::make_unique<Simulation>(loadScene(args.positional()[0], resourceLimitsFrom(args)));
+}
+
 const std::set<std::string>& simulateValueFlags() {
   static const std::set<std::string> flags = [] {
     std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",

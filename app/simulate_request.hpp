@@ -18,6 +18,13 @@
 namespace lieflow {
 namespace app {
 
+/// The one scene of `command` (simulate, study): its positional argument (a
+/// scene file or a built-in name) or, when given, `scene` (then no positional
+/// argument is allowed), assembled for simulation. Throws UsageError /
+/// InvalidInput.
+std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<SceneDescription> scene,
+                                           const std::string& command);
+
 /// The flags of `lieflow simulate` that take a value, and its switches.
 const std::set<std::string>& simulateValueFlags();
 const std::set<std::string>& simulateSwitches();

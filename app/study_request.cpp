@@ -4,6 +4,7 @@
 
 #include "app/cli.hpp"
 #include "app/run_setup.hpp"
+#include "app/simulate_request.hpp"
 
 namespace lieflow {
 namespace app {
