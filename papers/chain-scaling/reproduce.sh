@@ -20,18 +20,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 cd "$root"
 
-build_dir=${LIEFLOW_BUILD_DIR:-build}
-bench="$build_dir/bench/multibody/bench_multibody"
-if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
-  echo "reproduce: $build_dir not configured, configuring it (scripts/run.sh)" >&2
-  bash scripts/run.sh --help >/dev/null
-fi
-echo "reproduce: cmake --build $build_dir --target bench_multibody" >&2
-cmake --build "$build_dir" -j"${LIEFLOW_JOBS:-2}" --target bench_multibody >&2
-if [[ ! -x "$bench" ]]; then
-  echo "reproduce: $bench was not built (bench/ needs Google Benchmark: apt-get install libbenchmark-dev)" >&2
-  exit 1
-fi
+source "$root/papers/build_target.sh" bench_multibody bench/multibody
+bench=$program
 
 out="$here/out"
 rm -rf "$out"

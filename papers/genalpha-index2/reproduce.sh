@@ -17,17 +17,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 cd "$root"
 
-build_dir=${LIEFLOW_BUILD_DIR:-build}
-study="$build_dir/bench/multibody/study_genalpha_convergence"
-if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
-  echo "reproduce: $build_dir not configured, configuring it (scripts/run.sh)" >&2
-  bash scripts/run.sh --help >/dev/null
-fi
-cmake --build "$build_dir" -j"${LIEFLOW_JOBS:-2}" --target study_genalpha_convergence >&2
-if [[ ! -x "$study" ]]; then
-  echo "reproduce: $study was not built (bench/ needs Google Benchmark: apt-get install libbenchmark-dev)" >&2
-  exit 1
-fi
+source "$root/papers/build_target.sh" study_genalpha_convergence bench/multibody
+study=$program
 out="$here/out"
 rm -rf "$out"
 mkdir -p "$out"
