@@ -53,12 +53,13 @@
 ///   [ Φ_q T                             0  ] [ Δλ/β'  ] = − [ Φ            ]
 ///   [ B                                 0  ]                [ (Bu − b)/γ'  ]
 /// whose condition number does not grow like h⁻⁴ as h → 0. This matrix is
-/// sparse (per body blocks, couplings only between the bodies of a joint):
-/// Eigen::SparseLU with COLAMD ordering (its pattern is structurally
-/// symmetric: symmetric mode, diagonal pivot threshold 0.1), pattern analysed
-/// once per system topology and refactored every Newton iteration (full
-/// Newton), so the cost per iteration grows linearly along chains. Nothing
-/// dense of the whole system is formed.
+/// sparse (per body blocks, couplings only between the bodies of a joint) and
+/// its pattern is fixed: KLU (integrators/fixed_pattern_lu.hpp), the pattern
+/// analysed once per system topology, the pivots chosen at the first
+/// factorization and reused by every later one (full Newton: a factorization
+/// per iteration) until they go bad, so the cost per iteration grows linearly
+/// along chains and a refactorization allocates nothing. Nothing dense of the
+/// whole system is formed.
 ///
 /// Predictor: u̇_{n+1} = u̇_n, λ_{n+1} = λ_n (then a_{n+1}, u_{n+1}, q_{n+1} by
 /// (G1)–(G3)). Damped Newton: a correction that does not decrease the scaled
@@ -136,9 +137,10 @@
 ///   int dofs() const;              // n: size of u, u̇, δq
 ///   int positionRows() const;      // m_p: rows of (E2), first in λ
 ///   int velocityRows() const;      // m_v: rows of (E3), after them
-///   static Eigen::VectorXd velocity(const State& y);          // u
-///   static State advance(const State& y, const Eigen::VectorXd& dq,
-///                        const Eigen::VectorXd& u);           // (q exp(dq), u)
+///   static void velocityInto(const State& y, Eigen::VectorXd* u);  // u
+///   static void advanceInto(const State& y, const Eigen::VectorXd& dq,
+///                           const Eigen::VectorXd& u, State* out);
+///                                  // out = (q exp(dq), u), reusing out's storage
 ///   static bool identical(const State& a, const State& b);    // exact equality
 ///   bool accelerations(double t, const State& y, Eigen::VectorXd* udot,
 ///                      Eigen::VectorXd* lambda, std::string* why);
@@ -178,8 +180,8 @@
 #include <Eigen/Core>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 
+#include "integrators/fixed_pattern_lu.hpp"
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/step_report.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -223,9 +225,6 @@ class ConstrainedGeneralizedAlphaStepper {
   static constexpr int kOrder = 2;
   /// A correction at kRoundingFloor · ε of its unknown has converged.
   static constexpr double kRoundingFloor = 8.0;
-  /// SparseLU's diagonal pivot threshold: a diagonal entry within this factor
-  /// of its column's largest is kept as the pivot.
-  static constexpr double kPivotThreshold = 0.1;
   /// Halvings of a Newton correction allowed by the line search.
   static constexpr int kMaxBacktracks = 6;
 
@@ -240,12 +239,6 @@ class ConstrainedGeneralizedAlphaStepper {
     if (options.max_iterations < 1) throw InvalidInput("max_iterations", "must be at least 1");
     if (options.index != 2 && options.index != 3) throw InvalidInput("index", "must be 2 or 3");
     assembly_.setStabilized(options.index == 2);
-    // The pattern is structurally symmetric (J and Jᵀ, coupling blocks both
-    // ways): symmetric mode with a relaxed diagonal-preference threshold
-    // halves the factor's fill and time on chains against plain partial
-    // pivoting (measured: 5.6 ms against 12 ms at 1000 bodies).
-    lu_->isSymmetric(true);
-    lu_->setPivotThreshold(kPivotThreshold);
   }
 
   const ConstrainedGeneralizedAlphaOptions& options() const { return options_; }
@@ -282,15 +275,21 @@ class ConstrainedGeneralizedAlphaStepper {
   int resetCount() const { return resets_; }
   /// Symbolic analyses of the iteration matrix so far (one per topology).
   int analyzeCount() const { return analyze_count_; }
+  /// Factorizations that chose pivots so far (the only ones that allocate:
+  /// FixedPatternLu reuses pivots until they go bad).
+  int pivotChoices() const { return lu_.pivotingFactorizations(); }
   /// Halvings of Newton corrections by the line search so far.
   long backtrackCount() const { return backtracks_; }
   /// Size of the iteration matrix and nonzeros of its last LU factors
   /// (L and U, supernodal storage): fill that grows linearly along chains.
   Eigen::Index matrixSize() const { return size_; }
-  Eigen::Index factorNonzeros() const { return factored_ ? lu_->nnzL() + lu_->nnzU() : 0; }
+  Eigen::Index factorNonzeros() const { return factored_ ? lu_.factorNonzeros() : 0; }
 
   /// One step of size h from (t, y) (see the file comment).
-  State step(const System& system, double t, const State& y, double h, StepReport* report = nullptr) {
+  /// The result lives in the stepper until its next step (y may be it).
+  const State& step(const System& system, double t, const State& y_in, double h, StepReport* report = nullptr) {
+    // y may be a result this stepper handed out and is about to overwrite.
+    const State& y = &y_in == &y1_ || &y_in == &y_trial_ ? (start_copy_ = y_in) : y_in;
     last_report_ = StepReport{};
     if (!initialized_ || !assembly_.boundTo(system) || !Assembly::identical(y, last_)) {
       std::string why;
@@ -317,17 +316,28 @@ class ConstrainedGeneralizedAlphaStepper {
     if (stabilized) assembly_.startStep(t, y);
 
     // Predictor: u̇_{n+1} = u̇_n, λ_{n+1} = λ_n, ν = 0; (G3), (G2), (G1).
-    const Vector u0 = Assembly::velocity(y);
-    Vector udot1 = udot_;
-    Vector lambda1 = lambda_;
-    Vector nu1 = Vector::Zero(mnu);
-    const Vector a1 = (af * udot_ - am * a_ + (1.0 - af) * udot1) / (1.0 - am);
-    Vector u1 = u0 + (h * (1.0 - c_.gamma)) * a_ + (h * c_.gamma) * a1;
+    // The iterate lives in members (no allocation once they have the
+    // system's sizes).
+    Vector& u0 = u0_;
+    Vector& udot1 = udot1_;
+    Vector& lambda1 = lambda1_;
+    Vector& nu1 = nu1_;
+    Vector& a1 = a1_;
+    Vector& u1 = u1_;
+    Vector& hdq = hdq_;
+    Vector& dq_total = dq_total_;
+    State& y1 = y1_;
+    Assembly::velocityInto(y, &u0);
+    udot1 = udot_;
+    lambda1 = lambda_;
+    nu1.setZero(mnu);
+    a1 = (af * udot_ - am * a_ + (1.0 - af) * udot1) / (1.0 - am);
+    u1 = u0 + (h * (1.0 - c_.gamma)) * a_ + (h * c_.gamma) * a1;
     // hdq: the increment h Δq_n of (G1) without the ν correction; dq_total
     // with it (the increment q_{n+1} = q_n exp(dq_total) is taken with).
-    Vector hdq = h * (u0 + (h * (0.5 - c_.beta)) * a_ + (h * c_.beta) * a1);
-    Vector dq_total = hdq;
-    State y1 = Assembly::advance(y, dq_total, u1);
+    hdq = h * (u0 + (h * (0.5 - c_.beta)) * a_ + (h * c_.beta) * a1);
+    dq_total = hdq;
+    Assembly::advanceInto(y, dq_total, u1, &y1);
 
     const double eps = std::numeric_limits<double>::epsilon();
     int iterations = 0;
@@ -353,13 +363,12 @@ class ConstrainedGeneralizedAlphaStepper {
       const Eigen::SparseMatrix<double>& A =
           assembly_.matrix(y1, dq_total, gamma_p / beta_p, 1.0 / beta_p, lambda1);
       if (pattern_new_ || A.rows() != size_) {
-        lu_->analyzePattern(A);
+        lu_.reset();
         ++analyze_count_;
         pattern_new_ = false;
         size_ = A.rows();
       }
-      lu_->factorize(A);
-      factored_ = lu_->info() == Eigen::Success;
+      factored_ = lu_.factorize(A);
       if (!factored_) {
         failure = "generalized-alpha: singular iteration matrix";
         singular = true;
@@ -375,7 +384,8 @@ class ConstrainedGeneralizedAlphaStepper {
         if (mp > 0) rhs_.segment(n, mp) = -cr_.head(mp);
         if (m > mp) rhs_.tail(m - mp) = -cr_.tail(m - mp) / gamma_p;
       }
-      x_ = lu_->solve(rhs_);
+      x_ = rhs_;
+      lu_.solveInPlace(&x_);
       // The correction of a_{n+1}'s part of the increment: x's first block
       // (index 3: ΔΔ; stabilized: ΔQ, and ΔΔ = ΔQ − M⁻¹ J_nᵀ Δν).
       dd_ = x_.head(n);
@@ -390,7 +400,7 @@ class ConstrainedGeneralizedAlphaStepper {
       // step is always taken, so the convergence stays quadratic.
       double alpha = 1.0;
       Norms trial;
-      State y_trial;
+      State& y_trial = y_trial_;
       for (int k = 0;; ++k) {
         hdq_t_ = hdq + alpha * dd_;
         u_t_ = u1 + (alpha * gamma_p) * dd_;
@@ -402,12 +412,15 @@ class ConstrainedGeneralizedAlphaStepper {
           nu_t_ = nu1 + alpha * dnu_;
           assembly_.addStartCorrection(nu_t_, &dq_t_);
         }
-        y_trial = Assembly::advance(y, dq_t_, u_t_);
+        Assembly::advanceInto(y, dq_t_, u_t_, &y_trial);
         trial = evaluate(t1, y_trial, udot_t_, lambda_t_, mp, m, stabilized, h, beta_p, gamma_p);
         if (trial.small || (trial.finite && trial.merit <= (1.0 - 1e-4 * alpha) * now.merit) || k == kMaxBacktracks)
           break;
         alpha *= 0.5;
         ++backtracks_;
+        // A correction that had to be shortened may come from pivots gone
+        // bad: the next factorization chooses them again.
+        lu_.choosePivotsNext();
       }
       hdq.swap(hdq_t_);
       dq_total.swap(dq_t_);
@@ -415,7 +428,7 @@ class ConstrainedGeneralizedAlphaStepper {
       udot1.swap(udot_t_);
       lambda1.swap(lambda_t_);
       if (stabilized) nu1.swap(nu_t_);
-      y1 = std::move(y_trial);
+      std::swap(y1, y_trial);
       now = trial;
       ++iterations;
       // A full correction at the rounding level of the unknowns: converged.
@@ -443,7 +456,7 @@ class ConstrainedGeneralizedAlphaStepper {
       s << "after " << iterations << " Newton iterations (h = " << h << "): force residual " << force
         << " (bound " << force_bound << "), max |Phi| = " << position << ", h max |B u - b| = " << velocity
         << " (constraint tolerance " << constraint_tolerance_ << ")";
-      if (singular) s << "; SparseLU: " << lu_->lastErrorMessage();
+      if (singular) s << "; " << lu_.lastError();
       last_report_.detail = s.str();
     }
     if (report) *report = last_report_;
@@ -495,9 +508,7 @@ class ConstrainedGeneralizedAlphaStepper {
   ConstrainedGeneralizedAlphaOptions options_;
   GeneralizedAlphaCoefficients c_;
   Assembly assembly_;
-  /// Held by pointer so that the stepper is movable (SparseLU is not).
-  std::unique_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>> lu_ =
-      std::make_unique<Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>>();
+  FixedPatternLu lu_;
   bool pattern_new_ = true;
   bool factored_ = false;
   Eigen::Index size_ = -1;
@@ -508,6 +519,8 @@ class ConstrainedGeneralizedAlphaStepper {
   Vector udot_, a_, lambda_;
   Vector r_, cr_, rhs_, x_;
   Vector hdq_t_, u_t_, udot_t_, lambda_t_, nu_t_, dq_t_;  ///< trial iterate of the line search
+  Vector u0_, udot1_, lambda1_, nu1_, a1_, u1_, hdq_, dq_total_;  ///< the step's iterate
+  State y1_{}, y_trial_{}, start_copy_{};
   Vector dd_;   ///< the iteration's ΔΔ
   Vector dnu_;  ///< stabilized: its Δν
   long backtracks_ = 0;

@@ -9,6 +9,7 @@ packages=(
   libboost-dev                                  # Boost.Math: Jacobi elliptic functions (exact flows)
   nlohmann-json3-dev                            # scene files (app/)
   libceres-dev                                  # calibration/ and ceres::Jet tests
+  libsuitesparse-dev                            # KLU: generalized-alpha's sparse LU (else Eigen's SparseLU)
   libbenchmark-dev                              # bench/
   libgtest-dev libgmock-dev                     # tests/
   python3-matplotlib                            # plots of studies and papers/

@@ -187,8 +187,9 @@ void KktAssembly::addBlock(int k, const Eigen::MatrixBase<Derived>& value, int r
 
 // --- State -------------------------------------------------------------------------
 
-KktAssembly::State KktAssembly::advance(const State& y, const Eigen::VectorXd& dq, const Eigen::VectorXd& u) {
-  State out = y;
+void KktAssembly::advanceInto(const State& y, const Eigen::VectorXd& dq, const Eigen::VectorXd& u, State* out_ptr) {
+  State& out = *out_ptr;
+  out = y;
   const MultibodySystem& s = *y.system;
   for (int b = 0; b < s.bodyCount(); ++b) {
     const int o = s.dofBegin(b);
@@ -228,7 +229,6 @@ KktAssembly::State KktAssembly::advance(const State& y, const Eigen::VectorXd& d
     }
   }
   s.rebaseAngles(&out);
-  return out;
 }
 
 bool KktAssembly::identical(const State& a, const State& b) {
@@ -345,7 +345,8 @@ const Eigen::SparseMatrix<double>& KktAssembly::matrix(const State& y, const Eig
   }
   // Springs k J_φᵀ J_φ T and dashpots c J_φᵀ J_φ (rotation columns of the
   // joint's bodies; J_φ has no translation columns, as in forces()).
-  for (const CoordinateElement& e : s.coordinateElements(y)) {
+  s.coordinateElementsInto(y, &elements_);
+  for (const CoordinateElement& e : elements_) {
     const std::array<int, 2> body{{e.main, e.secondary}};
     const std::array<Eigen::RowVector3d, 2> j{{e.J_main.tail<3>(), e.J_secondary.tail<3>()}};
     for (int p = 0; p < 2; ++p) {
@@ -434,7 +435,8 @@ void KktAssembly::geometricStiffness(const State& y, const Eigen::VectorXd& lamb
   const int ng = static_cast<int>(groups_.size());
   for (int g = 0; g < ng; ++g)
     for (int sl = 0; sl < kMaxGroupBodies; ++sl) base_[g][sl] = S.block(g, sl);
-  State yp = y;
+  State& yp = perturbed_;
+  yp = y;
   const int j0 = s.hasGears() ? 0 : 3;  // gear rows may depend on positions
   Eigen::Matrix<double, 1, 6> trow;
   for (int k = 0; k < colours_; ++k)

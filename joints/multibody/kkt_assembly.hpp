@@ -108,10 +108,12 @@ class KktAssembly {
   /// Stabilized: dq += M⁻¹ J̄ᵀ ν (ν of size positionRows(); J̄ = J(q_n) until
   /// the step's first matrix()).
   void addStartCorrection(const Eigen::VectorXd& nu, Eigen::VectorXd* dq) const;
-  static Eigen::VectorXd velocity(const State& y) { return y.velocities(); }
-  /// (q exp(dq), u): positions moved by dq (δp world, δθ body), velocities
-  /// replaced, joint angles unwrapped near y's plus J_φ(y) dq.
-  static State advance(const State& y, const Eigen::VectorXd& dq, const Eigen::VectorXd& u);
+  static void velocityInto(const State& y, Eigen::VectorXd* u) { y.velocitiesInto(u); }
+  /// out = (q exp(dq), u): positions moved by dq (δp world, δθ body),
+  /// velocities replaced, joint angles unwrapped near y's plus J_φ(y) dq.
+  /// out's storage is reused (no allocation once it has y's sizes); out may
+  /// not be y.
+  static void advanceInto(const State& y, const Eigen::VectorXd& dq, const Eigen::VectorXd& u, State* out);
   static bool identical(const State& a, const State& b);
 
   /// u̇, λ of the index-1 equations (MultibodySystem::accelerations).
@@ -171,6 +173,8 @@ class KktAssembly {
   std::vector<Eigen::Matrix3d> Jr_;
   double t_ = 0.0;                                   ///< t of the last residual()
   std::vector<int> colour_;                          ///< per body (geometricStiffness)
+  State perturbed_;                                  ///< geometricStiffness' q ⊕ ε e_j
+  std::vector<CoordinateElement> elements_;          ///< matrix()'s springs and dashpots
   int colours_ = 0;
   std::vector<std::array<GroupBlock, kMaxGroupBodies>> base_;  ///< J(y) saved
 };

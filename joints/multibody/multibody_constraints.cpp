@@ -169,8 +169,9 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
   return false;
 }
 
-std::vector<CoordinateElement> MultibodySystem::coordinateElements(const State& y) const {
-  std::vector<CoordinateElement> out;
+void MultibodySystem::coordinateElementsInto(const State& y, std::vector<CoordinateElement>* out_ptr) const {
+  std::vector<CoordinateElement>& out = *out_ptr;
+  out.clear();
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
     for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
       const CoordinateDrive& d = drives_[k][i];
@@ -185,7 +186,6 @@ std::vector<CoordinateElement> MultibodySystem::coordinateElements(const State& 
       e.damping = d.damping;
       out.push_back(e);
     }
-  return out;
 }
 
 }  // namespace multibody

@@ -256,8 +256,9 @@ class MultibodySystem {
   bool projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
                         std::string* why) const;
 
-  /// Spring/dashpot elements with their φ Jacobians at y (implicit methods).
-  std::vector<CoordinateElement> coordinateElements(const State& y) const;
+  /// Spring/dashpot elements with their φ Jacobians at y (implicit methods),
+  /// into *out (its storage reused).
+  void coordinateElementsInto(const State& y, std::vector<CoordinateElement>* out) const;
 
   // --- Observables --------------------------------------------------------
   /// Kinetic + gravity potential + spring energy.
