@@ -324,7 +324,15 @@ def _calibrate(kind, recording, spec, values, partial):
             path = os.path.join(temporary, "recording.csv")
             _write_recording(recording, path)
         tokens = [kind, path] + _flags(spec, values)
-        text, status, error = _lieflow.calibrate(tokens)
+        try:
+            text, status, error = _lieflow.calibrate(tokens)
+        except InputError as e:
+            if temporary is None:
+                raise
+            # The messages name the file the dict was written to: name the dict.
+            raise InputError(str(e).replace(path, "recording dict")) from None
+        if temporary is not None:
+            error = error.replace(path, "recording dict")
     finally:
         if temporary:
             shutil.rmtree(temporary, ignore_errors=True)

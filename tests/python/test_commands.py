@@ -180,6 +180,8 @@ def test_calibrate_spring_equals_the_command(tmp_path, run_command):
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_refusals_and_failures(tmp_path):
+    with pytest.raises(lieflow.InputError, match="^recording dict: the recording has 0 bodies"):
+        lieflow.calibrate_hinge({"t": [0.0, 0.1]})
     with pytest.raises(lieflow.InputError, match="--loss"):
         lieflow.calibrate_hinge({"t": [0.0, 0.1], "a.wx": [0, 0], "a.wy": [0, 0], "a.wz": [0, 0],
                                  "b.wx": [0, 0], "b.wy": [0, 0], "b.wz": [0, 0]}, loss="quadratic")
