@@ -33,11 +33,7 @@ int runStabilityCommand(int argc, char** argv) {
   request.options.progress = &std::cerr;
   const std::string& dir = request.out_dir;
   prepareOutputDirectory(dir);
-  std::vector<StabilityRow> rows;
-  for (const Simulation& sim : request.simulations) {
-    const std::vector<StabilityRow> r = runStability(sim, request.options);
-    rows.insert(rows.end(), r.begin(), r.end());
-  }
+  const std::vector<StabilityRow> rows = runStability(request);
   writeStabilityCsv(rows, dir + "/stability.csv");
   printStabilityTable(std::cout, rows);
   std::cout << "\nwrote " << dir << "/stability.csv\n";

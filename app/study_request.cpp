@@ -72,5 +72,14 @@ StabilityRequest stabilityRequestFrom(const Arguments& args, std::vector<SceneDe
   return request;
 }
 
+std::vector<StabilityRow> runStability(const StabilityRequest& request) {
+  std::vector<StabilityRow> rows;
+  for (const Simulation& sim : request.simulations) {
+    const std::vector<StabilityRow> r = runStability(sim, request.options);
+    rows.insert(rows.end(), r.begin(), r.end());
+  }
+  return rows;
+}
+
 }  // namespace app
 }  // namespace lieflow

@@ -46,5 +46,8 @@ struct StabilityRequest {
 StabilityRequest stabilityRequestFrom(const Arguments& args,
                                       std::vector<SceneDescription> scenes = {});
 
+/// runStability over every scene of the request, rows in scene order.
+std::vector<StabilityRow> runStability(const StabilityRequest& request);
+
 }  // namespace app
 }  // namespace lieflow

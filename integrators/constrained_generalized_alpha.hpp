@@ -172,13 +172,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
 
 #include <Eigen/Core>
-#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
 #include "integrators/fixed_pattern_lu.hpp"

@@ -248,11 +248,7 @@ py::dict stability(std::vector<std::string> tokens, const std::vector<std::strin
   std::string plot_problem;
   {
     py::gil_scoped_release release;
-    std::vector<app::StabilityRow> rows;
-    for (const Simulation& sim : request.simulations) {
-      const std::vector<app::StabilityRow> r = app::runStability(sim, request.options);
-      rows.insert(rows.end(), r.begin(), r.end());
-    }
+    const std::vector<app::StabilityRow> rows = app::runStability(request);
     app::writeStabilityCsv(rows, request.out_dir + "/stability.csv");
     if (request.plots && !app::plotStability(request.out_dir, &plot_problem) && plot_problem.empty())
       plot_problem = "plotting failed";

@@ -21,8 +21,8 @@
 
 namespace lieflow {
 namespace bench {
-inline std::atomic<long> g_operator_new_calls{0};
-inline long allocationCount() { return g_operator_new_calls.load(); }
+inline std::atomic<long> g_allocations{0};
+inline long allocationCount() { return g_allocations.load(); }
 }  // namespace bench
 }  // namespace lieflow
 
@@ -39,28 +39,28 @@ void __libc_free(void*);
 void* __libc_memalign(std::size_t, std::size_t);
 
 void* malloc(std::size_t n) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   return __libc_malloc(n);
 }
 void* calloc(std::size_t count, std::size_t size) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   return __libc_calloc(count, size);
 }
 void* realloc(void* p, std::size_t n) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   return __libc_realloc(p, n);
 }
 void free(void* p) noexcept { __libc_free(p); }
 void* memalign(std::size_t alignment, std::size_t n) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   return __libc_memalign(alignment, n);
 }
 void* aligned_alloc(std::size_t alignment, std::size_t n) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   return __libc_memalign(alignment, n);
 }
 int posix_memalign(void** out, std::size_t alignment, std::size_t n) noexcept {
-  ++lieflow::bench::g_operator_new_calls;
+  ++lieflow::bench::g_allocations;
   *out = __libc_memalign(alignment, n);
   return *out ? 0 : 12;  // ENOMEM
 }
@@ -71,17 +71,17 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t n) noexcept {
 #endif
 
 void* operator new(std::size_t n) {
-  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_operator_new_calls;
+  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
 void* operator new[](std::size_t n) { return operator new(n); }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_operator_new_calls;
+  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_allocations;
   return std::malloc(n ? n : 1);
 }
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_operator_new_calls;
+  if (LIEFLOW_COUNT_IN_OPERATOR_NEW) ++lieflow::bench::g_allocations;
   return std::malloc(n ? n : 1);
 }
 void operator delete(void* p) noexcept { std::free(p); }
