@@ -32,6 +32,7 @@ std::map<std::string, double> parseOptionList(const std::vector<std::string>& it
 nlohmann::ordered_json statsJson(const SimulationResult& r) {
   nlohmann::ordered_json j;
   j["integrator"] = r.integrator;
+  j["formulation"] = r.formulation;
   j["dt"] = r.dt;
   j["steps"] = r.steps;
   j["wall_seconds"] = r.wall_seconds;
@@ -102,6 +103,7 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
     o.command_line_options.insert(kv.first);
   }
   o.max_steps = resourceLimitsFrom(args).max_steps;
+  o.formulation = args.value("--formulation", "");
   o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
   if (!(o.dt > 0.0))
     throw InvalidInput(scene.source + ": integrator.dt", "missing (give --dt or integrator.dt in the scene)");

@@ -41,7 +41,7 @@ std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<
 const std::set<std::string>& simulateValueFlags() {
   static const std::set<std::string> flags = [] {
     std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",
-                               "--options",    "--noise-gyro", "--noise-angle", "--noise-quat", "--seed"};
+                               "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed"};
     f.insert(runLimitFlags().begin(), runLimitFlags().end());
     return f;
   }();

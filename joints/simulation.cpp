@@ -23,6 +23,8 @@
 #include "integrators/rkmk.hpp"
 #include "joints/invariants.hpp"
 #include "joints/multibody_scene.hpp"
+#include "joints/simulation_model.hpp"
+#include "joints/simulation_observer.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -31,24 +33,10 @@ namespace lieflow {
 /// velocities against a joint.
 constexpr double kConsistencyTolerance = 1e-6;
 
-struct Simulation::Model {
-  /// Rotation-only dynamics (free rotor or about a pivot) vs full free body.
-  bool rotor = true;
-  /// The body's CSV rows include position and velocity columns.
-  bool translational_output = false;
-  RigidBodyParameters<double> params;
-  RotorState<double> rotor0;
-  FreeBodyState<double> free0;
-  /// A free rotor's centre of mass stays here.
-  Eigen::Vector3d fixed_position = Eigen::Vector3d::Zero();
-  /// Scenes with joints (other than one spherical joint to ground): the
-  /// constrained multibody system; the fields above are then unused.
-  std::unique_ptr<MultibodyScene> multibody;
-  /// What the scene conserves (a fresh copy tracks each run).
-  InvariantSet invariants;
-};
 
 namespace {
+
+using namespace simulation_detail;
 
 std::string fmt(const Eigen::Vector3d& v) {
   std::ostringstream s;
@@ -62,6 +50,10 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   if (needsMultibody(scene)) {
     model->multibody = assembleMultibody(scene);
     model->invariants = InvariantSet::multibody(model->multibody->system->conservesAngularMomentum());
+    if (articulatedCovers(scene, &model->articulated_why)) {
+      model->articulated = assembleArticulated(scene);
+      model->articulated->system->setConservesAngularMomentum(model->multibody->system->conservesAngularMomentum());
+    }
     return model;
   }
   if (scene.bodies.size() != 1)
@@ -132,218 +124,6 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   model->free0.p = body.position;
   model->free0.v = body.velocity;
   return model;
-}
-
-/// Appends the body columns of a rotor/free-body state to a row.
-void appendBody(const Simulation::Model& m, const SO3d& R, const Eigen::Vector3d& omega,
-                const Eigen::Vector3d& p, const Eigen::Vector3d& v, std::vector<double>* row) {
-  const Eigen::Quaterniond& q = R.quaternion();
-  row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), omega.x(), omega.y(), omega.z()});
-  if (m.translational_output) row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
-}
-
-struct RowBuilder {
-  const Simulation::Model& model;
-
-  void operator()(const RotorSystem<double>& sys, double t, const RotorState<double>& y,
-                  std::vector<double>* row) const {
-    row->clear();
-    row->push_back(t);
-    Eigen::Vector3d p = model.fixed_position, v = Eigen::Vector3d::Zero();
-    if (model.params.has_pivot) {
-      p = model.params.pivot_world + y.R * model.params.com_from_pivot;
-      v = y.R * y.omega.cross(model.params.com_from_pivot);
-    }
-    appendBody(model, y.R, y.omega, p, v, row);
-    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
-    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
-  }
-
-  void operator()(const FreeBodySystem<double>& sys, double t, const FreeBodyState<double>& y,
-                  std::vector<double>* row) const {
-    row->clear();
-    row->push_back(t);
-    appendBody(model, y.R, y.omega, y.p, y.v, row);
-    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
-    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
-  }
-
-  void operator()(const multibody::MultibodySystem& sys, double t, const multibody::MultibodyGroupState& y,
-                  std::vector<double>* row) const {
-    row->clear();
-    row->push_back(t);
-    for (int i = 0; i < sys.bodyCount(); ++i) {
-      const auto& P = y.bodies.poses[i];
-      const auto& V = y.bodies.velocities[i];
-      const Eigen::Quaterniond& q = P.R.quaternion();
-      row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), V.omega.x(), V.omega.y(), V.omega.z()});
-      if (!sys.rotationOnly(i))
-        row->insert(row->end(), {P.p.x(), P.p.y(), P.p.z(), V.v.x(), V.v.y(), V.v.z()});
-    }
-    for (const multibody::JointOutput& o : sys.jointOutputs(t, y)) {
-      if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
-      if (o.coordinates == 2)
-        row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
-    }
-    const Eigen::Vector3d L = sys.angularMomentum(y);
-    row->insert(row->end(), {sys.energy(y), L.x(), L.y(), L.z(), sys.constraintError(t, y)});
-  }
-};
-
-/// Position-level constraint error of a state (0 for single-body systems,
-/// whose joint is built into the system).
-template <typename System, typename State>
-double constraintErrorOf(const System&, double, const State&) {
-  return 0.0;
-}
-inline double constraintErrorOf(const multibody::MultibodySystem& sys, double t,
-                                const multibody::MultibodyGroupState& y) {
-  return sys.constraintError(t, y);
-}
-
-/// An energy error this many times the initial energy means the run has
-/// blown up, even while the state is still finite (an explicit method beyond
-/// its stability limit can take thousands of steps to overflow).
-constexpr double kBlowUpEnergyGrowth = 1e8;
-
-/// Tracks energy and momentum drift over the observed states. The drifts are
-/// relative to |E₀| and ‖L₀‖; when E₀ (or L₀) is exactly zero — a body at
-/// rest at zero potential — there is no scale and the drift is absolute.
-struct DriftTracker {
-  bool momentum_conserved = false;
-  double e0 = 0.0;
-  Eigen::Vector3d L0 = Eigen::Vector3d::Zero();
-  double energy_drift = 0.0;
-  double momentum_drift = 0.0;
-
-  static double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
-
-  template <typename System, typename State>
-  void observe(const System& sys, long k, double t, const State& y) {
-    const double e = sys.energy(t, y);
-    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
-    if (k == 0) {
-      e0 = e;
-      L0 = L;
-      return;
-    }
-    energy_drift = std::max(energy_drift, relative(std::abs(e - e0), std::abs(e0)));
-    if (momentum_conserved) momentum_drift = std::max(momentum_drift, relative((L - L0).norm(), L0.norm()));
-  }
-
-  /// The energy-growth blow-up test needs a scale: it is off when E₀ = 0.
-  bool blownUp() const { return e0 != 0.0 && energy_drift > kBlowUpEnergyGrowth; }
-};
-
-double option(const SimulationOptions& o, const std::string& key, double fallback) {
-  const auto it = o.integrator_options.find(key);
-  return it == o.integrator_options.end() ? fallback : it->second;
-}
-
-/// Feeds a state to the scene's invariants.
-void observeInvariants(InvariantSet* set, const RotorSystem<double>&, const RotorState<double>& y) {
-  set->observe(y.R, y.omega);
-}
-void observeInvariants(InvariantSet* set, const FreeBodySystem<double>&, const FreeBodyState<double>& y) {
-  set->observe(y.R, y.omega);
-}
-void observeInvariants(InvariantSet* set, const multibody::MultibodySystem& sys,
-                       const multibody::MultibodyGroupState& y) {
-  set->observe(sys.angularMomentum(y));
-}
-
-/// Observers report progress (SimulationOptions::progress) this often.
-constexpr long kProgressEverySteps = 65536;
-
-/// Index of the first non-finite value of a row, or −1.
-long firstNonFinite(const std::vector<double>& row) {
-  for (std::size_t i = 0; i < row.size(); ++i)
-    if (!std::isfinite(row[i])) return static_cast<long>(i);
-  return -1;
-}
-
-/// Runs `advance(observer)` with an observer that records rows and drift.
-/// A row holding a non-finite number is never handed out: the run fails
-/// there, naming the column (`columns`), the time and the step.
-template <typename System, typename Advance>
-SimulationResult observeRun(const Simulation::Model& model, const System& system,
-                            const SimulationOptions& options, long n_outputs,
-                            const std::vector<std::string>& columns,
-                            const std::function<void(const std::vector<double>&)>& row_sink,
-                            Advance&& advance) {
-  SimulationResult result;
-  DriftTracker drift;
-  drift.momentum_conserved = system.conservesAngularMomentum();
-  InvariantSet invariants = model.invariants;
-  RowBuilder rows{model};
-  std::vector<double> row;
-  typename System::State last;
-  double t_last = 0.0;
-  bool last_written = false;
-  std::string stop_reason;
-  double constraint_error = 0.0;
-  const auto non_finite = [&](const std::vector<double>& r, long k, double t) {
-    const long i = firstNonFinite(r);
-    if (i < 0) return false;
-    std::ostringstream why;
-    why << "the state's " << (static_cast<std::size_t>(i) < columns.size() ? columns[i] : "value")
-        << " became non-finite (" << r[i] << ") at t = " << t << " (step " << k
-        << "); its magnitude exceeds double precision";
-    stop_reason = why.str();
-    return true;
-  };
-  auto observer = [&](long k, double t, const typename System::State& y) {
-    last_written = false;
-    if (options.progress && k > 0 && k % kProgressEverySteps == 0) options.progress(t, k);
-    if (options.diagnostics) {
-      drift.observe(system, k, t, y);
-      observeInvariants(&invariants, system, y);
-      constraint_error = std::max(constraint_error, constraintErrorOf(system, t, y));
-      if (drift.blownUp()) {
-        std::ostringstream why;
-        why << "blow-up: the energy error reached " << drift.energy_drift << " times the initial energy at t = "
-            << t << " (step " << k << "); the step h = " << options.dt
-            << " is beyond this integrator's stability limit";
-        stop_reason = why.str();
-        return false;
-      }
-      if (row_sink && (k % options.every == 0 || k == n_outputs)) {
-        rows(system, t, y, &row);
-        if (non_finite(row, k, t)) return false;
-        row_sink(row);
-        if (options.invariant_sink) options.invariant_sink(t, invariants.current());
-        last_written = true;
-      }
-    }
-    last = y;
-    t_last = t;
-    return true;
-  };
-  const auto start = std::chrono::steady_clock::now();
-  const RunSummary summary = advance(observer);
-  const auto stop = std::chrono::steady_clock::now();
-  result.wall_seconds = std::chrono::duration<double>(stop - start).count();
-  result.steps = summary.steps;
-  result.rejected_steps = summary.rejected_steps;
-  result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
-  result.newton_iterations_mean = summary.newtonIterationsMean();
-  rows(system, t_last, last, &result.final_row);
-  if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
-  result.failed = summary.failed || !stop_reason.empty();
-  result.failure = stop_reason.empty() ? summary.failure : stop_reason;
-  if (summary.step_limit_reached) result.failure += " (raise the limit with --max-steps)";
-  result.energy_drift = drift.energy_drift;
-  result.momentum_conserved = drift.momentum_conserved;
-  result.momentum_drift = drift.momentum_drift;
-  result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
-  if (options.diagnostics)
-    for (std::size_t i = 0; i < invariants.names().size(); ++i)
-      result.invariants.emplace_back(invariants.names()[i], invariants.maxDrift()[i]);
-  // The last good state is always written, whatever `every` is (also when a
-  // failure stopped the run between two output steps).
-  if (options.diagnostics && row_sink && result.failed && !last_written && firstNonFinite(result.final_row) < 0)
-    row_sink(result.final_row);
-  return result;
 }
 
 template <typename System>
@@ -500,9 +280,33 @@ std::vector<std::string> Simulation::columns() const {
 
 std::vector<std::string> Simulation::invariantNames() const { return model_->invariants.names(); }
 
-bool Simulation::supports(const std::string& integrator, std::string* why) const {
+bool runsInJointCoordinates(const std::string& integrator) {
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4"})
+    if (integrator == name) return true;
+  return false;
+}
+
+bool Simulation::hasJointFormulation(std::string* why) const {
+  if (!model_->multibody || model_->articulated) return true;
+  if (why) *why = model_->articulated_why;
+  return false;
+}
+
+bool Simulation::supports(const std::string& integrator, std::string* why, const std::string& formulation) const {
   if (!findIntegrator(integrator)) {
     if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
+    return false;
+  }
+  if (model_->multibody && formulation == "joint") {
+    if (!hasJointFormulation(why)) {
+      if (why) *why = "joint coordinates cannot represent this scene: " + *why;
+      return false;
+    }
+    if (runsInJointCoordinates(integrator)) return true;
+    if (why)
+      *why = "'" + integrator +
+             "' is not available in joint coordinates (lgvi, genalpha and splitting are written for bodies in "
+             "maximal coordinates; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4)";
     return false;
   }
   if (model_->multibody) {
@@ -539,8 +343,14 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   if (!info)
     throw InvalidInput("--integrator", "unknown integrator '" + options.integrator +
                                            "' (see lieflow integrators)");
+  if (!options.formulation.empty() && options.formulation != "maximal" && options.formulation != "joint")
+    throw InvalidInput("--formulation", "'" + options.formulation + "' is not a formulation (maximal or joint)");
+  const std::string formulation = options.formulation.empty() ? kDefaultFormulation : options.formulation;
   std::string why;
-  if (!supports(options.integrator, &why)) throw InvalidInput("--integrator", why);
+  if (model_->multibody && formulation == "joint" && !hasJointFormulation(&why))
+    throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +
+                                            " (run it with --formulation maximal)");
+  if (!supports(options.integrator, &why, formulation)) throw InvalidInput("--integrator", why);
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
     throw InvalidInput("--dt", "the step must be a positive number");
   if (!(options.t_end > 0.0) || !std::isfinite(options.t_end))
@@ -585,7 +395,9 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   };
   SimulationResult result;
   try {
-    if (m.multibody)
+    if (m.multibody && formulation == "joint")
+      result = runArticulated(m, options, columns, row);
+    else if (m.multibody)
       result = runMultibody(m, options, columns, row);
     else
       result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
@@ -596,6 +408,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
     throw InvalidInput(scene_.source + ": integrator." + e.field(), e.reason());
   }
   result.integrator = options.integrator;
+  result.formulation = m.multibody ? formulation : "joint";
   result.dt = options.dt;
   result.implicit = info->is_implicit;
   // A figure that overflowed (an energy of 1e300 against one of 1e-300) is

@@ -43,10 +43,25 @@ struct SimulationOptions {
   /// state is observed, so the timing measures the stepping alone, and a
   /// blow-up is caught only once the state is non-finite).
   bool diagnostics = true;
+  /// "maximal" (bodies' poses with multipliers for the joints), "joint" (the
+  /// joints' own coordinates, joints/articulated_scene.hpp) or empty for the
+  /// default, kDefaultFormulation.
+  std::string formulation;
 };
+
+/// The formulation of a scene with joints when none is asked for.
+inline constexpr const char* kDefaultFormulation = "maximal";
+
+/// Whether the integrator runs in joint coordinates (the explicit Lie-group
+/// steppers; lgvi, genalpha and splitting are written for bodies in maximal
+/// coordinates).
+bool runsInJointCoordinates(const std::string& integrator);
 
 struct SimulationResult {
   std::string integrator;
+  /// The formulation the run used ("maximal" or "joint"; a scene without
+  /// constraint rows has one formulation, reported as "joint").
+  std::string formulation;
   double dt = 0.0;
   long steps = 0;
   long rejected_steps = 0;
@@ -93,7 +108,11 @@ class Simulation {
 
   /// Whether the integrator can run this scene (e.g. `exact` needs a
   /// torque-free body); if not, `why` says so.
-  bool supports(const std::string& integrator, std::string* why) const;
+  /// `formulation` as in SimulationOptions (empty: the default).
+  bool supports(const std::string& integrator, std::string* why, const std::string& formulation = "") const;
+
+  /// Whether the scene can run in joint coordinates; if not, `why` says so.
+  bool hasJointFormulation(std::string* why) const;
 
   /// Runs the scene; calls `row` with each output row (may be empty).
   /// Throws InvalidInput for an unknown integrator, bad options or dt.

@@ -1,0 +1,326 @@
+// ArticulatedSystem: the articulated-body algorithm in world coordinates
+// (articulated_system.hpp states the conventions and equations).
+#include <cmath>
+
+#include "joints/articulated/articulated_system.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+namespace {
+
+Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+/// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ.
+Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
+  const double c = std::cos(phi), s = std::sin(phi);
+  Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
+  m.diagonal().array() += c;
+  m(0, 1) -= s * a.z();
+  m(1, 0) += s * a.z();
+  m(0, 2) += s * a.y();
+  m(2, 0) -= s * a.y();
+  m(1, 2) -= s * a.x();
+  m(2, 1) += s * a.x();
+  return m;
+}
+
+/// The unit rotation twist about the line through x with direction A.
+Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
+  Vector6 s;
+  s << A, x.cross(A);
+  return s;
+}
+
+/// V ×ₘ m (motion cross product).
+Vector6 crossMotion(const Vector6& V, const Vector6& m) {
+  Vector6 r;
+  r << V.head<3>().cross(m.head<3>()), V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
+  return r;
+}
+
+/// V ×_f h (force cross product).
+Vector6 crossForce(const Vector6& V, const Vector6& h) {
+  Vector6 r;
+  r << V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>()), V.head<3>().cross(h.tail<3>());
+  return r;
+}
+
+}  // namespace
+
+ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
+    : model_(std::move(model)), data_(model_.bodies.size()), udot_(model_.dofs()) {}
+
+void ArticulatedSystem::setUserTorque(int i, UserTorque torque) {
+  LIEFLOW_ASSERT(i >= 0 && i < bodyCount(), "setUserTorque: no such body");
+  if (user_torques_.empty()) user_torques_.resize(model_.bodies.size());
+  user_torques_[i] = std::move(torque);
+  has_user_torques_ = true;
+}
+
+void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, bool velocity_terms) const {
+  const Vector6 zero = Vector6::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    BodyData& d = data_[i];
+    const bool grounded = b.parent == kGround;
+    const Eigen::Matrix3d& Rp = grounded ? Eigen::Matrix3d::Identity() : data_[b.parent].R;
+    const Vector6& Vp = grounded ? zero : data_[b.parent].V;
+    const double sigma = b.parent_is_main ? 1.0 : -1.0;
+    d.x = grounded ? b.anchor_parent : Eigen::Vector3d(data_[b.parent].c + Rp * b.anchor_parent);
+    // The line the joint's columns turn about: the anchor, or the held
+    // centre of mass of a rotation-only body (S = P S_x).
+    const Eigen::Vector3d& line = b.rotation_only ? b.fixed_position : d.x;
+    d.free = 0;
+    d.bias.setZero();
+    Vector6 Su = Vector6::Zero();  // S u, the joint's relative twist
+    if (b.kind == JointKind::kSpherical) {
+      d.R = Rp * y.N[b.rotation].matrix();
+      d.S.topRows<3>() = d.R;
+      d.S.bottomRows<3>() = hat(line) * d.R;
+      d.free = 3;
+      for (int k = 0; k < 3; ++k) d.free_u[k] = b.u_begin + k;
+      d.tau.setZero();
+      if (velocity_terms) {
+        Su = d.S * y.u.segment<3>(b.u_begin);
+        d.bias = crossMotion(Vp, Su);
+      }
+    } else {
+      const int nc = b.coordinates();
+      for (int k = 0; k < nc; ++k) {
+        if (b.prescribed(k)) {
+          const multibody::TimeFunction& f = *b.drives[k].prescribed;
+          d.phi[k] = f(t);
+          d.phidot[k] = f.derivative(t);
+          d.phiddot[k] = f.secondDerivative(t);
+        } else {
+          d.phi[k] = y.q[b.q_begin + k];
+          d.phidot[k] = y.u[b.u_begin + k];
+          d.phiddot[k] = 0.0;
+        }
+      }
+      Eigen::Matrix3d M = rotationAbout(b.axis1, d.phi[0]) * b.R_ref;
+      if (nc == 2) M = M * rotationAbout(b.axis2, d.phi[1]);
+      d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
+      const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
+      const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;
+      d.axis[0] = R_main * b.axis1;
+      if (nc == 2) d.axis[1] = R_sec * b.axis2;
+      std::array<Vector6, 2> s;
+      for (int k = 0; k < nc; ++k) {
+        s[k] = lineTwist(d.axis[k], line);
+        // Projection (velocity_terms off): the prescribed rates stand in the
+        // place of accelerations, the free ones are unknown.
+        if (velocity_terms) {
+          Su += (sigma * d.phidot[k]) * s[k];
+        } else if (b.prescribed(k)) {
+          d.bias += (sigma * d.phidot[k]) * s[k];
+        }
+        if (b.prescribed(k)) {
+          if (velocity_terms) d.bias += (sigma * d.phiddot[k]) * s[k];
+        } else {
+          d.S.col(d.free) = sigma * s[k];
+          d.free_u[d.free] = b.u_begin + k;
+          d.tau[d.free] = dynamics && velocity_terms && b.drives[k].hasForce()
+                              ? b.drives[k].momentAt(t, d.phi[k], d.phidot[k])
+                              : 0.0;
+          ++d.free;
+        }
+      }
+      if (velocity_terms && nc == 2) {
+        // Ṡ u of a universal joint: s₁ turns with the main body, s₂ with the
+        // secondary (both velocities known: the child's is V_p + S u).
+        const Vector6 Vc = Vp + Su;
+        const Vector6& V_main = b.parent_is_main ? Vp : Vc;
+        const Vector6& V_sec = b.parent_is_main ? Vc : Vp;
+        d.bias += sigma * (crossMotion(V_main, s[0]) * d.phidot[0] + crossMotion(V_sec, s[1]) * d.phidot[1]);
+      } else if (velocity_terms) {
+        d.bias += crossMotion(Vp, Su);
+      }
+    }
+    if (b.rotation_only) {
+      // P (ω, v) = (ω, c × ω) on the parent's motion and on the bias.
+      d.c = b.fixed_position;
+      d.V << Vp.head<3>() + Su.head<3>(), d.c.cross(Vp.head<3>() + Su.head<3>());
+      d.bias.tail<3>() = d.c.cross(d.bias.head<3>());
+    } else {
+      d.V = Vp + Su;
+      d.c = d.x - d.R * b.anchor_child;
+    }
+    if (!dynamics) continue;
+    // Rigid-body inertia about the origin: [J_w + m [c]×[c]×ᵀ, m [c]×; m [c]×ᵀ, m I].
+    const Eigen::Matrix3d Jw = d.R * b.inertia * d.R.transpose();
+    const Eigen::Matrix3d cx = hat(d.c);
+    d.IA.topLeftCorner<3, 3>() = Jw - b.mass * cx * cx;
+    d.IA.topRightCorner<3, 3>() = b.mass * cx;
+    d.IA.bottomLeftCorner<3, 3>() = -b.mass * cx;
+    d.IA.bottomRightCorner<3, 3>() = b.mass * Eigen::Matrix3d::Identity();
+    if (!velocity_terms) {
+      d.pA.setZero();
+      continue;
+    }
+    // Bias force V ×_f (I V) − f_ext, gravity m g at c among the external forces.
+    const Eigen::Vector3d w = d.V.head<3>();
+    const Eigen::Vector3d vc = d.V.tail<3>() + w.cross(d.c);
+    Vector6 h;
+    h << Jw * w + d.c.cross(b.mass * vc), b.mass * vc;
+    d.pA = crossForce(d.V, h);
+    if (!b.rotation_only) {
+      const Eigen::Vector3d mg = b.mass * model_.gravity;
+      d.pA.head<3>() -= d.c.cross(mg);
+      d.pA.tail<3>() -= mg;
+    }
+    if (has_user_torques_ && user_torques_[i]) {
+      const Eigen::Quaterniond q(d.R);
+      d.pA.head<3>() -= d.R * user_torques_[i](t, q, d.c, d.R.transpose() * w, vc);
+    }
+  }
+}
+
+void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
+  // Pass 2, leaves to root: articulated inertias and bias forces.
+  for (int i = bodyCount() - 1; i >= 0; --i) {
+    BodyData& d = data_[i];
+    const int nf = d.free;
+    Matrix6 Ia;
+    Vector6 pa;
+    if (nf == 1) {
+      const Vector6 s = d.S.col(0);
+      const Vector6 U = d.IA * s;
+      const double Dinv = 1.0 / s.dot(U);
+      d.U.col(0) = U;
+      d.Dinv(0, 0) = Dinv;
+      d.tau[0] -= s.dot(d.pA);
+      Ia = d.IA - (Dinv * U) * U.transpose();
+      pa = d.pA + Ia * d.bias + (Dinv * d.tau[0]) * U;
+    } else if (nf > 1) {
+      d.U.leftCols(nf) = d.IA * d.S.leftCols(nf);
+      const Eigen::Matrix3d D = d.S.transpose() * d.U;
+      if (nf == 2) {
+        d.Dinv.topLeftCorner<2, 2>() = D.topLeftCorner<2, 2>().inverse();
+      } else {
+        d.Dinv = D.inverse();
+      }
+      d.tau.head(nf) -= d.S.leftCols(nf).transpose() * d.pA;
+      const auto Dinv = d.Dinv.topLeftCorner(nf, nf);
+      Ia = d.IA - d.U.leftCols(nf) * Dinv * d.U.leftCols(nf).transpose();
+      pa = d.pA + Ia * d.bias + d.U.leftCols(nf) * (Dinv * d.tau.head(nf));
+    } else {
+      Ia = d.IA;
+      pa = d.pA + d.IA * d.bias;
+    }
+    const ArticulatedBody& b = model_.bodies[i];
+    const int p = b.parent;
+    if (p == kGround) continue;
+    if (b.rotation_only) {
+      // Pᵀ I_a P and Pᵀ p_a, P = [I 0; [c]× 0].
+      Matrix6 P = Matrix6::Zero();
+      P.topLeftCorner<3, 3>().setIdentity();
+      P.bottomLeftCorner<3, 3>() = hat(d.c);
+      data_[p].IA += P.transpose() * Ia * P;
+      data_[p].pA += P.transpose() * pa;
+    } else {
+      data_[p].IA += Ia;
+      data_[p].pA += pa;
+    }
+  }
+  // Pass 3, root to leaves: accelerations.
+  for (int i = 0; i < bodyCount(); ++i) {
+    BodyData& d = data_[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    const int p = b.parent;
+    if (p == kGround) {
+      d.a = a0 + d.bias;
+    } else if (b.rotation_only) {
+      const Eigen::Vector3d alpha = data_[p].a.head<3>();
+      d.a << alpha, d.c.cross(alpha);
+      d.a += d.bias;
+    } else {
+      d.a = data_[p].a + d.bias;
+    }
+    const int nf = d.free;
+    if (nf == 1) {
+      const double qdd = d.Dinv(0, 0) * (d.tau[0] - d.U.col(0).dot(d.a));
+      d.a += qdd * d.S.col(0);
+      (*udot)[d.free_u[0]] = qdd;
+    } else if (nf > 1) {
+      const Eigen::Vector3d r = d.tau - d.U.transpose() * d.a;
+      Eigen::Vector3d qdd = Eigen::Vector3d::Zero();
+      qdd.head(nf) = d.Dinv.topLeftCorner(nf, nf) * r.head(nf);
+      d.a += d.S.leftCols(nf) * qdd.head(nf);
+      for (int k = 0; k < nf; ++k) (*udot)[d.free_u[k]] = qdd[k];
+    }
+  }
+}
+
+void ArticulatedSystem::accelerations(double t, const State& y, Eigen::VectorXd* udot) const {
+  forwardPass(t, y, true, true);
+  udot->resize(dofs());
+  solve(Vector6::Zero(), udot);
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k)
+      if (b.prescribed(k)) (*udot)[b.u_begin + k] = data_[i].phiddot[k];
+  }
+}
+
+void ArticulatedSystem::velocity(double t, const State& y, Tangent* F) const {
+  const int n = dofs();
+  F->resize(2 * n);
+  accelerations(t, y, &udot_);
+  F->head(n) = y.u;
+  F->tail(n) = udot_;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k)
+      if (b.prescribed(k)) (*F)[b.u_begin + k] = data_[i].phidot[k];
+  }
+}
+
+void ArticulatedSystem::projectVelocities(double t, const std::vector<Eigen::Vector3d>& omega_body,
+                                          const std::vector<Eigen::Vector3d>& v_com, State* y) const {
+  forwardPass(t, *y, true, false);
+  // Right-hand side Sᵀ Σ_subtree I_O V_given: the generalized momenta of the
+  // given body velocities (accumulated leaves to root in pA, then moved to
+  // tau), with the ABA's pA cleared for the solve.
+  std::vector<Vector6> H(bodyCount(), Vector6::Zero());
+  for (int i = bodyCount() - 1; i >= 0; --i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    BodyData& d = data_[i];
+    const Eigen::Vector3d w = d.R * omega_body[i];
+    const Eigen::Vector3d vc = b.rotation_only ? Eigen::Vector3d::Zero() : v_com[i];
+    const Eigen::Matrix3d Jw = d.R * b.inertia * d.R.transpose();
+    Vector6 h;
+    h << Jw * w + d.c.cross(b.mass * vc), b.mass * vc;
+    H[i] += h;
+    if (b.parent == kGround) continue;
+    if (b.rotation_only) {
+      H[b.parent].head<3>() += H[i].head<3>() - d.c.cross(H[i].tail<3>());  // Pᵀ H: the momentum about c
+    } else {
+      H[b.parent] += H[i];
+    }
+  }
+  for (int i = 0; i < bodyCount(); ++i) {
+    BodyData& d = data_[i];
+    d.tau.head(d.free) = d.S.leftCols(d.free).transpose() * H[i];
+  }
+  udot_.setZero(dofs());
+  solve(Vector6::Zero(), &udot_);
+  y->u = udot_;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k)
+      if (b.prescribed(k)) {
+        y->u[b.u_begin + k] = data_[i].phidot[k];
+        y->q[b.q_begin + k] = data_[i].phi[k];
+      }
+  }
+}
+
+}  // namespace articulated
+}  // namespace lieflow

@@ -1,0 +1,97 @@
+/// \file
+/// A tree of rigid bodies in joint coordinates (the "joint" formulation of
+/// ../shared/DESIGN.md, `--formulation joint`): the model, built once from a
+/// scene (articulated_scene.hpp), and the state on the joints' own groups.
+///
+/// Each body has exactly one joint to its parent (the ground or a body met
+/// earlier in the body order), so the joints' coordinates are the whole
+/// configuration and no constraint is left to enforce: a revolute joint is
+/// one angle φ (ℝ, unwrapped), a universal joint two angles (φ₁, φ₂), a
+/// spherical joint a rotation N ∈ SO(3) of the child relative to its parent.
+///
+/// Relative rotation of the secondary body to the main one (R_b = R_a M), the
+/// same coordinates as the maximal formulation's joint angles
+/// (joints/constraints/revolute_angle.hpp, universal_angles.hpp):
+///   revolute   M = exp(φ a) R_ref,
+///   universal  M = exp(φ₁ a₁) R_ref exp(φ₂ a₂),
+/// a, a₁ in the main body's frame, a₂ in the secondary's, R_ref the relative
+/// rotation at zero angles. The anchors coincide: c_b + R_b s_b = c_a + R_a s_a.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "joints/multibody/multibody_system.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+enum class JointKind { kRevolute, kUniversal, kSpherical };
+
+/// The parent of a body attached to the ground.
+constexpr int kGround = -1;
+
+/// One body of the tree with the joint to its parent.
+struct ArticulatedBody {
+  std::string name;
+  double mass = 0.0;
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  ///< about the centre of mass, body axes
+  int parent = kGround;                                   ///< tree index, < own index
+  int scene_body = -1;                                    ///< index in SceneDescription::bodies
+  int scene_joint = -1;                                   ///< index in SceneDescription::joints; −1: none
+  /// A rotation-only body: its centre of mass stays at `fixed_position`
+  /// (held by a support, as in the maximal formulation); it turns with its
+  /// joint. A rotation-only body no joint reaches from the ground is a root
+  /// on an implicit spherical joint at its centre of mass (scene_joint −1).
+  bool rotation_only = false;
+  Eigen::Vector3d fixed_position = Eigen::Vector3d::Zero();
+
+  JointKind kind = JointKind::kRevolute;
+  /// Whether the parent is the joint's main body (else its secondary: the
+  /// joint's coordinates then turn the parent relative to the child).
+  bool parent_is_main = true;
+  /// The joint's anchor from the parent's centre of mass, parent axes (world
+  /// coordinates of the anchor for the ground), and from the child's.
+  Eigen::Vector3d anchor_parent = Eigen::Vector3d::Zero();
+  Eigen::Vector3d anchor_child = Eigen::Vector3d::Zero();
+  /// Revolute: axis a (main frame). Universal: a₁ (main frame), a₂ (secondary frame).
+  Eigen::Vector3d axis1 = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d axis2 = Eigen::Vector3d::UnitZ();
+  /// Relative rotation main → secondary at zero angles.
+  Eigen::Matrix3d R_ref = Eigen::Matrix3d::Identity();
+  /// Force elements and prescribed motion of the joint's coordinates.
+  std::array<multibody::CoordinateDrive, 2> drives;
+
+  /// Offsets into the state: scalar angles (revolute, universal), the
+  /// spherical joints' rotations, and the velocity vector u.
+  int q_begin = 0;
+  int rotation = -1;
+  int u_begin = 0;
+
+  int coordinates() const {
+    return kind == JointKind::kRevolute ? 1 : kind == JointKind::kUniversal ? 2 : 0;
+  }
+  int dofs() const { return kind == JointKind::kSpherical ? 3 : coordinates(); }
+  bool prescribed(int i) const { return drives[i].prescribed.has_value(); }
+};
+
+/// The model: bodies in tree order (every parent before its children).
+struct ArticulatedModel {
+  std::vector<ArticulatedBody> bodies;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  int scalar_coordinates = 0;  ///< nq: angles of revolute and universal joints
+  int rotations = 0;           ///< ns: spherical joints
+  /// Scene body index → tree index.
+  std::vector<int> tree_index;
+  /// Scene joint index → tree index of its child body (−1 for none).
+  std::vector<int> joint_child;
+
+  int dofs() const { return scalar_coordinates + 3 * rotations; }
+  int bodyCount() const { return static_cast<int>(bodies.size()); }
+};
+
+}  // namespace articulated
+}  // namespace lieflow

@@ -1,0 +1,69 @@
+// ArticulatedSystem: body poses and velocities, energy, angular momentum and
+// the joint outputs.
+#include "joints/articulated/articulated_system.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+void ArticulatedSystem::kinematics(double t, const State& y) const { forwardPass(t, y, false, true); }
+
+double ArticulatedSystem::energy(double t, const State& y) const {
+  kinematics(t, y);
+  double E = 0.0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    const Eigen::Vector3d w = angularVelocityBody(i);
+    const Eigen::Vector3d v = velocityOfCentre(i);
+    E += 0.5 * w.dot(b.inertia * w);
+    // A rotation-only body has no translational energy (as in the maximal formulation).
+    if (!b.rotation_only) E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(data_[i].c);
+    for (int k = 0; k < b.coordinates(); ++k) {
+      const multibody::CoordinateDrive& drive = b.drives[k];
+      if (drive.stiffness == 0.0) continue;
+      const double e = data_[i].phi[k] - drive.rest_angle;
+      E += 0.5 * drive.stiffness * e * e;
+    }
+  }
+  return E;
+}
+
+Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) const {
+  kinematics(t, y);
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    L += data_[i].R * (b.inertia * angularVelocityBody(i));
+    if (!b.rotation_only) L += data_[i].c.cross(b.mass * velocityOfCentre(i));
+  }
+  return L;
+}
+
+void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const {
+  accelerations(t, y, &udot_);
+  out->assign(model_.joint_child.size(), ArticulatedJointOutput());
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    const BodyData& d = data_[i];
+    if (b.scene_joint < 0) continue;
+    ArticulatedJointOutput& o = (*out)[b.scene_joint];
+    o.coordinates = b.coordinates();
+    if (o.coordinates == 0) continue;
+    // The spatial force the parent passes to the child's subtree,
+    // f = I_A a + p_A (Featherstone 2008, §7.3), as a moment about the anchor
+    // (about the held centre of mass of a rotation-only child: its support
+    // takes the force).
+    const Vector6 f = d.IA * d.a + d.pA;
+    const Eigen::Vector3d& point = b.rotation_only ? d.c : d.x;
+    const Eigen::Vector3d moment_on_child = f.head<3>() - point.cross(f.tail<3>());
+    // On the main body: −(that) when the child is the secondary.
+    const Eigen::Vector3d on_main = b.parent_is_main ? Eigen::Vector3d(-moment_on_child) : moment_on_child;
+    for (int k = 0; k < o.coordinates; ++k) {
+      o.phi[k] = d.phi[k];
+      o.phidot[k] = d.phidot[k];
+      o.moment[k] = on_main.dot(d.axis[k]);
+    }
+  }
+}
+
+}  // namespace articulated
+}  // namespace lieflow

@@ -1,0 +1,59 @@
+/// \file
+/// The state of a tree in joint coordinates: a point of
+///   ℝ^nq × SO(3)^ns × ℝ^(nq + 3 ns)
+/// (the revolute and universal angles, the spherical joints' relative
+/// rotations N, the velocities u = [φ̇ (nq); ω_rel (3 ns)], ω_rel the child's
+/// angular velocity relative to its parent in the child's frame, so that
+/// Ṅ = N ω̂_rel).
+///
+/// Tangent (size 2 n, n = nq + 3 ns): [δφ (nq); δθ (3 ns); δu (n)]; ⊕ adds
+/// on the vector parts and multiplies N by exp(δθ) on the right, so dexp⁻¹
+/// is the identity except on the SO(3) blocks. The size is known at run
+/// time; the in-place operations of integrators/state_workspace.hpp let a
+/// stepper reuse its storage (no heap allocation per step).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+struct ArticulatedState {
+  using Scalar = double;
+  using Tangent = Eigen::VectorXd;
+
+  Eigen::VectorXd q;         ///< nq angles (unwrapped)
+  std::vector<SO3d> N;       ///< ns relative rotations
+  Eigen::VectorXd u;         ///< nq + 3 ns velocities
+
+  int scalarCount() const { return static_cast<int>(q.size()); }
+  int dofs() const { return static_cast<int>(u.size()); }
+
+  int tangentSize() const { return 2 * dofs(); }
+  Tangent zeroTangent() const { return Tangent::Zero(tangentSize()); }
+
+  void rplusInPlace(const Tangent& d);
+  ArticulatedState rplus(const Tangent& d) const {
+    ArticulatedState out = *this;
+    out.rplusInPlace(d);
+    return out;
+  }
+  void dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const;
+  Tangent dexpInvRight(const Tangent& theta, const Tangent& v, int order) const {
+    Tangent out;
+    dexpInvRightInto(theta, v, order, &out);
+    return out;
+  }
+  /// Per-component scale of the adaptive error norm: 1 for positions (angles
+  /// and rotations are O(1)), |u| for velocities.
+  Tangent magnitude() const;
+};
+
+bool isFinite(const ArticulatedState& y);
+
+}  // namespace articulated
+}  // namespace lieflow

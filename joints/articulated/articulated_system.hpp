@@ -1,0 +1,161 @@
+/// \file
+/// Forward dynamics of a tree in joint coordinates: the articulated-body
+/// algorithm (Featherstone 1983; "Rigid Body Dynamics Algorithms", 2008,
+/// §7.3) in world coordinates about the world origin (as Pinocchio's ABA:
+/// no coordinate transform between a body and its parent, each body's
+/// spatial inertia is moved to the world once per evaluation), O(n) in the
+/// number of bodies.
+///
+/// Spatial vectors (Featherstone's notation, world axes, reference point the
+/// world origin O): a motion V = (ω, v_O), v_O the velocity of the body point
+/// passing through O; a force (n_O, f). A body of mass m, centre of mass c and
+/// world inertia J_w = R J Rᵀ has I_O V = (J_w ω + c × m v_c, m v_c),
+/// v_c = v_O + ω × c. A joint's motion subspace S (6 × dofs) in world
+/// coordinates:
+///   revolute   s = σ (A, x × A),         A = R_main a,  x the anchor;
+///   universal  s₁ = σ (A₁, x × A₁), s₂ = σ (A₂, x × A₂), A₁ = R_main a₁, A₂ = R_sec a₂;
+///   spherical  S = (R_c, [x]× R_c)       (u = ω_rel in the child's axes),
+/// σ = +1 when the parent is the joint's main body, −1 otherwise. Then
+///   V_c = V_p + S u,    a_c = a_p + S u̇ + Ṡ u,
+/// with Ṡ u = V_p ×ₘ (S u) for revolute and spherical joints (their columns
+/// are fixed in the child and turn with it: ṡ = V_c ×ₘ s, and (Su) ×ₘ (Su) = 0)
+/// and Ṡ u = σ (V_main ×ₘ s₁ φ̇₁ + V_sec ×ₘ s₂ φ̇₂) for a universal joint
+/// (s₁ is fixed in the main body, s₂ in the secondary). Gravity is a force
+/// (c × m g, m g) on each body that translates.
+///
+/// A rotation-only body (centre of mass c held, as in the maximal
+/// formulation) turns with its joint about c: its motion is P(V_p + S_x u)
+/// with P (ω, v) = (ω, c × ω), a constant linear map (the support takes the
+/// force: the parent receives Pᵀ f = (n − c × f, 0), the moment about c). The
+/// recursion keeps its form with V_c = P V_p + S u, S = P S_x, the bias P Ṡ_x u,
+/// and Pᵀ I_a P, Pᵀ p_a passed to the parent.
+///
+/// A prescribed coordinate is not integrated: its angle, rate and
+/// acceleration are the time function's at the stage time, and its column
+/// contributes S_p φ̇(t) to V and S_p φ̈(t) to the bias acceleration; the ABA
+/// runs over the free columns only. The state keeps a slot for it that is
+/// advanced with the function's rate (so the state stays near the truth),
+/// but every evaluation and every output uses the function itself.
+///
+/// Model/data split: ArticulatedModel (articulated_model.hpp) is built once;
+/// the per-body workspace (Data) is allocated at construction and reused by
+/// every evaluation, so a step allocates nothing.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "joints/articulated/articulated_model.hpp"
+#include "joints/articulated/articulated_state.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// One joint's outputs (CSV `J.phi, J.phidot, J.moment`): angles, rates and
+/// the moment the joint exerts on its main body about each axis (the same
+/// definition as the maximal formulation's multibody::JointOutput).
+struct ArticulatedJointOutput {
+  int coordinates = 0;
+  std::array<double, 2> phi{{0.0, 0.0}}, phidot{{0.0, 0.0}}, moment{{0.0, 0.0}};
+};
+
+class ArticulatedSystem {
+ public:
+  using Scalar = double;
+  using State = ArticulatedState;
+  using Tangent = Eigen::VectorXd;
+  /// A body torque from a program (UserLoads::BodyTorque): body axes, from t,
+  /// the orientation, the centre of mass, ω (body axes) and v_c (world).
+  using UserTorque = std::function<Eigen::Vector3d(double t, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                                                   const Eigen::Vector3d& omega, const Eigen::Vector3d& v)>;
+
+  explicit ArticulatedSystem(ArticulatedModel model);
+
+  const ArticulatedModel& model() const { return model_; }
+  int dofs() const { return model_.dofs(); }
+  int bodyCount() const { return model_.bodyCount(); }
+
+  /// A torque from a program on tree body i.
+  void setUserTorque(int i, UserTorque torque);
+  bool hasUserTorques() const { return has_user_torques_; }
+
+  /// F = (u as position increments, u̇): the right-hand side ẏ = y · F.
+  void velocity(double t, const State& y, Tangent* F) const;
+
+  /// The accelerations u̇ at (t, y) into *udot (size dofs()).
+  void accelerations(double t, const State& y, Eigen::VectorXd* udot) const;
+
+  /// The velocities u whose body velocities are closest, in the kinetic-energy
+  /// metric, to the given ones (ω in body axes, v_c world; by tree index),
+  /// with prescribed coordinates at their function's rate at t: the
+  /// mass-metric projection the maximal formulation applies to initial
+  /// velocities. The angles of `y` are used; its u is replaced.
+  void projectVelocities(double t, const std::vector<Eigen::Vector3d>& omega_body,
+                         const std::vector<Eigen::Vector3d>& v_com, State* y) const;
+
+  /// Poses and velocities of every body at (t, y), by tree index, valid until
+  /// the next call of any function of this system.
+  void kinematics(double t, const State& y) const;
+  const Eigen::Matrix3d& rotation(int i) const { return data_[i].R; }
+  const Eigen::Vector3d& centreOfMass(int i) const { return data_[i].c; }
+  Eigen::Vector3d angularVelocityBody(int i) const { return data_[i].R.transpose() * data_[i].V.head<3>(); }
+  Eigen::Vector3d velocityOfCentre(int i) const {
+    return data_[i].V.tail<3>() + data_[i].V.head<3>().cross(data_[i].c);
+  }
+
+  /// Kinetic + gravitational + spring energy (the maximal formulation's).
+  double energy(double t, const State& y) const;
+  /// Spatial angular momentum about the world origin.
+  Eigen::Vector3d angularMomentum(double t, const State& y) const;
+  /// Whether the scene conserves its spatial angular momentum: the same
+  /// physics as in maximal coordinates, so the scene's assembly sets the
+  /// maximal system's answer (joints to the ground, gravity, supports of
+  /// rotation-only bodies and loads from a program are external).
+  bool conservesAngularMomentum() const { return conserves_momentum_; }
+  void setConservesAngularMomentum(bool conserved) { conserves_momentum_ = conserved; }
+
+  /// The joints' outputs by scene joint index (from a full dynamics solve at
+  /// (t, y): the moment includes what prescribed motion needs).
+  void jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const;
+
+ private:
+  struct BodyData {
+    Eigen::Matrix3d R;            ///< world orientation
+    Eigen::Vector3d c, x;         ///< centre of mass, joint anchor (world)
+    std::array<double, 2> phi{{0.0, 0.0}}, phidot{{0.0, 0.0}}, phiddot{{0.0, 0.0}};
+    std::array<Eigen::Vector3d, 2> axis;  ///< world joint axes (revolute, universal)
+    Vector6 V, bias, a, pA;
+    Matrix6 IA;
+    Eigen::Matrix<double, 6, 3> S;  ///< free columns (first `free` of them)
+    int free = 0;
+    std::array<int, 3> free_u{{0, 0, 0}};  ///< the free columns' u indices
+    Eigen::Matrix<double, 6, 3> U;  ///< I_A S
+    Eigen::Matrix3d Dinv;           ///< (Sᵀ I_A S)⁻¹
+    Eigen::Vector3d tau;            ///< free generalized forces, then u − Uᵀ(...)
+  };
+
+  /// Pass 1 of the ABA: kinematics, velocities, bias accelerations and
+  /// forces (`dynamics`: the rigid-body inertias and bias forces too).
+  void forwardPass(double t, const State& y, bool dynamics, bool velocity_terms) const;
+  /// Passes 2 and 3 with the generalized forces in data_[i].tau; ground
+  /// acceleration a0; writes u̇ of the free columns.
+  void solve(const Vector6& a0, Eigen::VectorXd* udot) const;
+  double coordinateRate(const State& y, const ArticulatedBody& b, int i) const;
+
+  ArticulatedModel model_;
+  std::vector<UserTorque> user_torques_;
+  bool has_user_torques_ = false;
+  bool conserves_momentum_ = false;
+  mutable std::vector<BodyData> data_;
+  mutable Eigen::VectorXd udot_;
+};
+
+}  // namespace articulated
+}  // namespace lieflow

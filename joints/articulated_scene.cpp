@@ -1,0 +1,240 @@
+#include "joints/articulated_scene.hpp"
+
+#include <deque>
+#include <unordered_map>
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+
+using articulated::ArticulatedBody;
+using articulated::ArticulatedModel;
+using articulated::JointKind;
+
+namespace {
+
+/// exp(φ a) as a matrix, a unit.
+Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
+  return Eigen::AngleAxisd(phi, a).toRotationMatrix();
+}
+
+std::string label(const SceneDescription& scene, std::size_t k) {
+  return scene.source + ": joints[" + std::to_string(k) + "] (" + scene.joints[k].name + ")";
+}
+
+/// The tree: for each body (scene index) the joint to its parent and the
+/// parent (scene index, −1 ground), bodies in the order they are reached
+/// from the ground. False with `why` when the joints do not form such a tree.
+bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vector<int>* joint_of,
+               std::vector<int>* parent_of, std::string* why) {
+  const int nb = static_cast<int>(scene.bodies.size());
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
+  // Adjacency: joints at each body (and at the ground, index nb).
+  std::vector<std::vector<int>> at(nb + 1);
+  for (std::size_t k = 0; k < scene.joints.size(); ++k) {
+    const JointDescription& j = scene.joints[k];
+    if (j.isGear()) {
+      *why = label(scene, k) + " is a " + j.type +
+             ": it couples coordinates of other joints, which needs multipliers";
+      return false;
+    }
+    const int a = body(j.main), b = body(j.secondary);
+    at[a < 0 ? nb : a].push_back(static_cast<int>(k));
+    at[b < 0 ? nb : b].push_back(static_cast<int>(k));
+  }
+  order->clear();
+  joint_of->assign(nb, -1);
+  parent_of->assign(nb, -1);
+  std::vector<bool> placed(nb, false), used(scene.joints.size(), false);
+  std::deque<int> queue{-1};
+  // A rotation-only body no joint reaches from the ground is a root of its
+  // own (an implicit spherical joint at its held centre of mass).
+  int next_root = 0;
+  auto nextRoot = [&]() {
+    for (; next_root < nb; ++next_root)
+      if (!placed[next_root] && scene.bodies[next_root].rotation_only) {
+        const int r = next_root++;
+        placed[r] = true;
+        order->push_back(r);
+        queue.push_back(r);
+        return true;
+      }
+    return false;
+  };
+  while (!queue.empty() || nextRoot()) {
+    const int p = queue.front();
+    queue.pop_front();
+    for (int k : at[p < 0 ? nb : p]) {
+      if (used[k]) continue;
+      used[k] = true;
+      const JointDescription& j = scene.joints[k];
+      const int a = body(j.main), b = body(j.secondary);
+      const int c = a == p ? b : a;
+      if (c < 0 || placed[c]) {
+        *why = label(scene, k) + " closes a loop: a closed chain needs multipliers";
+        return false;
+      }
+      // A rotation-only child turns about its held centre of mass: its joint
+      // may constrain only rotations (the maximal formulation's point rows
+      // are then identically satisfied: both sides fixed points).
+      if (scene.bodies[c].rotation_only) {
+        const Eigen::Vector3d& own = c == a ? j.anchor_main : j.anchor_secondary;
+        const Eigen::Vector3d& other = c == a ? j.anchor_secondary : j.anchor_main;
+        const bool parent_fixed = p < 0 || (scene.bodies[p].rotation_only && other.norm() <= 1e-12);
+        if (own.norm() > 1e-12 || !parent_fixed) {
+          *why = label(scene, k) + " holds the rotation-only body '" + scene.bodies[c].name +
+                 "' at a point of a moving body: a constraint on the rotations that needs multipliers";
+          return false;
+        }
+      }
+      placed[c] = true;
+      (*joint_of)[c] = k;
+      (*parent_of)[c] = p;
+      order->push_back(c);
+      queue.push_back(c);
+    }
+  }
+  for (int i = 0; i < nb; ++i)
+    if (!placed[i]) {
+      *why = scene.source + ": bodies[" + std::to_string(i) + "] (" + scene.bodies[i].name +
+             ") is not connected to the ground by joints and not rotation-only: a free-floating body has no joint "
+             "to carry it";
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+bool articulatedCovers(const SceneDescription& scene, std::string* why) {
+  std::vector<int> order, joint_of, parent_of;
+  if (scene.joints.empty()) {
+    *why = scene.source + " has no joints";
+    return false;
+  }
+  return buildTree(scene, &order, &joint_of, &parent_of, why);
+}
+
+std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& scene) {
+  std::vector<int> order, joint_of, parent_of;
+  std::string why;
+  if (!articulatedCovers(scene, &why) || !buildTree(scene, &order, &joint_of, &parent_of, &why))
+    throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +
+                                            " (run it with --formulation maximal)");
+  ArticulatedModel model;
+  model.gravity = scene.gravity;
+  const int nb = static_cast<int>(scene.bodies.size());
+  model.tree_index.assign(nb, -1);
+  model.joint_child.assign(scene.joints.size(), -1);
+  for (int t = 0; t < nb; ++t) model.tree_index[order[t]] = t;
+  auto orientation = [&](int scene_body) {
+    return scene_body < 0 ? Eigen::Matrix3d::Identity()
+                          : Eigen::Matrix3d(scene.bodies[scene_body].orientation.normalized().toRotationMatrix());
+  };
+  // Angles first, then spherical rotations in u (articulated_state.hpp).
+  int nq = 0, ns = 0;
+  for (int c : order) {
+    const std::string& type = joint_of[c] < 0 ? std::string("spherical") : scene.joints[joint_of[c]].type;
+    if (type == "spherical") ++ns;
+    else nq += type == "universal" ? 2 : 1;
+  }
+  articulated::ArticulatedState y0;
+  y0.q.setZero(nq);
+  y0.u.setZero(nq + 3 * ns);
+  int q_next = 0, r_next = 0;
+  for (int t = 0; t < nb; ++t) {
+    const int c = order[t];
+    const int k = joint_of[c];
+    const BodyDescription& bd = scene.bodies[c];
+    ArticulatedBody b;
+    b.name = bd.name;
+    b.mass = bd.mass;
+    b.inertia = bd.inertia;
+    b.scene_body = c;
+    b.scene_joint = k;
+    b.rotation_only = bd.rotation_only;
+    b.fixed_position = bd.position;
+    if (k < 0) {
+      // A root rotation-only body: spherical about its centre of mass.
+      b.kind = JointKind::kSpherical;
+      b.anchor_parent = bd.position;
+      b.rotation = r_next++;
+      b.u_begin = nq + 3 * b.rotation;
+      y0.N.push_back(SO3d(Eigen::Quaterniond(orientation(c)).normalized()));
+      model.bodies.push_back(b);
+      continue;
+    }
+    const JointDescription& j = scene.joints[k];
+    b.parent = parent_of[c] < 0 ? articulated::kGround : model.tree_index[parent_of[c]];
+    const std::string& parent_name = parent_of[c] < 0 ? std::string("ground") : scene.bodies[parent_of[c]].name;
+    b.parent_is_main = j.main == parent_name;
+    b.anchor_parent = b.parent_is_main ? j.anchor_main : j.anchor_secondary;
+    b.anchor_child = b.parent_is_main ? j.anchor_secondary : j.anchor_main;
+    const int main = b.parent_is_main ? parent_of[c] : c, sec = b.parent_is_main ? c : parent_of[c];
+    const Eigen::Matrix3d M0 = orientation(main).transpose() * orientation(sec);
+    const auto user_moment = scene.user_loads.joint_moments.find(j.name);
+    if (j.type == "spherical") {
+      b.kind = JointKind::kSpherical;
+      b.rotation = r_next++;
+      b.u_begin = nq + 3 * b.rotation;
+      const Eigen::Matrix3d N0 = orientation(parent_of[c]).transpose() * orientation(c);
+      y0.N.push_back(SO3d(Eigen::Quaterniond(N0).normalized()));
+      if (user_moment != scene.user_loads.joint_moments.end())
+        throw InvalidInput("moments", "joint '" + j.name +
+                                          "' is spherical: a moment acts on the coordinate of a revolute or "
+                                          "universal joint");
+    } else {
+      b.kind = j.type == "universal" ? JointKind::kUniversal : JointKind::kRevolute;
+      b.q_begin = b.u_begin = q_next;
+      q_next += b.coordinates();
+      b.axis1 = j.axis_main.normalized();
+      b.axis2 = j.axis_secondary.normalized();
+      b.R_ref = rotationAbout(b.axis1, -j.initial_angles[0]) * M0;
+      if (b.kind == JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
+      for (int i = 0; i < b.coordinates(); ++i) {
+        const CoordinateDescription& cd = j.coordinates[i];
+        multibody::CoordinateDrive& d = b.drives[i];
+        d.stiffness = cd.stiffness;
+        d.rest_angle = cd.rest_angle;
+        d.damping = cd.damping;
+        d.moment = cd.moment;
+        d.prescribed = cd.prescribed;
+        if (user_moment != scene.user_loads.joint_moments.end()) {
+          const UserLoads::JointMoment f = user_moment->second;
+          d.user_moment = [f, i](double time, double phi, double phidot) { return f(time, i, phi, phidot); };
+        }
+        y0.q[b.q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : j.initial_angles[i];
+      }
+    }
+    model.joint_child[k] = t;
+    model.bodies.push_back(b);
+  }
+  model.scalar_coordinates = nq;
+  model.rotations = ns;
+  auto out = std::make_unique<ArticulatedScene>();
+  out->system = std::make_unique<articulated::ArticulatedSystem>(std::move(model));
+  articulated::ArticulatedSystem& sys = *out->system;
+  for (const auto& [name, f] : scene.user_loads.body_torques) {
+    const int i = scene.bodyIndex(name);
+    if (i < 0) throw InvalidInput("torques", "the scene has no body '" + name + "'");
+    sys.setUserTorque(sys.model().tree_index[i], f);
+  }
+  for (const auto& [name, f] : scene.user_loads.joint_moments) {
+    (void)f;
+    bool found = false;
+    for (const JointDescription& j : scene.joints) found = found || j.name == name;
+    if (!found) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
+  }
+  std::vector<Eigen::Vector3d> omega(nb), v(nb);
+  for (int t = 0; t < nb; ++t) {
+    const BodyDescription& bd = scene.bodies[order[t]];
+    omega[t] = bd.angular_velocity;
+    v[t] = bd.velocity;
+  }
+  sys.projectVelocities(0.0, omega, v, &y0);
+  out->y0 = std::move(y0);
+  return out;
+}
+
+}  // namespace lieflow

@@ -1,0 +1,39 @@
+/// \file
+/// Assembly of a scene into joint coordinates (`--formulation joint`,
+/// joints/articulated/articulated_system.hpp): the bodies ordered as a tree
+/// from the ground, one joint each to its parent, the joints' angles and the
+/// velocities projected in the mass metric (the maximal formulation's
+/// projection, so both start from the same motion).
+///
+/// What the joint formulation covers: scenes whose revolute, universal and
+/// spherical joints form a tree hanging from the ground (every body reached
+/// from the ground through exactly one chain of joints), with the joints'
+/// springs, dashpots, moments and prescribed motion, gravity and loads from a
+/// program. Gear-type joints and closed loops need multipliers, rotation-only
+/// bodies and bodies not connected to the ground have no joint coordinate to
+/// live on: those scenes are refused (InvalidInput naming --formulation, the
+/// element and the reason) and run in maximal coordinates.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "joints/articulated/articulated_system.hpp"
+#include "joints/scene.hpp"
+
+namespace lieflow {
+
+struct ArticulatedScene {
+  std::unique_ptr<articulated::ArticulatedSystem> system;
+  articulated::ArticulatedState y0;
+};
+
+/// Whether the joint formulation covers the scene; if not, `why` says which
+/// element it cannot represent and why.
+bool articulatedCovers(const SceneDescription& scene, std::string* why);
+
+/// Builds the tree; throws InvalidInput (field "--formulation") when
+/// articulatedCovers is false.
+std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& scene);
+
+}  // namespace lieflow

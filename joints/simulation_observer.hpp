@@ -1,0 +1,278 @@
+/// \file
+/// Observing a run (internal to joints/): the CSV rows of each system's
+/// state, energy and momentum drift, the scene's invariants, non-finite and
+/// blow-up detection, and observeRun, which wraps a stepping loop with them.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "integrators/integrate.hpp"
+#include "integrators/rigid_body_system.hpp"
+#include "joints/simulation_model.hpp"
+
+namespace lieflow {
+namespace simulation_detail {
+
+/// Appends the body columns of a rotor/free-body state to a row.
+inline void appendBody(const Simulation::Model& m, const SO3d& R, const Eigen::Vector3d& omega,
+                const Eigen::Vector3d& p, const Eigen::Vector3d& v, std::vector<double>* row) {
+  const Eigen::Quaterniond& q = R.quaternion();
+  row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), omega.x(), omega.y(), omega.z()});
+  if (m.translational_output) row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
+}
+
+struct RowBuilder {
+  const Simulation::Model& model;
+
+  void operator()(const RotorSystem<double>& sys, double t, const RotorState<double>& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    Eigen::Vector3d p = model.fixed_position, v = Eigen::Vector3d::Zero();
+    if (model.params.has_pivot) {
+      p = model.params.pivot_world + y.R * model.params.com_from_pivot;
+      v = y.R * y.omega.cross(model.params.com_from_pivot);
+    }
+    appendBody(model, y.R, y.omega, p, v, row);
+    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+  }
+
+  void operator()(const FreeBodySystem<double>& sys, double t, const FreeBodyState<double>& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    appendBody(model, y.R, y.omega, y.p, y.v, row);
+    const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+  }
+
+  void operator()(const multibody::MultibodySystem& sys, double t, const multibody::MultibodyGroupState& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    for (int i = 0; i < sys.bodyCount(); ++i) {
+      const auto& P = y.bodies.poses[i];
+      const auto& V = y.bodies.velocities[i];
+      const Eigen::Quaterniond& q = P.R.quaternion();
+      row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), V.omega.x(), V.omega.y(), V.omega.z()});
+      if (!sys.rotationOnly(i))
+        row->insert(row->end(), {P.p.x(), P.p.y(), P.p.z(), V.v.x(), V.v.y(), V.v.z()});
+    }
+    for (const multibody::JointOutput& o : sys.jointOutputs(t, y)) {
+      if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
+      if (o.coordinates == 2)
+        row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
+    }
+    const Eigen::Vector3d L = sys.angularMomentum(y);
+    row->insert(row->end(), {sys.energy(y), L.x(), L.y(), L.z(), sys.constraintError(t, y)});
+  }
+
+  /// Joint coordinates: the same columns, bodies and joints in scene order;
+  /// the joints hold by construction (constraint_error 0).
+  void operator()(const articulated::ArticulatedSystem& sys, double t, const articulated::ArticulatedState& y,
+                  std::vector<double>* row) const {
+    row->clear();
+    row->push_back(t);
+    sys.jointOutputs(t, y, &joint_outputs);  // also leaves the kinematics at (t, y)
+    const std::vector<int>& tree = sys.model().tree_index;
+    for (std::size_t b = 0; b < tree.size(); ++b) {
+      const int i = tree[b];
+      const Eigen::Quaterniond q(sys.rotation(i));
+      const Eigen::Vector3d w = sys.angularVelocityBody(i), p = sys.centreOfMass(i), v = sys.velocityOfCentre(i);
+      row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), w.x(), w.y(), w.z()});
+      if (!sys.model().bodies[i].rotation_only)
+        row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
+    }
+    for (const articulated::ArticulatedJointOutput& o : joint_outputs) {
+      if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
+      if (o.coordinates == 2)
+        row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
+    }
+    const Eigen::Vector3d L = sys.angularMomentum(t, y);
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+  }
+
+  mutable std::vector<articulated::ArticulatedJointOutput> joint_outputs;
+};
+
+/// The spatial angular momentum about the world origin of a state.
+template <typename System, typename State>
+Eigen::Vector3d momentumOf(const System& sys, double, const State& y) {
+  return sys.spatialAngularMomentum(y);
+}
+inline Eigen::Vector3d momentumOf(const articulated::ArticulatedSystem& sys, double t,
+                                  const articulated::ArticulatedState& y) {
+  return sys.angularMomentum(t, y);
+}
+
+/// Position-level constraint error of a state (0 for single-body systems,
+/// whose joint is built into the system).
+template <typename System, typename State>
+double constraintErrorOf(const System&, double, const State&) {
+  return 0.0;
+}
+inline double constraintErrorOf(const multibody::MultibodySystem& sys, double t,
+                                const multibody::MultibodyGroupState& y) {
+  return sys.constraintError(t, y);
+}
+
+/// An energy error this many times the initial energy means the run has
+/// blown up, even while the state is still finite (an explicit method beyond
+/// its stability limit can take thousands of steps to overflow).
+inline constexpr double kBlowUpEnergyGrowth = 1e8;
+
+/// Tracks energy and momentum drift over the observed states. The drifts are
+/// relative to |E₀| and ‖L₀‖; when E₀ (or L₀) is exactly zero — a body at
+/// rest at zero potential — there is no scale and the drift is absolute.
+struct DriftTracker {
+  bool momentum_conserved = false;
+  double e0 = 0.0;
+  Eigen::Vector3d L0 = Eigen::Vector3d::Zero();
+  double energy_drift = 0.0;
+  double momentum_drift = 0.0;
+
+  static double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
+
+  template <typename System, typename State>
+  void observe(const System& sys, long k, double t, const State& y) {
+    const double e = sys.energy(t, y);
+    const Eigen::Vector3d L = momentumOf(sys, t, y);
+    if (k == 0) {
+      e0 = e;
+      L0 = L;
+      return;
+    }
+    energy_drift = std::max(energy_drift, relative(std::abs(e - e0), std::abs(e0)));
+    if (momentum_conserved) momentum_drift = std::max(momentum_drift, relative((L - L0).norm(), L0.norm()));
+  }
+
+  /// The energy-growth blow-up test needs a scale: it is off when E₀ = 0.
+  bool blownUp() const { return e0 != 0.0 && energy_drift > kBlowUpEnergyGrowth; }
+};
+
+inline double option(const SimulationOptions& o, const std::string& key, double fallback) {
+  const auto it = o.integrator_options.find(key);
+  return it == o.integrator_options.end() ? fallback : it->second;
+}
+
+/// Feeds a state to the scene's invariants.
+inline void observeInvariants(InvariantSet* set, const RotorSystem<double>&, const RotorState<double>& y) {
+  set->observe(y.R, y.omega);
+}
+inline void observeInvariants(InvariantSet* set, const FreeBodySystem<double>&, const FreeBodyState<double>& y) {
+  set->observe(y.R, y.omega);
+}
+inline void observeInvariants(InvariantSet* set, const multibody::MultibodySystem& sys,
+                       const multibody::MultibodyGroupState& y) {
+  set->observe(sys.angularMomentum(y));
+}
+inline void observeInvariants(InvariantSet* set, const articulated::ArticulatedSystem& sys,
+                              const articulated::ArticulatedState& y, double t) {
+  set->observe(sys.angularMomentum(t, y));
+}
+template <typename System, typename State>
+void observeInvariants(InvariantSet* set, const System& sys, const State& y, double) {
+  observeInvariants(set, sys, y);
+}
+
+/// Observers report progress (SimulationOptions::progress) this often.
+inline constexpr long kProgressEverySteps = 65536;
+
+/// Index of the first non-finite value of a row, or −1.
+inline long firstNonFinite(const std::vector<double>& row) {
+  for (std::size_t i = 0; i < row.size(); ++i)
+    if (!std::isfinite(row[i])) return static_cast<long>(i);
+  return -1;
+}
+
+/// Runs `advance(observer)` with an observer that records rows and drift.
+/// A row holding a non-finite number is never handed out: the run fails
+/// there, naming the column (`columns`), the time and the step.
+template <typename System, typename Advance>
+SimulationResult observeRun(const Simulation::Model& model, const System& system,
+                            const SimulationOptions& options, long n_outputs,
+                            const std::vector<std::string>& columns,
+                            const std::function<void(const std::vector<double>&)>& row_sink,
+                            Advance&& advance) {
+  SimulationResult result;
+  DriftTracker drift;
+  drift.momentum_conserved = system.conservesAngularMomentum();
+  InvariantSet invariants = model.invariants;
+  RowBuilder rows{model};
+  std::vector<double> row;
+  typename System::State last;
+  double t_last = 0.0;
+  bool last_written = false;
+  std::string stop_reason;
+  double constraint_error = 0.0;
+  const auto non_finite = [&](const std::vector<double>& r, long k, double t) {
+    const long i = firstNonFinite(r);
+    if (i < 0) return false;
+    std::ostringstream why;
+    why << "the state's " << (static_cast<std::size_t>(i) < columns.size() ? columns[i] : "value")
+        << " became non-finite (" << r[i] << ") at t = " << t << " (step " << k
+        << "); its magnitude exceeds double precision";
+    stop_reason = why.str();
+    return true;
+  };
+  auto observer = [&](long k, double t, const typename System::State& y) {
+    last_written = false;
+    if (options.progress && k > 0 && k % kProgressEverySteps == 0) options.progress(t, k);
+    if (options.diagnostics) {
+      drift.observe(system, k, t, y);
+      observeInvariants(&invariants, system, y, t);
+      constraint_error = std::max(constraint_error, constraintErrorOf(system, t, y));
+      if (drift.blownUp()) {
+        std::ostringstream why;
+        why << "blow-up: the energy error reached " << drift.energy_drift << " times the initial energy at t = "
+            << t << " (step " << k << "); the step h = " << options.dt
+            << " is beyond this integrator's stability limit";
+        stop_reason = why.str();
+        return false;
+      }
+      if (row_sink && (k % options.every == 0 || k == n_outputs)) {
+        rows(system, t, y, &row);
+        if (non_finite(row, k, t)) return false;
+        row_sink(row);
+        if (options.invariant_sink) options.invariant_sink(t, invariants.current());
+        last_written = true;
+      }
+    }
+    last = y;
+    t_last = t;
+    return true;
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const RunSummary summary = advance(observer);
+  const auto stop = std::chrono::steady_clock::now();
+  result.wall_seconds = std::chrono::duration<double>(stop - start).count();
+  result.steps = summary.steps;
+  result.rejected_steps = summary.rejected_steps;
+  result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
+  result.newton_iterations_mean = summary.newtonIterationsMean();
+  rows(system, t_last, last, &result.final_row);
+  if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
+  result.failed = summary.failed || !stop_reason.empty();
+  result.failure = stop_reason.empty() ? summary.failure : stop_reason;
+  if (summary.step_limit_reached) result.failure += " (raise the limit with --max-steps)";
+  result.energy_drift = drift.energy_drift;
+  result.momentum_conserved = drift.momentum_conserved;
+  result.momentum_drift = drift.momentum_drift;
+  result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
+  if (options.diagnostics)
+    for (std::size_t i = 0; i < invariants.names().size(); ++i)
+      result.invariants.emplace_back(invariants.names()[i], invariants.maxDrift()[i]);
+  // The last good state is always written, whatever `every` is (also when a
+  // failure stopped the run between two output steps).
+  if (options.diagnostics && row_sink && result.failed && !last_written && firstNonFinite(result.final_row) < 0)
+    row_sink(result.final_row);
+  return result;
+}
+
+}  // namespace simulation_detail
+}  // namespace lieflow
