@@ -39,6 +39,7 @@
 #include "integrators/rkmk.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
+#include "joints/articulated_scene.hpp"
 #include "joints/multibody/multibody_system.hpp"
 
 namespace {
@@ -155,6 +156,45 @@ void BM_ChainStep_genalpha_index3(benchmark::State& st) {
 }
 BENCHMARK(BM_ChainStep_genalpha_index3)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
+/// One step of `stepper` on the same chain in joint coordinates
+/// (--formulation joint: the articulated-body algorithm per stage).
+template <typename Stepper>
+void chainJointSteps(benchmark::State& st, Stepper stepper) {
+  const int N = static_cast<int>(st.range(0));
+  const auto scene = assembleArticulated(bench::revoluteChainScene(N, bench::kChainSeed));
+  const articulated::ArticulatedSystem& system = *scene->system;
+  const articulated::ArticulatedState y0 = scene->y0;
+  articulated::ArticulatedState y = y0;
+  double t = 0.0;
+  const double h = bench::kChainStep;
+  StepReport report;
+  long steps = 0;
+  for (auto _ : st) {
+    y = stepper.step(system, t, y, h, &report);
+    t += h;
+    if (++steps % kResetSteps == 0) {
+      st.PauseTiming();
+      y = y0;
+      t = 0.0;
+      st.ResumeTiming();
+    }
+  }
+  st.counters["energy"] = system.energy(t, y);
+  st.SetComplexityN(N);
+}
+
+void BM_ChainStep_joint_rkmk4(benchmark::State& st) {
+  chainJointSteps(st, RkmkStepper<articulated::ArticulatedState>(ButcherTableau::rk4()));
+}
+BENCHMARK(BM_ChainStep_joint_rkmk4)
+    ->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_joint_cf4(benchmark::State& st) {
+  chainJointSteps(st, CommutatorFree4Stepper<articulated::ArticulatedState>());
+}
+BENCHMARK(BM_ChainStep_joint_cf4)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
 class SummaryReporter : public benchmark::ConsoleReporter {
@@ -235,6 +275,7 @@ int main(int argc, char** argv) {
   // against MuJoCo's implicit integrator.
   const std::pair<const char*, const char*> pairs[] = {
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_rk4"},  {"BM_ChainStep_cf4", "BM_ChainStep_mujoco_rk4"},
+      {"BM_ChainStep_joint_rkmk4", "BM_ChainStep_mujoco_rk4"}, {"BM_ChainStep_joint_cf4", "BM_ChainStep_mujoco_rk4"},
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_euler"}, {"BM_ChainStep_lgvi", "BM_ChainStep_mujoco_euler"},
       {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"},
       {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"}};

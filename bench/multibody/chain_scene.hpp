@@ -8,6 +8,11 @@
 /// at the origin, gravity (0, 0, −9.81), stepped with h = 1e-3.
 #pragma once
 
+#include <string>
+#include <variant>
+
+#include "joints/scene.hpp"
+
 #include <Eigen/Core>
 
 #include "joints/multibody/chain_builder.hpp"
@@ -32,6 +37,42 @@ inline Eigen::Matrix3d chainRodInertia() {
 /// with chainRodInertia() (state: the builder's random joint angles and rates).
 inline multibody::MultibodyModel revoluteChain(int n, unsigned seed, multibody::MultibodyState* state) {
   return multibody::randomRevoluteChain(n, true, chainRodInertia(), seed, state);
+}
+
+/// The same chain as a scene (bodies at the builder's random configuration,
+/// released at rest, as chainSteps runs it), for the joint-coordinate
+/// formulation (joints/articulated_scene.hpp).
+inline SceneDescription revoluteChainScene(int n, unsigned seed) {
+  multibody::MultibodyState s;
+  const multibody::MultibodyModel model = revoluteChain(n, seed, &s);
+  SceneDescription scene;
+  scene.name = "bench chain-" + std::to_string(n);
+  scene.source = scene.name;
+  scene.gravity = model.gravity;
+  for (std::size_t i = 0; i < model.bodies.size(); ++i) {
+    BodyDescription b;
+    b.name = "rod" + std::to_string(i);
+    b.mass = model.bodies[i].mass;
+    b.inertia = model.bodies[i].inertia;
+    b.orientation = s.poses[i].R.quaternion();
+    b.position = s.poses[i].p;
+    b.has_position = true;
+    scene.bodies.push_back(b);
+  }
+  auto name = [&](int i) { return i == multibody::kGround ? std::string("ground") : scene.bodies[i].name; };
+  for (const multibody::Joint& j : model.joints) {
+    const auto& rev = std::get<constraints::RevoluteJoint<double>>(j.constraint);
+    JointDescription d;
+    d.name = j.name;
+    d.type = "revolute";
+    d.main = name(j.main);
+    d.secondary = name(j.secondary);
+    d.anchor_main = rev.point.anchor_main;
+    d.anchor_secondary = rev.point.anchor_secondary;
+    d.axis_main = rev.axis_main;
+    scene.joints.push_back(d);
+  }
+  return scene;
 }
 
 }  // namespace bench

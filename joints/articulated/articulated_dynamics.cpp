@@ -10,14 +10,14 @@ namespace articulated {
 
 namespace {
 
-Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
   return m;
 }
 
 /// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ.
-Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
   const double c = std::cos(phi), s = std::sin(phi);
   Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
   m.diagonal().array() += c;
@@ -31,21 +31,21 @@ Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
 }
 
 /// The unit rotation twist about the line through x with direction A.
-Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
+EIGEN_ALWAYS_INLINE Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
   Vector6 s;
   s << A, x.cross(A);
   return s;
 }
 
 /// V ×ₘ m (motion cross product).
-Vector6 crossMotion(const Vector6& V, const Vector6& m) {
+EIGEN_ALWAYS_INLINE Vector6 crossMotion(const Vector6& V, const Vector6& m) {
   Vector6 r;
   r << V.head<3>().cross(m.head<3>()), V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
   return r;
 }
 
 /// V ×_f h (force cross product).
-Vector6 crossForce(const Vector6& V, const Vector6& h) {
+EIGEN_ALWAYS_INLINE Vector6 crossForce(const Vector6& V, const Vector6& h) {
   Vector6 r;
   r << V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>()), V.head<3>().cross(h.tail<3>());
   return r;
@@ -156,7 +156,9 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     // Rigid-body inertia about the origin: [J_w + m [c]×[c]×ᵀ, m [c]×; m [c]×ᵀ, m I].
     const Eigen::Matrix3d Jw = d.R * b.inertia * d.R.transpose();
     const Eigen::Matrix3d cx = hat(d.c);
-    d.IA.topLeftCorner<3, 3>() = Jw - b.mass * cx * cx;
+    // −m [c]×[c]× = m (|c|² I − c cᵀ).
+    d.IA.topLeftCorner<3, 3>() = Jw - b.mass * (d.c * d.c.transpose());
+    d.IA.topLeftCorner<3, 3>().diagonal().array() += b.mass * d.c.squaredNorm();
     d.IA.topRightCorner<3, 3>() = b.mass * cx;
     d.IA.bottomLeftCorner<3, 3>() = -b.mass * cx;
     d.IA.bottomRightCorner<3, 3>() = b.mass * Eigen::Matrix3d::Identity();
@@ -182,13 +184,31 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
   }
 }
 
+void ArticulatedSystem::passToParent(int i, const Matrix6& Ia, const Vector6& pa) const {
+  const ArticulatedBody& b = model_.bodies[i];
+  BodyData& parent = data_[b.parent];
+  if (!b.rotation_only) {
+    parent.IA += Ia;
+    parent.pA += pa;
+    return;
+  }
+  // Pᵀ I_a P and Pᵀ p_a, P = [I 0; [c]× 0].
+  Matrix6 P = Matrix6::Zero();
+  P.topLeftCorner<3, 3>().setIdentity();
+  P.bottomLeftCorner<3, 3>() = hat(data_[i].c);
+  parent.IA += P.transpose() * Ia * P;
+  parent.pA += P.transpose() * pa;
+}
+
 void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
-  // Pass 2, leaves to root: articulated inertias and bias forces.
+  // Pass 2, leaves to root: articulated inertias and bias forces,
+  //   I_a = I_A − U D⁻¹ Uᵀ,  p_a = p_A + I_a c + U D⁻¹ u = p_A + I_A c + U D⁻¹ (u − Uᵀ c),
+  // passed to the parent (through Pᵀ · P for a rotation-only child).
   for (int i = bodyCount() - 1; i >= 0; --i) {
     BodyData& d = data_[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    const int p = b.parent;
     const int nf = d.free;
-    Matrix6 Ia;
-    Vector6 pa;
     if (nf == 1) {
       const Vector6 s = d.S.col(0);
       const Vector6 U = d.IA * s;
@@ -196,8 +216,16 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
       d.U.col(0) = U;
       d.Dinv(0, 0) = Dinv;
       d.tau[0] -= s.dot(d.pA);
-      Ia = d.IA - (Dinv * U) * U.transpose();
-      pa = d.pA + Ia * d.bias + (Dinv * d.tau[0]) * U;
+      if (p == kGround) continue;
+      const Vector6 DU = Dinv * U;
+      const Vector6 pa = d.pA + d.IA * d.bias + (d.tau[0] - U.dot(d.bias)) * DU;
+      if (b.rotation_only) {
+        passToParent(i, d.IA - DU * U.transpose(), pa);
+      } else {
+        data_[p].IA += d.IA;
+        data_[p].IA.noalias() -= DU * U.transpose();
+        data_[p].pA += pa;
+      }
     } else if (nf > 1) {
       d.U.leftCols(nf) = d.IA * d.S.leftCols(nf);
       const Eigen::Matrix3d D = d.S.transpose() * d.U;
@@ -207,26 +235,12 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
         d.Dinv = D.inverse();
       }
       d.tau.head(nf) -= d.S.leftCols(nf).transpose() * d.pA;
+      if (p == kGround) continue;
       const auto Dinv = d.Dinv.topLeftCorner(nf, nf);
-      Ia = d.IA - d.U.leftCols(nf) * Dinv * d.U.leftCols(nf).transpose();
-      pa = d.pA + Ia * d.bias + d.U.leftCols(nf) * (Dinv * d.tau.head(nf));
-    } else {
-      Ia = d.IA;
-      pa = d.pA + d.IA * d.bias;
-    }
-    const ArticulatedBody& b = model_.bodies[i];
-    const int p = b.parent;
-    if (p == kGround) continue;
-    if (b.rotation_only) {
-      // Pᵀ I_a P and Pᵀ p_a, P = [I 0; [c]× 0].
-      Matrix6 P = Matrix6::Zero();
-      P.topLeftCorner<3, 3>().setIdentity();
-      P.bottomLeftCorner<3, 3>() = hat(d.c);
-      data_[p].IA += P.transpose() * Ia * P;
-      data_[p].pA += P.transpose() * pa;
-    } else {
-      data_[p].IA += Ia;
-      data_[p].pA += pa;
+      const Matrix6 Ia = d.IA - d.U.leftCols(nf) * Dinv * d.U.leftCols(nf).transpose();
+      passToParent(i, Ia, d.pA + Ia * d.bias + d.U.leftCols(nf) * (Dinv * d.tau.head(nf)));
+    } else if (p != kGround) {
+      passToParent(i, d.IA, d.pA + d.IA * d.bias);
     }
   }
   // Pass 3, root to leaves: accelerations.

@@ -147,7 +147,9 @@ class ArticulatedSystem {
   /// Passes 2 and 3 with the generalized forces in data_[i].tau; ground
   /// acceleration a0; writes u̇ of the free columns.
   void solve(const Vector6& a0, Eigen::VectorXd* udot) const;
-  double coordinateRate(const State& y, const ArticulatedBody& b, int i) const;
+  /// Adds a child's I_a, p_a to its parent's I_A, p_A (Pᵀ · P for a
+  /// rotation-only child).
+  void passToParent(int i, const Matrix6& Ia, const Vector6& pa) const;
 
   ArticulatedModel model_;
   std::vector<UserTorque> user_torques_;
