@@ -35,12 +35,14 @@ struct StepAllocations {
 /// explicit Euler, fast-top's spin under the exponential LGVI); that first
 /// run is the warm-up (function-local statics, the stepper's first step),
 /// then runs of 1000 and 2000 steps are counted.
-inline StepAllocations countStepAllocations(const Simulation& sim, const std::string& integrator) {
+inline StepAllocations countStepAllocations(const Simulation& sim, const std::string& integrator,
+                                            const std::string& formulation = "") {
   StepAllocations out;
   out.dt = 1e-3;
   auto run = [&](long steps) {
     SimulationOptions o;
     o.integrator = integrator;
+    o.formulation = formulation;
     o.dt = out.dt;
     o.t_end = steps * out.dt;
     o.diagnostics = false;

@@ -38,6 +38,19 @@ TEST_P(StepAllocations, NoneAfterTheFirstStep) {
   }
 }
 
+TEST_P(StepAllocations, NoneInJointCoordinates) {
+  const Simulation sim(loadScene(GetParam()));
+  std::string why;
+  if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
+  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"}) {
+    SCOPED_TRACE(integrator);
+    const bench::StepAllocations a = bench::countStepAllocations(sim, integrator, "joint");
+    ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
+    EXPECT_EQ(a.steps_2000, a.steps_1000)
+        << "h = " << a.dt << ": " << (a.steps_2000 - a.steps_1000) / 1000.0 << " allocations per step";
+  }
+}
+
 /// KLU's klu_factor allocates the numeric object's blocks: at most this many
 /// per pivot choice (measured: 17 on rack-pinion).
 constexpr long kAllocationsPerPivotChoice = 32;

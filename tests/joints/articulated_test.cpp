@@ -1,0 +1,212 @@
+// The joint-coordinate formulation (--formulation joint,
+// joints/articulated/articulated_system.hpp) against an independent
+// reference: the maximal formulation (bodies' poses, joint constraint rows,
+// multipliers from a Schur-complement solve), which shares nothing with the
+// articulated-body algorithm but the scene. Both integrate the same equations
+// of motion, so at h = 1e-3 their trajectories differ by the two methods'
+// truncation errors only; every CSV column is compared (bodies' poses and
+// velocities, joint angles, rates and moments, energy, momentum).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "joints/scene.hpp"
+#include "joints/simulation.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "tests/order_slope.hpp"
+
+namespace lieflow {
+namespace {
+
+struct Trajectory {
+  std::vector<std::string> columns;
+  std::vector<double> first, last;
+  SimulationResult result;
+};
+
+Trajectory simulate(const Simulation& sim, const std::string& formulation, const std::string& integrator, double dt,
+             double t_end) {
+  SimulationOptions o;
+  o.integrator = integrator;
+  o.formulation = formulation;
+  o.dt = dt;
+  o.t_end = t_end;
+  Trajectory r;
+  r.columns = sim.columns();
+  r.result = sim.run(o, [&](const std::vector<double>& row) {
+    if (r.first.empty()) r.first = row;
+    r.last = row;
+  });
+  return r;
+}
+
+bool isQuaternionColumn(const std::string& c) {
+  for (const char* s : {".qw", ".qx", ".qy", ".qz"})
+    if (c.size() > 3 && c.compare(c.size() - 3, 3, s) == 0) return true;
+  return false;
+}
+
+/// Largest difference between two rows' columns, quaternions compared up to
+/// sign (q and −q are one rotation); `where` names the column.
+double rowDifference(const std::vector<std::string>& cols, const std::vector<double>& a,
+                     const std::vector<double>& b, std::string* where) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    double d = std::abs(a[i] - b[i]);
+    if (isQuaternionColumn(cols[i])) {
+      // The sign of the whole quaternion: from its largest component.
+      const std::size_t q0 = i - (cols[i].back() == 'w' ? 0 : cols[i].back() == 'x' ? 1 : cols[i].back() == 'y' ? 2 : 3);
+      double dot = 0.0;
+      for (int k = 0; k < 4; ++k) dot += a[q0 + k] * b[q0 + k];
+      d = std::abs(a[i] - (dot < 0 ? -b[i] : b[i]));
+    }
+    if (d > worst) {
+      worst = d;
+      *where = cols[i];
+    }
+  }
+  return worst;
+}
+
+void expectSameMotion(const Simulation& sim, double t_end, double tolerance) {
+  const Trajectory maximal = simulate(sim, "maximal", "rkmk4", 1e-3, t_end);
+  const Trajectory joint = simulate(sim, "joint", "rkmk4", 1e-3, t_end);
+  ASSERT_FALSE(maximal.result.failed) << maximal.result.failure;
+  ASSERT_FALSE(joint.result.failed) << joint.result.failure;
+  EXPECT_EQ(joint.result.formulation, "joint");
+  EXPECT_EQ(maximal.result.formulation, "maximal");
+  std::string where;
+  // t = 0: the same projected initial state (velocities in the mass metric).
+  EXPECT_LT(rowDifference(maximal.columns, maximal.first, joint.first, &where), 1e-12) << where;
+  EXPECT_LT(rowDifference(maximal.columns, maximal.last, joint.last, &where), tolerance) << where;
+  EXPECT_EQ(joint.result.momentum_conserved, maximal.result.momentum_conserved);
+}
+
+class ArticulatedBuiltin : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ArticulatedBuiltin, FollowsTheMaximalFormulation) {
+  const Simulation sim(loadScene(GetParam()));
+  std::string why;
+  ASSERT_TRUE(sim.hasJointFormulation(&why)) << why;
+  expectSameMotion(sim, 2.0, 1e-7);
+}
+
+// Revolute chains, springs, dashpots, moments from tables, prescribed motion
+// (driven-arm's yaw), free pairs of rotation-only bodies on a hinge and on a
+// universal joint (their momentum conserved).
+INSTANTIATE_TEST_SUITE_P(Scenes, ArticulatedBuiltin,
+                         ::testing::Values("pendulum", "double-pendulum", "chain-6", "spring-hinge", "driven-arm",
+                                           "hinge-pair", "universal-pair"));
+
+/// Spherical joints between bodies, joints given with the child as their main
+/// body (universal and revolute), a universal joint's spring and dashpot, a
+/// sine moment, and initial velocities that do not satisfy the joints (both
+/// formulations project them in the mass metric).
+constexpr const char* kMixedTree = R"({
+  "name": "mixed-tree", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "a", "mass": 1.2, "inertia": [0.02, 0.03, 0.025], "position": [0, 0, -0.3],
+     "angular_velocity": [1.0, 0.5, -0.2]},
+    {"name": "b", "mass": 0.8, "inertia": [0.01, 0.012, 0.006], "position": [0, 0, -0.85],
+     "angular_velocity": [0.3, -0.4, 0.8], "velocity": [0.1, 0, 0]},
+    {"name": "c", "mass": 0.5, "inertia": [0.002, 0.004, 0.005], "position": [0.35, 0, -0.95],
+     "angular_velocity": [0, 0, 2.0]},
+    {"name": "d", "mass": 0.7, "inertia": [0.004, 0.003, 0.002], "position": [0.5, 0, -1.15],
+     "angular_velocity": [1.0, 1.0, 0]}
+  ],
+  "joints": [
+    {"name": "top", "type": "spherical", "main": "ground", "secondary": "a",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.3]},
+    {"name": "cross", "type": "universal", "main": "b", "secondary": "a",
+     "anchor_main": [0, 0, 0.25], "anchor_secondary": [0, 0, -0.3],
+     "axis1_main": [1, 0, 0], "axis2_secondary": [0, 1, 0], "initial_angles": [0.1, -0.2],
+     "spring1": {"stiffness": 2.0, "rest_angle": 0.3}, "damper2": {"damping": 0.05}},
+    {"name": "hinge", "type": "revolute", "main": "c", "secondary": "b",
+     "anchor_main": [-0.15, 0, 0], "anchor_secondary": [0.2, 0, -0.1], "axis_main": [0, 0, 1],
+     "moment": {"type": "sine", "amplitude": 0.3, "frequency": 1.5}},
+    {"name": "ball", "type": "spherical", "main": "c", "secondary": "d",
+     "anchor_main": [0.15, 0, 0], "anchor_secondary": [0, 0, 0.2]}
+  ]
+})";
+
+TEST(Articulated, MixedTreeFollowsTheMaximalFormulation) {
+  const Simulation sim(parseScene(kMixedTree, "mixed-tree.json"));
+  std::string why;
+  ASSERT_TRUE(sim.hasJointFormulation(&why)) << why;
+  expectSameMotion(sim, 1.0, 1e-7);
+}
+
+TEST(Articulated, Rkmk4ConvergesAtOrderFour) {
+  const Simulation sim(parseScene(kMixedTree, "mixed-tree.json"));
+  const Trajectory reference = simulate(sim, "joint", "rkmk4", 1.25e-4, 0.5);
+  std::vector<double> hs, errors;
+  for (double h : {4e-3, 2e-3, 1e-3}) {
+    const Trajectory r = simulate(sim, "joint", "rkmk4", h, 0.5);
+    std::string where;
+    hs.push_back(h);
+    errors.push_back(rowDifference(r.columns, r.last, reference.last, &where));
+  }
+  const double slope = testing_support::logLogSlope(hs, errors);
+  EXPECT_GT(slope, 3.8) << errors[0] << " " << errors[1] << " " << errors[2];
+  EXPECT_LT(slope, 4.3);
+}
+
+TEST(Articulated, ConservesEnergyWithoutForceElements) {
+  // chain-10 under gravity, no springs or dashpots: energy drift O(h⁴).
+  const Simulation sim(loadScene("chain-10"));
+  const Trajectory r = simulate(sim, "joint", "rkmk4", 5e-4, 1.0);
+  ASSERT_FALSE(r.result.failed) << r.result.failure;
+  EXPECT_LT(r.result.energy_drift, 1e-7);
+  EXPECT_EQ(r.result.constraint_error, 0.0);
+}
+
+TEST(Articulated, AdaptiveRunsInJointCoordinates) {
+  const Simulation sim(loadScene("double-pendulum"));
+  const Trajectory coarse = simulate(sim, "joint", "rkmk45", 0.01, 1.0);
+  const Trajectory fine = simulate(sim, "joint", "rkmk4", 1e-4, 1.0);
+  ASSERT_FALSE(coarse.result.failed) << coarse.result.failure;
+  std::string where;
+  EXPECT_LT(rowDifference(coarse.columns, coarse.last, fine.last, &where), 1e-5) << where;
+}
+
+std::string refusal(const Simulation& sim, const std::string& formulation, const std::string& integrator,
+                    std::string* field) {
+  SimulationOptions o;
+  o.integrator = integrator;
+  o.formulation = formulation;
+  o.dt = 1e-3;
+  o.t_end = 0.01;
+  try {
+    sim.run(o);
+  } catch (const InvalidInput& e) {
+    *field = e.field();
+    return e.reason();
+  }
+  return "";
+}
+
+TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {
+  std::string field;
+  // A closed loop (the Cardan shaft's two bearings and its cross).
+  EXPECT_NE(refusal(Simulation(loadScene("cardan-shaft")), "joint", "rkmk4", &field).find("closes a loop"),
+            std::string::npos);
+  EXPECT_EQ(field, "--formulation");
+  // A gear row.
+  EXPECT_NE(refusal(Simulation(loadScene("gear-train")), "joint", "rkmk4", &field).find("is a gear"),
+            std::string::npos);
+  // Integrators written for maximal coordinates.
+  const Simulation pendulum(loadScene("double-pendulum"));
+  for (const char* integrator : {"lgvi", "genalpha", "splitting"}) {
+    EXPECT_NE(refusal(pendulum, "joint", integrator, &field).find("not available in joint coordinates"),
+              std::string::npos)
+        << integrator;
+    EXPECT_EQ(field, "--integrator");
+  }
+  EXPECT_NE(refusal(pendulum, "reduced", "rkmk4", &field).find("not a formulation"), std::string::npos);
+  EXPECT_EQ(field, "--formulation");
+}
+
+}  // namespace
+}  // namespace lieflow
