@@ -9,6 +9,7 @@
 #include "app/commands.hpp"
 #include "integrators/registry.hpp"
 #include "joints/scene.hpp"
+#include "joints/simulation.hpp"
 
 namespace lieflow {
 namespace app {
@@ -31,7 +32,8 @@ int runIntegrators(int argc, char** argv) {
               << (i.is_adaptive ? "yes" : "no") << std::setw(8) << (i.supports_joints ? "yes" : "no")
               << i.description << "\n";
     const std::string indent(11, ' ');
-    std::cout << indent << "with joints: " << i.joints_note << "\n";
+    std::cout << indent << "with joints: " << i.joints_note
+              << (runsInJointCoordinates(i.name) ? "; also in joint coordinates (--formulation joint)" : "") << "\n";
     for (const IntegratorOption& o : i.options) {
       std::ostringstream line;
       line << indent << "option " << o.name << " = " << o.default_value << " (" << o.meaning << "; "
@@ -39,7 +41,10 @@ int runIntegrators(int argc, char** argv) {
       std::cout << line.str() << "\n";
     }
   }
-  std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n";
+  std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
+            << "Scenes with joints run in " << kDefaultFormulation
+            << " coordinates unless --formulation joint is given (trees of revolute, universal and\n"
+               "spherical joints hanging from the ground or from rotation-only bodies).\n";
   return kSuccess;
 }
 

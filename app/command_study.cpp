@@ -17,6 +17,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: lieflow study SCENE [--integrators a,b,...] [--dt h1,h2,...] [--t-end T] [--out DIR]\n"
     "                     [--min-time SECONDS] [--options KEY=VALUE,...] [--no-plots]\n"
+    "                     [--formulation maximal|joint]\n"
     "                     [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
     "\n"
     "Work-precision study of SCENE: each integrator at each step; error at t_end\n"
@@ -26,6 +27,8 @@ constexpr const char* kUsage =
     "(repeated until --min-time seconds, default 0.2, were spent; at least 3 and at\n"
     "most 50 runs: the output says when 50 runs took less than --min-time).\n"
     "--options applies each KEY to the integrators that take it (e.g. rho_inf=0.9).\n"
+    "--formulation joint runs a scene with joints in joint coordinates (lieflow simulate\n"
+    "--help; the reference keeps maximal coordinates, independent of the runs).\n"
     "Writes DIR/study.csv, DIR/drift.csv and the plots DIR/work_precision.png,\n"
     "DIR/energy_drift.png, DIR/momentum_drift.png (default DIR: study-SCENENAME);\n"
     "DIR is created and checked writable before the study starts.\n"

@@ -29,6 +29,7 @@ SimulationOptions probeRun(const Simulation& sim, const std::string& integrator,
                            const StabilityOptions& o) {
   SimulationOptions run;
   run.integrator = integrator;
+  run.formulation = o.formulation;
   run.dt = h;
   run.max_steps = o.max_steps;
   if (o.heartbeat) {
@@ -103,11 +104,11 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
   std::vector<std::string> integrators = o.integrators;
   if (integrators.empty())
     for (const IntegratorInfo& info : integratorRegistry())
-      if (info.name != "exact" && !info.is_adaptive && sim.supports(info.name, nullptr))
+      if (info.name != "exact" && !info.is_adaptive && sim.supports(info.name, nullptr, o.formulation))
         integrators.push_back(info.name);
   for (const std::string& name : integrators) {
     std::string why;
-    if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+    if (!sim.supports(name, &why, o.formulation)) throw InvalidInput("--integrators", why);
   }
   checkOptionKeysUsed(o.integrator_options, integrators);
   std::vector<StabilityRow> rows;

@@ -20,6 +20,8 @@ namespace app {
 
 struct StabilityOptions {
   std::vector<std::string> integrators;  ///< empty: all that can run the scene
+  /// --formulation of the runs (empty: the default; SimulationOptions::formulation).
+  std::string formulation;
   /// Grid of h·ω_c scanned upward (log-spaced), then refined by bisection.
   double h_omega_min = 0.01;
   double h_omega_max = 100.0;

@@ -123,9 +123,9 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   std::vector<std::string> integrators = options.integrators;
   if (integrators.empty())
     for (const IntegratorInfo& info : integratorRegistry())
-      if (info.name != "exact" && sim.supports(info.name, nullptr)) integrators.push_back(info.name);
+      if (info.name != "exact" && sim.supports(info.name, nullptr, options.formulation)) integrators.push_back(info.name);
   for (const std::string& name : integrators)
-    if (!sim.supports(name, &why)) throw InvalidInput("--integrators", why);
+    if (!sim.supports(name, &why, options.formulation)) throw InvalidInput("--integrators", why);
   checkOptionKeysUsed(options.integrator_options, integrators);
   result.invariant_names = sim.invariantNames();
 
@@ -148,6 +148,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
         *options.progress << "study: [" << done << "/" << total << "] " << name << " dt=" << dt << "\n";
       SimulationOptions o;
       o.integrator = name;
+      o.formulation = options.formulation;
       o.dt = dt;
       o.t_end = t_end;
       o.max_steps = options.max_steps;

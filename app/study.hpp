@@ -20,6 +20,9 @@ namespace app {
 struct StudyOptions {
   /// Empty: every integrator that can run the scene (the reference excluded).
   std::vector<std::string> integrators;
+  /// --formulation of the runs (empty: the default; SimulationOptions::formulation);
+  /// the reference solution keeps the default formulation (independent of it).
+  std::string formulation;
   /// Empty: the scene's dt × {4, 2, 1, 1/2, 1/4}.
   std::vector<double> dts;
   std::string out_dir = "study";

@@ -19,7 +19,7 @@ std::set<std::string> withRunLimits(std::set<std::string> flags) {
 
 const std::set<std::string>& studyValueFlags() {
   static const std::set<std::string> flags =
-      withRunLimits({"--integrators", "--dt", "--t-end", "--out", "--min-time", "--options"});
+      withRunLimits({"--integrators", "--dt", "--t-end", "--out", "--min-time", "--options", "--formulation"});
   return flags;
 }
 
@@ -37,6 +37,7 @@ StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescript
   options.max_steps = limits.max_steps;
   options.integrator_options = parseOptionList(args.list("--options"));
   options.integrators = args.list("--integrators");
+  options.formulation = args.value("--formulation", "");
   options.dts = args.positiveNumbers("--dt");
   options.out_dir = args.value("--out", "study-" + s.name);
   options.min_timing_seconds = args.positiveNumber("--min-time", options.min_timing_seconds);
@@ -47,7 +48,7 @@ StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescript
 }
 
 const std::set<std::string>& stabilityValueFlags() {
-  static const std::set<std::string> flags = withRunLimits({"--integrators", "--out", "--options"});
+  static const std::set<std::string> flags = withRunLimits({"--integrators", "--out", "--options", "--formulation"});
   return flags;
 }
 
@@ -57,6 +58,7 @@ StabilityRequest stabilityRequestFrom(const Arguments& args, std::vector<SceneDe
   const ResourceLimits limits = resourceLimitsFrom(args);
   StabilityRequest request;
   request.options.integrators = args.list("--integrators");
+  request.options.formulation = args.value("--formulation", "");
   request.options.integrator_options = parseOptionList(args.list("--options"));
   request.options.max_steps = limits.max_steps;
   request.out_dir = args.value("--out", "stability");
