@@ -134,7 +134,7 @@ def _callables(name, loads):
 
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
-             moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None):
+             moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a built-in name (``lieflow.scenes()``) or a dict
@@ -142,6 +142,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
                 (None: the scene's own);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
+    formulation: "maximal" or "joint" (--formulation; None: the default);
     noise:      dict with any of gyro, angle, quat (standard deviations, as
                 --noise-gyro/--noise-angle/--noise-quat) and seed;
     torques:    {body name: f(t, state)}: a torque on the body [N m], body
@@ -167,8 +168,10 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     spec = {"integrator": ("--integrator", _text), "dt": ("--dt", _number), "t_end": ("--t-end", _number),
             "every": ("--every", _integer), "options": ("--options", _options),
             "gyro": ("--noise-gyro", _number), "angle": ("--noise-angle", _number),
-            "quat": ("--noise-quat", _number), "seed": ("--seed", _integer), **_LIMITS}
+            "quat": ("--noise-quat", _number), "seed": ("--seed", _integer),
+            "formulation": ("--formulation", _text), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
+                                            formulation=formulation,
                                             max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
@@ -226,7 +229,7 @@ class _OutputDirectory:
 
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
-          max_steps=None, max_input_mb=None, max_bodies=None):
+          max_steps=None, max_input_mb=None, max_bodies=None, formulation=None):
     """Work-precision study, as ``lieflow study SCENE``.
 
     Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
@@ -238,11 +241,13 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
     """
     positional, scene_json = _scene(scene)
     spec = {"integrators": ("--integrators", _names), "dt": ("--dt", _numbers), "t_end": ("--t-end", _number),
-            "min_time": ("--min-time", _number), "options": ("--options", _options), **_LIMITS}
+            "min_time": ("--min-time", _number), "options": ("--options", _options),
+            "formulation": ("--formulation", _text), **_LIMITS}
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, dt=dt, t_end=t_end, min_time=min_time,
                                                 options=options, max_steps=max_steps, max_input_mb=max_input_mb,
-                                                max_bodies=max_bodies)) + ["--out", directory.path]
+                                                max_bodies=max_bodies, formulation=formulation))
+        tokens += ["--out", directory.path]
         if not plots:
             tokens.append("--no-plots")
         raw = _lieflow.study(tokens, scene_json)
@@ -256,7 +261,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
 
 
 def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
-              max_input_mb=None, max_bodies=None):
+              max_input_mb=None, max_bodies=None, formulation=None):
     """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
     and scene the largest bounded h*omega_c. scenes: a list of files, built-in
     names or dicts (default stiff-spring and fast-top). Returns a dict:
@@ -273,10 +278,12 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
             jsons.append(j)
     if positional and jsons:
         raise InputError("scenes: give either names and files or dicts, not both")
-    spec = {"integrators": ("--integrators", _names), "options": ("--options", _options), **_LIMITS}
+    spec = {"integrators": ("--integrators", _names), "options": ("--options", _options),
+            "formulation": ("--formulation", _text), **_LIMITS}
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
-                                                max_input_mb=max_input_mb, max_bodies=max_bodies))
+                                                max_input_mb=max_input_mb, max_bodies=max_bodies,
+                                                formulation=formulation))
         tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
         raw = _lieflow.stability(tokens, jsons)
         result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),

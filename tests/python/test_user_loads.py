@@ -73,6 +73,20 @@ def test_a_joint_moment_written_as_a_spring_and_dashpot():
     np.testing.assert_allclose(user.columns["hinge.moment"], own.columns["hinge.moment"], atol=1e-10)
 
 
+def test_loads_in_joint_coordinates_follow_the_maximal_formulation():
+    # A moment from Python on the driven arm's elbow and a torque on its fore
+    # arm, in both formulations: the same motion (two different algorithms).
+    spec = scene("driven-arm")
+    loads = dict(moments={"elbow": lambda t, s: 0.2 * math.sin(3 * t) - 0.05 * s["phidot"]},
+                 torques={"fore": lambda t, s: [0.0, 0.0, 0.1 * math.cos(2 * t)]})
+    runs = {f: lieflow.simulate(spec, integrator="rkmk4", dt=1e-3, t_end=1.0, formulation=f, **loads)
+            for f in ("maximal", "joint")}
+    assert runs["joint"].stats["formulation"] == "joint"
+    for column in ("elbow.phi", "shoulder.phi", "fore.x", "fore.wz", "elbow.moment"):
+        np.testing.assert_allclose(runs["joint"].columns[column], runs["maximal"].columns[column], atol=1e-8,
+                                   err_msg=column)
+
+
 def test_refusals():
     with pytest.raises(lieflow.InputError, match="'lgvi' treats forces implicitly"):
         lieflow.simulate("pendulum", integrator="lgvi", moments={"hinge": lambda t, s: 0.0})
