@@ -154,6 +154,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     b.scene_body = c;
     b.scene_joint = k;
     b.rotation_only = bd.rotation_only;
+    b.initial_orientation = bd.orientation.normalized();
     b.fixed_position = bd.position;
     if (k < 0) {
       // A root rotation-only body: spherical about its centre of mass.

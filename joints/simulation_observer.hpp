@@ -82,7 +82,16 @@ struct RowBuilder {
     const std::vector<int>& tree = sys.model().tree_index;
     for (std::size_t b = 0; b < tree.size(); ++b) {
       const int i = tree[b];
-      const Eigen::Quaterniond q(sys.rotation(i));
+      // The quaternion of R with the sign nearest the last row's (the scene's
+      // at t = 0), so that a column does not jump between q and −q.
+      Eigen::Quaterniond q(sys.rotation(i));
+      if (last_quaternions.size() != tree.size()) {
+        last_quaternions.clear();
+        for (std::size_t k = 0; k < tree.size(); ++k)
+          last_quaternions.push_back(sys.model().bodies[tree[k]].initial_orientation);
+      }
+      if (q.coeffs().dot(last_quaternions[b].coeffs()) < 0.0) q.coeffs() = -q.coeffs();
+      last_quaternions[b] = q;
       const Eigen::Vector3d w = sys.angularVelocityBody(i), p = sys.centreOfMass(i), v = sys.velocityOfCentre(i);
       row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), w.x(), w.y(), w.z()});
       if (!sys.model().bodies[i].rotation_only)
@@ -98,6 +107,7 @@ struct RowBuilder {
   }
 
   mutable std::vector<articulated::ArticulatedJointOutput> joint_outputs;
+  mutable std::vector<Eigen::Quaterniond> last_quaternions;
 };
 
 /// The spatial angular momentum about the world origin of a state.

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "joints/multibody/multibody_system.hpp"
 
@@ -48,6 +49,8 @@ struct ArticulatedBody {
   /// on an implicit spherical joint at its centre of mass (scene_joint −1).
   bool rotation_only = false;
   Eigen::Vector3d fixed_position = Eigen::Vector3d::Zero();
+  /// The scene's orientation at t = 0 (outputs take its quaternion sign).
+  Eigen::Quaterniond initial_orientation = Eigen::Quaterniond::Identity();
 
   JointKind kind = JointKind::kRevolute;
   /// Whether the parent is the joint's main body (else its secondary: the

@@ -42,26 +42,14 @@ Trajectory simulate(const Simulation& sim, const std::string& formulation, const
   return r;
 }
 
-bool isQuaternionColumn(const std::string& c) {
-  for (const char* s : {".qw", ".qx", ".qy", ".qz"})
-    if (c.size() > 3 && c.compare(c.size() - 3, 3, s) == 0) return true;
-  return false;
-}
-
-/// Largest difference between two rows' columns, quaternions compared up to
-/// sign (q and −q are one rotation); `where` names the column.
+/// Largest difference between two rows' columns; `where` names the column.
+/// Quaternions are compared as they are: both formulations write the sign
+/// that continues the scene's initial quaternion.
 double rowDifference(const std::vector<std::string>& cols, const std::vector<double>& a,
                      const std::vector<double>& b, std::string* where) {
   double worst = 0.0;
   for (std::size_t i = 0; i < cols.size(); ++i) {
-    double d = std::abs(a[i] - b[i]);
-    if (isQuaternionColumn(cols[i])) {
-      // The sign of the whole quaternion: from its largest component.
-      const std::size_t q0 = i - (cols[i].back() == 'w' ? 0 : cols[i].back() == 'x' ? 1 : cols[i].back() == 'y' ? 2 : 3);
-      double dot = 0.0;
-      for (int k = 0; k < 4; ++k) dot += a[q0 + k] * b[q0 + k];
-      d = std::abs(a[i] - (dot < 0 ? -b[i] : b[i]));
-    }
+    const double d = std::abs(a[i] - b[i]);
     if (d > worst) {
       worst = d;
       *where = cols[i];
