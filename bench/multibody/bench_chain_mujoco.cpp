@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "bench/multibody/chain_scene.hpp"
+#include "bench/multibody/mujoco_support.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
@@ -150,39 +151,8 @@ std::vector<std::pair<std::string, std::string>> chainXml(const LieflowChain& c,
   return files;
 }
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
-using DataPtr = std::unique_ptr<mjData, DataDeleter>;
-
-/// mj_loadXML of files[0] with every file in memory (mjVFS, on the heap: it
-/// is large).
-ModelPtr loadXml(const std::vector<std::pair<std::string, std::string>>& files, std::string* error) {
-  if (files.size() > mjMAXVFS) {
-    *error = "too many MJCF files for an mjVFS";
-    return nullptr;
-  }
-  std::unique_ptr<mjVFS> vfs(new mjVFS);
-  mj_defaultVFS(vfs.get());
-  for (const auto& f : files) {
-    if (mj_makeEmptyFileVFS(vfs.get(), f.first.c_str(), static_cast<int>(f.second.size())) != 0) {
-      mj_deleteVFS(vfs.get());
-      *error = "mj_makeEmptyFileVFS failed";
-      return nullptr;
-    }
-    const int index = mj_findFileVFS(vfs.get(), f.first.c_str());
-    std::memcpy(vfs->filedata[index], f.second.data(), f.second.size());
-  }
-  char err[1000] = "";
-  ModelPtr m(mj_loadXML(files[0].first.c_str(), vfs.get(), err, sizeof err));
-  mj_deleteVFS(vfs.get());
-  if (!m) *error = err;
-  return m;
-}
+using ModelPtr = bench::MjModelPtr;
+using DataPtr = bench::MjDataPtr;
 
 /// Sets d to lieflow's initial state: joint angles, at rest, t = 0.
 void resetChain(const mjModel* m, mjData* d, const LieflowChain& c) {
@@ -242,7 +212,7 @@ const mjModel* chainModel(int n, MjIntegrator integrator, std::string* error) {
   const auto key = std::make_pair(n, static_cast<int>(integrator));
   auto it = cache.find(key);
   if (it != cache.end()) return it->second.get();
-  ModelPtr m = loadXml(chainXml(LieflowChain(n), integrator, bench::kChainStep), error);
+  ModelPtr m = bench::loadMjcf(chainXml(LieflowChain(n), integrator, bench::kChainStep), error);
   if (!m) return nullptr;
   if (m->nq != n || m->nv != n || m->nbody != n + 1) {
     *error = "unexpected model sizes (nq, nv, nbody)";

@@ -1,0 +1,145 @@
+"""Figure and tables of papers/mechanism-work-precision/ from the study's CSV.
+
+    /usr/bin/python3 analyze.py OUT_DIR PAPER_DIR
+
+OUT_DIR/runs.csv (study_mechanism_work_precision): one row per run (scene,
+engine, formulation, integrator, dt or rtol, steps, seconds, error [m]).
+Writes PAPER_DIR/work_precision.png (error against run time, one panel per
+scene), PAPER_DIR/results.md and the table between the GENERATED markers of
+PAPER_DIR/README.md.
+
+Error at equal run time. Each series (one integrator, its steps or
+tolerances) is a curve log error(log seconds), linear between measured
+points and never extrapolated; "best" is the lowest error any series of an
+engine reaches in a given time. For each MuJoCo error level E = 1e-3, 1e-4,
+..., 1e-9 that MuJoCo's best reaches: the time t it takes, and lieflow's best
+error in that same time; the ratio E / that error is how many times lower
+lieflow's error is at equal run time (n/a where lieflow has no run that
+short or that long).
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from paper_common import splice_readme  # noqa: E402
+
+LEVELS = [10.0 ** -k for k in range(3, 10)]
+
+
+def label(r):
+    if r["engine"] == "mujoco":
+        return "MuJoCo " + r["integrator"]
+    return f"lieflow {r['integrator']} ({r['formulation']})"
+
+
+def series_of(rows):
+    series = {}
+    for r in rows:
+        if r["failed"] == "true" or not r["error"]:
+            continue
+        e, t = float(r["error"]), float(r["seconds"])
+        if e <= 0 or t <= 0:
+            continue
+        series.setdefault(label(r), []).append((t, e))
+    return {k: sorted(v) for k, v in series.items()}
+
+
+def error_at(points, t):
+    """log-log interpolation of a series' error at time t (None outside it)."""
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if t0 <= t <= t1 and t1 > t0:
+            w = (math.log(t) - math.log(t0)) / (math.log(t1) - math.log(t0))
+            return math.exp((1 - w) * math.log(e0) + w * math.log(e1))
+    return None
+
+
+def time_for(points, level):
+    """Time a series needs to reach error `level` (first crossing, log-log)."""
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if e0 >= level >= e1 and e0 > e1:
+            w = (math.log(e0) - math.log(level)) / (math.log(e0) - math.log(e1))
+            return math.exp((1 - w) * math.log(t0) + w * math.log(t1))
+    return None
+
+
+def best_error(all_series, t, prefix):
+    values = [error_at(p, t) for k, p in all_series.items() if k.startswith(prefix)]
+    values = [v for v in values if v is not None]
+    return (min(values), None) if values else (None, None)
+
+
+def best_lieflow(all_series, t):
+    best, who = None, None
+    for k, p in all_series.items():
+        if not k.startswith("lieflow"):
+            continue
+        v = error_at(p, t)
+        if v is not None and (best is None or v < best):
+            best, who = v, k
+    return best, who
+
+
+def fastest_mujoco(all_series, level):
+    best, who = None, None
+    for k, p in all_series.items():
+        if not k.startswith("MuJoCo"):
+            continue
+        t = time_for(p, level)
+        if t is not None and (best is None or t < best):
+            best, who = t, k
+    return best, who
+
+
+def main(out_dir, paper_dir):
+    with open(os.path.join(out_dir, "runs.csv")) as f:
+        rows = list(csv.DictReader(f))
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    fig, axes = plt.subplots(1, len(scenes), figsize=(7.5 * len(scenes), 5.6), dpi=100, squeeze=False)
+    table = ["| scene | MuJoCo error | MuJoCo's fastest (time) | lieflow's best at that time | lieflow error | ratio |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    summary = []
+    for ax, scene in zip(axes[0], scenes):
+        s = series_of([r for r in rows if r["scene"] == scene])
+        for k, p in sorted(s.items()):
+            mujoco = k.startswith("MuJoCo")
+            ax.loglog([t for t, _ in p], [e for _, e in p], ("s--" if mujoco else "o-"), ms=4,
+                      lw=1.2, label=k, alpha=0.9)
+        ax.set_xlabel("run time [s]")
+        ax.set_ylabel("max |Δ centre of mass| at T [m]")
+        ax.set_title(scene)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        ratios = []
+        for level in LEVELS:
+            t, who = fastest_mujoco(s, level)
+            if t is None:
+                table.append(f"| {scene} | {level:.0e} | not reached | | | |")
+                continue
+            e, lf = best_lieflow(s, t)
+            if e is None:
+                table.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
+                continue
+            ratios.append(level / e)
+            table.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | {lf} | {e:.3g} | {level / e:.3g} |")
+        if ratios:
+            summary.append(f"{scene}: lieflow's best error at MuJoCo's run time is {min(ratios):.3g}x to "
+                           f"{max(ratios):.3g}x lower over the MuJoCo error levels it could be evaluated at "
+                           f"({len(ratios)} of {len(LEVELS)})")
+    fig.tight_layout()
+    fig.savefig(os.path.join(paper_dir, "work_precision.png"))
+    text = "\n".join(table) + "\n\n" + "\n".join(f"- {line}" for line in summary) + "\n"
+    with open(os.path.join(paper_dir, "results.md"), "w") as f:
+        f.write("# Results (generated by analyze.py)\n\n" + text)
+    splice_readme(os.path.join(paper_dir, "README.md"), text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])
