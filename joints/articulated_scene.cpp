@@ -148,7 +148,6 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     const int k = joint_of[c];
     const BodyDescription& bd = scene.bodies[c];
     ArticulatedBody b;
-    b.name = bd.name;
     b.mass = bd.mass;
     b.inertia = bd.inertia;
     b.scene_body = c;
@@ -164,9 +163,12 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       b.u_begin = nq + 3 * b.rotation;
       y0.N.push_back(SO3d(Eigen::Quaterniond(orientation(c)).normalized()));
       model.bodies.push_back(b);
+      model.names.push_back(bd.name);
+      model.drives.emplace_back();
       continue;
     }
     const JointDescription& j = scene.joints[k];
+    std::array<multibody::CoordinateDrive, 2> drives;
     b.parent = parent_of[c] < 0 ? articulated::kGround : model.tree_index[parent_of[c]];
     const std::string& parent_name = parent_of[c] < 0 ? std::string("ground") : scene.bodies[parent_of[c]].name;
     b.parent_is_main = j.main == parent_name;
@@ -195,7 +197,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       if (b.kind == JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
       for (int i = 0; i < b.coordinates(); ++i) {
         const CoordinateDescription& cd = j.coordinates[i];
-        multibody::CoordinateDrive& d = b.drives[i];
+        multibody::CoordinateDrive& d = drives[i];
         d.stiffness = cd.stiffness;
         d.rest_angle = cd.rest_angle;
         d.damping = cd.damping;
@@ -206,10 +208,14 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
           d.user_moment = [f, i](double time, double phi, double phidot) { return f(time, i, phi, phidot); };
         }
         y0.q[b.q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : j.initial_angles[i];
+        b.has_force[i] = d.hasForce();
+        b.is_prescribed[i] = d.prescribed.has_value();
       }
     }
     model.joint_child[k] = t;
     model.bodies.push_back(b);
+    model.names.push_back(bd.name);
+    model.drives.push_back(std::move(drives));
   }
   model.scalar_coordinates = nq;
   model.rotations = ns;

@@ -89,11 +89,14 @@ inline std::string mjcfFromTree(const articulated::ArticulatedModel& model, cons
   std::vector<int> depth(n, 1);
   for (int i = 0; i < n; ++i) {
     const articulated::ArticulatedBody& b = model.bodies[i];
-    if (b.rotation_only) throw std::invalid_argument("body '" + b.name + "' is rotation-only");
-    if (b.kind == JointKind::kUniversal) throw std::invalid_argument("body '" + b.name + "' is on a universal joint");
-    for (int k = 0; k < b.coordinates(); ++k)
-      if (b.drives[k].moment || b.drives[k].prescribed || b.drives[k].user_moment)
-        throw std::invalid_argument("joint of body '" + b.name + "' has an applied or prescribed moment");
+    const std::string& name = model.names[i];
+    if (b.rotation_only) throw std::invalid_argument("body '" + name + "' is rotation-only");
+    if (b.kind == JointKind::kUniversal) throw std::invalid_argument("body '" + name + "' is on a universal joint");
+    for (int k = 0; k < b.coordinates(); ++k) {
+      const multibody::CoordinateDrive& d = model.drives[i][k];
+      if (d.moment || d.prescribed || d.user_moment)
+        throw std::invalid_argument("joint of body '" + name + "' has an applied or prescribed moment");
+    }
     if (b.parent != articulated::kGround) depth[i] = depth[b.parent] + 1;
     if (depth[i] > kMaxDepth) throw std::invalid_argument("the tree is deeper than " + std::to_string(kMaxDepth));
     children[b.parent == articulated::kGround ? n : b.parent].push_back(i);
@@ -123,10 +126,10 @@ inline std::string mjcfFromTree(const articulated::ArticulatedModel& model, cons
     const Eigen::Vector3d pos = b.anchor_parent - R_rel * b.anchor_child;
     const Eigen::Quaterniond q(R_rel);
     std::snprintf(buf, sizeof buf, "<body name=\"%s\" pos=\"%.17g %.17g %.17g\" quat=\"%.17g %.17g %.17g %.17g\">\n",
-                  b.name.c_str(), pos.x(), pos.y(), pos.z(), q.w(), q.x(), q.y(), q.z());
+                  model.names[i].c_str(), pos.x(), pos.y(), pos.z(), q.w(), q.x(), q.y(), q.z());
     xml += buf;
     if (b.kind == JointKind::kRevolute) {
-      const multibody::CoordinateDrive& d = b.drives[0];
+      const multibody::CoordinateDrive& d = model.drives[i][0];
       std::snprintf(buf, sizeof buf,
                     "<joint type=\"hinge\" pos=\"%.17g %.17g %.17g\" axis=\"%.17g %.17g %.17g\" stiffness=\"%.17g\" "
                     "springref=\"%.17g\" damping=\"%.17g\"/>\n",

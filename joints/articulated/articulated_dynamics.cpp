@@ -94,7 +94,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       const int nc = b.coordinates();
       for (int k = 0; k < nc; ++k) {
         if (b.prescribed(k)) {
-          const multibody::TimeFunction& f = *b.drives[k].prescribed;
+          const multibody::TimeFunction& f = *model_.drives[i][k].prescribed;
           d.phi[k] = f(t);
           d.phidot[k] = f.derivative(t);
           d.phiddot[k] = f.secondDerivative(t);
@@ -126,8 +126,8 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
         } else {
           d.S.col(d.free) = sigma * s[k];
           d.free_u[d.free] = b.u_begin + k;
-          d.tau[d.free] = dynamics && velocity_terms && b.drives[k].hasForce()
-                              ? b.drives[k].momentAt(t, d.phi[k], d.phidot[k])
+          d.tau[d.free] = dynamics && velocity_terms && b.has_force[k]
+                              ? model_.drives[i][k].momentAt(t, d.phi[k], d.phidot[k])
                               : 0.0;
           ++d.free;
         }

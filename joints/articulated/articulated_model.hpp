@@ -35,9 +35,10 @@ enum class JointKind { kRevolute, kUniversal, kSpherical };
 /// The parent of a body attached to the ground.
 constexpr int kGround = -1;
 
-/// One body of the tree with the joint to its parent.
+/// One body of the tree with the joint to its parent: what every evaluation
+/// reads (names and force elements live beside, in ArticulatedModel, so that
+/// a chain of a thousand bodies stays in the cache).
 struct ArticulatedBody {
-  std::string name;
   double mass = 0.0;
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  ///< about the centre of mass, body axes
   int parent = kGround;                                   ///< tree index, < own index
@@ -65,8 +66,10 @@ struct ArticulatedBody {
   Eigen::Vector3d axis2 = Eigen::Vector3d::UnitZ();
   /// Relative rotation main → secondary at zero angles.
   Eigen::Matrix3d R_ref = Eigen::Matrix3d::Identity();
-  /// Force elements and prescribed motion of the joint's coordinates.
-  std::array<multibody::CoordinateDrive, 2> drives;
+  /// Whether each coordinate has force elements (ArticulatedModel::drives)
+  /// and whether its motion is prescribed.
+  std::array<bool, 2> has_force{{false, false}};
+  std::array<bool, 2> is_prescribed{{false, false}};
 
   /// Offsets into the state: scalar angles (revolute, universal), the
   /// spherical joints' rotations, and the velocity vector u.
@@ -78,12 +81,16 @@ struct ArticulatedBody {
     return kind == JointKind::kRevolute ? 1 : kind == JointKind::kUniversal ? 2 : 0;
   }
   int dofs() const { return kind == JointKind::kSpherical ? 3 : coordinates(); }
-  bool prescribed(int i) const { return drives[i].prescribed.has_value(); }
+  bool prescribed(int i) const { return is_prescribed[i]; }
 };
 
 /// The model: bodies in tree order (every parent before its children).
 struct ArticulatedModel {
   std::vector<ArticulatedBody> bodies;
+  /// By tree index: the body's name, and the force elements and prescribed
+  /// motion of its joint's coordinates.
+  std::vector<std::string> names;
+  std::vector<std::array<multibody::CoordinateDrive, 2>> drives;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   int scalar_coordinates = 0;  ///< nq: angles of revolute and universal joints
   int rotations = 0;           ///< ns: spherical joints

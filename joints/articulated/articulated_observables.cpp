@@ -18,7 +18,7 @@ double ArticulatedSystem::energy(double t, const State& y) const {
     // A rotation-only body has no translational energy (as in the maximal formulation).
     if (!b.rotation_only) E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(data_[i].c);
     for (int k = 0; k < b.coordinates(); ++k) {
-      const multibody::CoordinateDrive& drive = b.drives[k];
+      const multibody::CoordinateDrive& drive = model_.drives[i][k];
       if (drive.stiffness == 0.0) continue;
       const double e = data_[i].phi[k] - drive.rest_angle;
       E += 0.5 * drive.stiffness * e * e;
