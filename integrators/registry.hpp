@@ -81,7 +81,8 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
         {"atol", 1e-10, 0.0, 1.0, false, false, "absolute tolerance of the local error"}},
        "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group; dt = output interval, "
        "outputs by dense output on the group",
-       false, "single bodies only: the step control has no constraint projection"},
+       false, "in maximal coordinates no (the step control has no constraint projection); trees run in joint "
+              "coordinates (--formulation joint)"},
       {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)", true,
        "projected onto the constraints after every step"},
       {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)", true,
@@ -94,7 +95,8 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
        true, "RATTLE with the constraint impulses"},
       {"splitting", 2, false, true, true, false, {},
        "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques",
-       false, "single bodies only: the free-rotor split flows are not constrained"},
+       false, "no: its sub-flows are each body's free rotation, which leaves the joints; the splitting that keeps "
+              "them (kick, constrained drift, kick: RATTLE) is lgvi"},
       {"genalpha", 2, true, false, false, false,
        {{"rho_inf", 1.0, 0.0, 1.0, false, false, "spectral radius at infinity (1: no numerical damping)"},
         {"tolerance", 1e-12, 1e-16, 1.0, false, false, "Newton residual tolerance"}, max_iterations,
