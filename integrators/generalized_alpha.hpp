@@ -105,207 +105,13 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include "integrators/rigid_body_state.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "integrators/second_order_traits.hpp"
+#include "integrators/state_workspace.hpp"
 #include "integrators/step_report.hpp"
-#include "integrators/vector_state.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/scalar.hpp"
-#include "liegroup/so3.hpp"
 
 namespace lieflow {
-
-/// The geometry of a state for second-order steppers (see the file comment).
-template <class State>
-struct SecondOrderStateTraits;
-
-/// The equations of motion M v̇ + g = 0 of a system (see the file comment).
-template <class System>
-struct SecondOrderSystemTraits;
-
-namespace detail {
-
-/// True for scalars with a value part `.a` and a derivative part `.v`
-/// (ceres::Jet), detected without including Ceres.
-template <typename T, typename = void>
-struct HasDerivativePart : std::false_type {};
-template <typename T>
-struct HasDerivativePart<T, std::void_t<decltype(std::declval<const T&>().a),
-                                        decltype(std::declval<const T&>().v)>>
-    : std::true_type {};
-
-/// Exact equality of two scalars, derivative parts included.
-template <typename T>
-bool identicalScalar(const T& a, const T& b) {
-  if constexpr (HasDerivativePart<T>::value) {
-    return a.a == b.a && (a.v.array() == b.v.array()).all();
-  } else {
-    return a == b;
-  }
-}
-
-/// Exact equality of two coefficient arrays of the same size.
-template <typename A, typename B>
-bool identicalCoefficients(const Eigen::DenseBase<A>& a, const Eigen::DenseBase<B>& b) {
-  if (a.size() != b.size()) return false;
-  for (Eigen::Index i = 0; i < a.size(); ++i)
-    if (!identicalScalar(a.derived().coeff(i), b.derived().coeff(i))) return false;
-  return true;
-}
-
-/// max |xᵢ| of the value parts; NaN if any entry is NaN (so that a stopping
-/// test `residual <= bound` fails on it).
-template <typename Derived>
-double maxAbsValue(const Eigen::MatrixBase<Derived>& x) {
-  double m = 0.0;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const double v = std::abs(scalarValue(x.derived().coeff(i)));
-    if (std::isnan(v)) return std::numeric_limits<double>::quiet_NaN();
-    m = std::max(m, v);
-  }
-  return m;
-}
-
-}  // namespace detail
-
-// ---- state geometry ----------------------------------------------------------
-
-/// RotorState: q = R ∈ SO(3), v = ω (body frame).
-template <typename T>
-struct SecondOrderStateTraits<RotorState<T>> {
-  using Scalar = T;
-  using State = RotorState<T>;
-  static constexpr int kDof = 3;
-  using Vector = Vector3<T>;
-  using Matrix = Matrix3<T>;
-
-  static Vector velocity(const State& y) { return y.omega; }
-  static State advance(const State& y, const Vector& dq, const Vector& v) {
-    return {y.R * SO3<T>::exp(dq), v};
-  }
-  static Matrix tangentOperator(const Vector& dq) { return SO3<T>::Jr(dq); }
-  static bool identical(const State& a, const State& b) {
-    return detail::identicalCoefficients(a.R.quaternion().coeffs(), b.R.quaternion().coeffs()) &&
-           detail::identicalCoefficients(a.omega, b.omega);
-  }
-};
-
-/// FreeBodyState: q = (p, R) ∈ ℝ³ × SO(3), v = (v_world, ω_body); δq = (δp, δθ).
-template <typename T>
-struct SecondOrderStateTraits<FreeBodyState<T>> {
-  using Scalar = T;
-  using State = FreeBodyState<T>;
-  static constexpr int kDof = 6;
-  using Vector = Vector6<T>;
-  using Matrix = Matrix6<T>;
-
-  static Vector velocity(const State& y) {
-    Vector v;
-    v << y.v, y.omega;
-    return v;
-  }
-  static State advance(const State& y, const Vector& dq, const Vector& v) {
-    return {y.R * SO3<T>::exp(dq.template tail<3>()), y.p + dq.template head<3>(),
-            v.template tail<3>(), v.template head<3>()};
-  }
-  static Matrix tangentOperator(const Vector& dq) {
-    Matrix Tm = Matrix::Identity();
-    Tm.template bottomRightCorner<3, 3>() = SO3<T>::Jr(dq.template tail<3>());
-    return Tm;
-  }
-  static bool identical(const State& a, const State& b) {
-    return detail::identicalCoefficients(a.R.quaternion().coeffs(), b.R.quaternion().coeffs()) &&
-           detail::identicalCoefficients(a.p, b.p) &&
-           detail::identicalCoefficients(a.omega, b.omega) &&
-           detail::identicalCoefficients(a.v, b.v);
-  }
-};
-
-/// VectorState: q = x ∈ ℝᴺ (exp = identity, T = I), v = ẋ.
-template <typename T, int N>
-struct SecondOrderStateTraits<VectorState<T, N>> {
-  using Scalar = T;
-  using State = VectorState<T, N>;
-  static constexpr int kDof = N;
-  using Vector = Eigen::Matrix<T, N, 1>;
-  using Matrix = Eigen::Matrix<T, N, N>;
-
-  static Vector velocity(const State& y) { return y.v; }
-  static State advance(const State& y, const Vector& dq, const Vector& v) {
-    return {y.x + dq, v};
-  }
-  static Matrix tangentOperator(const Vector& /*dq*/) { return Matrix::Identity(); }
-  static bool identical(const State& a, const State& b) {
-    return detail::identicalCoefficients(a.x, b.x) && detail::identicalCoefficients(a.v, b.v);
-  }
-};
-
-// ---- equations of motion -------------------------------------------------------
-
-/// J ω̇ + ω × Jω − τ(t, R) = 0.
-template <typename T>
-struct SecondOrderSystemTraits<RotorSystem<T>> {
-  using Scalar = T;
-  using State = RotorState<T>;
-  using Vector = Vector3<T>;
-  using Matrix = Matrix3<T>;
-
-  static void evaluate(const RotorSystem<T>& s, const T& t, const State& y, Matrix* M, Vector* g,
-                       Matrix* Ct, Matrix* Kt) {
-    const Matrix3<T>& J = s.inertia();
-    const Vector3<T> Jw = J * y.omega;
-    *M = J;
-    *g = y.omega.cross(Jw) - s.externalTorque(t, y.R);
-    // ∂(ω × Jω)/∂ω = ω^ J − (Jω)^.
-    if (Ct) *Ct = SO3<T>::hat(y.omega) * J - SO3<T>::hat(Jw);
-    if (Kt) *Kt = -s.torqueJacobian(t, y.R);
-  }
-};
-
-/// m v̇ − F(t) = 0 (world frame) and J ω̇ + ω × Jω − τ(t, R) = 0 (body frame).
-template <typename T>
-struct SecondOrderSystemTraits<FreeBodySystem<T>> {
-  using Scalar = T;
-  using State = FreeBodyState<T>;
-  using Vector = Vector6<T>;
-  using Matrix = Matrix6<T>;
-
-  static void evaluate(const FreeBodySystem<T>& s, const T& t, const State& y, Matrix* M,
-                       Vector* g, Matrix* Ct, Matrix* Kt) {
-    const Matrix3<T>& J = s.inertia();
-    const Vector3<T> Jw = J * y.omega;
-    M->setZero();
-    M->template topLeftCorner<3, 3>() = s.mass() * Matrix3<T>::Identity();
-    M->template bottomRightCorner<3, 3>() = J;
-    g->template head<3>() = -s.force(t);
-    g->template tail<3>() = y.omega.cross(Jw) - s.externalTorque(t, y.R);
-    if (Ct) {
-      Ct->setZero();
-      Ct->template bottomRightCorner<3, 3>() = SO3<T>::hat(y.omega) * J - SO3<T>::hat(Jw);
-    }
-    if (Kt) {
-      Kt->setZero();
-      Kt->template bottomRightCorner<3, 3>() = -s.torqueJacobian(t, y.R);
-    }
-  }
-};
-
-/// M ẍ + C ẋ + K x − f(t) = 0.
-template <typename T, int N>
-struct SecondOrderSystemTraits<LinearSecondOrderSystem<T, N>> {
-  using Scalar = T;
-  using State = VectorState<T, N>;
-  using Vector = Eigen::Matrix<T, N, 1>;
-  using Matrix = Eigen::Matrix<T, N, N>;
-
-  static void evaluate(const LinearSecondOrderSystem<T, N>& s, const T& t, const State& y,
-                       Matrix* M, Vector* g, Matrix* Ct, Matrix* Kt) {
-    *M = s.mass();
-    *g = s.damping() * y.v + s.stiffness() * y.x - s.load(t);
-    if (Ct) *Ct = s.damping();
-    if (Kt) *Kt = s.stiffness();
-  }
-};
 
 // ---- the stepper ---------------------------------------------------------------
 
@@ -340,22 +146,47 @@ struct GeneralizedAlphaCoefficients {
   }
 };
 
+namespace detail {
+
+template <class G, class S, class V, typename = void>
+struct HasAdvanceInto : std::false_type {};
+template <class G, class S, class V>
+struct HasAdvanceInto<G, S, V,
+                      std::void_t<decltype(G::advanceInto(std::declval<const S&>(), std::declval<const V&>(),
+                                                          std::declval<const V&>(), std::declval<S*>()))>>
+    : std::true_type {};
+
+}  // namespace detail
+
 /// The Lie-group generalized-α stepper for a State with
 /// SecondOrderStateTraits<State>. Stateful: see "State between steps".
+///
+/// A state sized at run time (SecondOrderStateTraits::kDof = Eigen::Dynamic,
+/// e.g. a tree in joint coordinates) is stepped through a workspace kept by
+/// the stepper, and its traits add
+///   static int dofs(const State& y);
+///   static void advanceInto(const State& y, const Vector& dq, const Vector& v, State* out);
+///   static void tangentOperatorInto(const State& y, const Vector& dq, Matrix* T);
+/// so that a step allocates nothing once the workspace has its size; step()
+/// then returns a reference to the workspace's state, valid until the next
+/// step. Fixed-size states keep the workspace on the stack (faster than
+/// through `this`, state_workspace.hpp) and step() returns by value.
 template <typename State>
 class GeneralizedAlphaStepper {
  public:
   using Scalar = typename State::Scalar;
   using Geometry = SecondOrderStateTraits<State>;
   static constexpr int kDof = Geometry::kDof;
+  static constexpr bool kDynamic = kDof == Eigen::Dynamic;
   using Vector = Eigen::Matrix<Scalar, kDof, 1>;
   using Matrix = Eigen::Matrix<Scalar, kDof, kDof>;
+  using Result = std::conditional_t<kDynamic, const State&, State>;
   static constexpr int kOrder = 2;
   /// A Newton correction with ‖ΔΔ‖∞ ≤ kRoundingFloor · ε · ‖hΔq‖∞ is at the
   /// rounding level of the increment: the iteration has converged.
   static constexpr double kRoundingFloor = 8.0;
 
-  static_assert(2 * kDof == State::kTangentDim,
+  static_assert(kDynamic ? State::kTangentDim == Eigen::Dynamic : 2 * kDof == State::kTangentDim,
                 "SecondOrderStateTraits: the tangent must be [δq (n); δv (n)]");
 
   /// Throws InvalidInput for ρ∞ ∉ [0, 1], a negative or non-finite tolerance,
@@ -378,15 +209,12 @@ class GeneralizedAlphaStepper {
   /// Start at (t0, y0) with consistent accelerations: v̇₀ = −M⁻¹ g, a₀ = v̇₀.
   template <class System>
   void reset(const System& system, const Scalar& t0, const State& y0) {
-    using Dynamics = SecondOrderSystemTraits<System>;
-    static_assert(std::is_same<typename Dynamics::State, State>::value,
-                  "SecondOrderSystemTraits<System>::State differs from the stepper's State");
-    Matrix M;
-    Vector g;
-    Dynamics::evaluate(system, t0, y0, &M, &g, nullptr, nullptr);
-    const Vector vdot0 = -M.partialPivLu().solve(g);
-    setHistory(y0, vdot0, vdot0);
-    ++resets_;
+    if constexpr (kDynamic) {
+      resetWith(system, t0, y0, work_);
+    } else {
+      Scratch w;
+      resetWith(system, t0, y0, w);
+    }
   }
 
   /// Set the history explicitly: the next step from exactly y uses v̇_n = vdot
@@ -409,25 +237,79 @@ class GeneralizedAlphaStepper {
 
   /// One step of size h from (t, y); see the file comment for the algorithm.
   template <class System>
-  State step(const System& system, const Scalar& t, const State& y, const Scalar& h,
-             StepReport* report = nullptr) {
+  Result step(const System& system, const Scalar& t, const State& y, const Scalar& h,
+              StepReport* report = nullptr) {
+    if constexpr (kDynamic) {
+      stepWith(system, t, y, h, report, work_);
+      return work_.y1;
+    } else {
+      Scratch w;
+      stepWith(system, t, y, h, report, w);
+      return w.y1;
+    }
+  }
+
+ private:
+  /// The iteration's vectors and matrices (file comment's names).
+  struct Scratch {
+    Vector v0, vdot1, a_pred, v1, dq, hdq, g, inertia, r, dd;
+    Matrix M, Ct, Kt, T, S;
+    Eigen::PartialPivLU<Matrix> lu;
+    State y1{};
+
+    void resize(int n) {
+      if constexpr (kDynamic) {
+        for (Vector* v : {&v0, &vdot1, &a_pred, &v1, &dq, &hdq, &g, &inertia, &r, &dd}) v->resize(n);
+        for (Matrix* m : {&M, &Ct, &Kt, &T, &S}) m->resize(n, n);
+      } else {
+        (void)n;
+      }
+    }
+  };
+
+  static void advance(const State& y, const Vector& dq, const Vector& v, State* out) {
+    if constexpr (detail::HasAdvanceInto<Geometry, State, Vector>::value)
+      Geometry::advanceInto(y, dq, v, out);
+    else
+      *out = Geometry::advance(y, dq, v);
+  }
+
+  template <class System>
+  void resetWith(const System& system, const Scalar& t0, const State& y0, Scratch& w) {
     using Dynamics = SecondOrderSystemTraits<System>;
     static_assert(std::is_same<typename Dynamics::State, State>::value,
                   "SecondOrderSystemTraits<System>::State differs from the stepper's State");
-    if (!initialized_ || !Geometry::identical(y, last_)) reset(system, t, y);
+    if constexpr (kDynamic) w.resize(Geometry::dofs(y0));
+    Dynamics::evaluate(system, t0, y0, &w.M, &w.g, nullptr, nullptr);
+    w.lu.compute(w.M);
+    w.dd.noalias() = w.lu.solve(w.g);
+    w.dd = -w.dd;
+    setHistory(y0, w.dd, w.dd);
+    ++resets_;
+  }
+
+  template <class System>
+  void stepWith(const System& system, const Scalar& t, const State& y, const Scalar& h, StepReport* report,
+                Scratch& w) {
+    using Dynamics = SecondOrderSystemTraits<System>;
+    static_assert(std::is_same<typename Dynamics::State, State>::value,
+                  "SecondOrderSystemTraits<System>::State differs from the stepper's State");
+    if (!initialized_ || !Geometry::identical(y, last_)) resetWith(system, t, y, w);
+    if constexpr (kDynamic) w.resize(Geometry::dofs(y));
 
     const double am = c_.alpha_m, af = c_.alpha_f;
     const Scalar beta_p = Scalar((1.0 - am) / (c_.beta * (1.0 - af))) / (h * h);
     const Scalar gamma_p = Scalar(c_.gamma / c_.beta) / h;
     const Scalar t1 = t + h;
-    const Vector v0 = Geometry::velocity(y);
+    w.v0 = Geometry::velocity(y);
 
     // Predictor.
-    Vector vdot1 = Vector::Zero();
-    const Vector a_pred = Scalar(af / (1.0 - am)) * vdot_ - Scalar(am / (1.0 - am)) * a_;
-    Vector v1 = v0 + (h * Scalar(1.0 - c_.gamma)) * a_ + (h * Scalar(c_.gamma)) * a_pred;
-    Vector dq = v0 + (h * Scalar(0.5 - c_.beta)) * a_ + (h * Scalar(c_.beta)) * a_pred;
-    State y1 = Geometry::advance(y, Vector(h * dq), v1);
+    w.vdot1.setZero();
+    w.a_pred = Scalar(af / (1.0 - am)) * vdot_ - Scalar(am / (1.0 - am)) * a_;
+    w.v1 = w.v0 + (h * Scalar(1.0 - c_.gamma)) * a_ + (h * Scalar(c_.gamma)) * w.a_pred;
+    w.dq = w.v0 + (h * Scalar(0.5 - c_.beta)) * a_ + (h * Scalar(c_.beta)) * w.a_pred;
+    w.hdq = h * w.dq;
+    advance(y, w.hdq, w.v1, &w.y1);
 
     // Newton iteration on ΔΔ.
     const double eps = scalarValue(Eigen::NumTraits<Scalar>::epsilon());
@@ -435,31 +317,37 @@ class GeneralizedAlphaStepper {
     int iterations = 0;
     bool converged = false;
     double residual = 0.0;
-    Matrix M, Ct, Kt;
-    Vector g;
     for (;;) {
-      Dynamics::evaluate(system, t1, y1, &M, &g, &Ct, &Kt);
-      const Vector inertia = M * vdot1;
-      const Vector r = inertia + g;
-      residual = detail::maxAbsValue(r);
-      const double scale = std::max(detail::maxAbsValue(inertia), detail::maxAbsValue(g));
+      Dynamics::evaluate(system, t1, w.y1, &w.M, &w.g, &w.Ct, &w.Kt);
+      w.inertia.noalias() = w.M * w.vdot1;
+      w.r = w.inertia + w.g;
+      residual = detail::maxAbsValue(w.r);
+      const double scale = std::max(detail::maxAbsValue(w.inertia), detail::maxAbsValue(w.g));
       const bool small = residual <= options_.tolerance * scale + options_.absolute_tolerance;
       if (small && !polish) {
         converged = true;
         break;
       }
       if (!small && iterations >= options_.max_iterations) break;
-      const Matrix S = beta_p * M + gamma_p * Ct + Kt * Geometry::tangentOperator(Vector(h * dq));
-      const Vector dd = -S.partialPivLu().solve(r);
-      dq += dd / h;
-      v1 += gamma_p * dd;
-      vdot1 += beta_p * dd;
-      y1 = Geometry::advance(y, Vector(h * dq), v1);
+      if constexpr (kDynamic) {
+        Geometry::tangentOperatorInto(y, w.hdq, &w.T);
+      } else {
+        w.T = Geometry::tangentOperator(w.hdq);
+      }
+      w.S.noalias() = w.Kt * w.T;
+      w.S += beta_p * w.M + gamma_p * w.Ct;
+      w.lu.compute(w.S);
+      w.dd.noalias() = w.lu.solve(w.r);
+      w.dd = -w.dd;
+      w.dq += w.dd / h;
+      w.v1 += gamma_p * w.dd;
+      w.vdot1 += beta_p * w.dd;
+      w.hdq = h * w.dq;
+      advance(y, w.hdq, w.v1, &w.y1);
       ++iterations;
       // The Jet polish is done, or the correction no longer moves the
       // increment hΔq beyond rounding: the iterate is at working precision.
-      if (small || detail::maxAbsValue(dd) <=
-                       kRoundingFloor * eps * detail::maxAbsValue(Vector(h * dq))) {
+      if (small || detail::maxAbsValue(w.dd) <= kRoundingFloor * eps * detail::maxAbsValue(w.hdq)) {
         converged = true;
         break;
       }
@@ -469,25 +357,31 @@ class GeneralizedAlphaStepper {
     last_report_.newton_iterations = iterations;
     last_report_.residual = residual;
     if (converged) {
-      a_ = a_pred + Scalar((1.0 - af) / (1.0 - am)) * vdot1;
-      vdot_ = vdot1;
-      last_ = y1;
+      a_ = w.a_pred + Scalar((1.0 - af) / (1.0 - am)) * w.vdot1;
+      vdot_ = w.vdot1;
+      last_ = w.y1;
     } else {
       last_report_.fail("generalized-alpha Newton did not converge", residual);
     }
     if (report) *report = last_report_;
-    return y1;
   }
 
- private:
   GeneralizedAlphaOptions options_;
   GeneralizedAlphaCoefficients c_;
   bool initialized_ = false;
   int resets_ = 0;
   State last_{};
-  Vector vdot_ = Vector::Zero();
-  Vector a_ = Vector::Zero();
+  static Vector zero() {
+    if constexpr (kDynamic)
+      return Vector();
+    else
+      return Vector::Zero();
+  }
+  Vector vdot_ = zero();
+  Vector a_ = zero();
   StepReport last_report_{};
+  /// The workspace of a run-time-sized state (unused otherwise).
+  std::conditional_t<kDynamic, Scratch, char> work_{};
 };
 
 }  // namespace lieflow

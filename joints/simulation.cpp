@@ -281,7 +281,7 @@ std::vector<std::string> Simulation::columns() const {
 std::vector<std::string> Simulation::invariantNames() const { return model_->invariants.names(); }
 
 bool runsInJointCoordinates(const std::string& integrator) {
-  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4"})
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "genalpha"})
     if (integrator == name) return true;
   return false;
 }
@@ -305,8 +305,8 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
     if (runsInJointCoordinates(integrator)) return true;
     if (why)
       *why = "'" + integrator +
-             "' is not available in joint coordinates (lgvi, genalpha and splitting are written for bodies in "
-             "maximal coordinates; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4)";
+             "' is not available in joint coordinates (lgvi and splitting are written for bodies in maximal "
+             "coordinates; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 genalpha)";
     return false;
   }
   if (model_->multibody) {

@@ -1,8 +1,10 @@
 // Running a scene in joint coordinates (--formulation joint).
 #include "integrators/adaptive.hpp"
 #include "integrators/commutator_free.hpp"
+#include "integrators/generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/rkmk.hpp"
+#include "joints/articulated/articulated_second_order.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_observer.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -30,6 +32,15 @@ SimulationResult runArticulated(const Simulation::Model& model, const Simulation
   if (name == "rkmk4") return fixed(RkmkStepper<State>(ButcherTableau::rk4()));
   if (name == "cg3") return fixed(CrouchGrossman3Stepper<State>());
   if (name == "cf4") return fixed(CommutatorFree4Stepper<State>());
+  if (name == "genalpha") {
+    // No constraints in joint coordinates: the method of Arnold & Brüls 2007
+    // on the joints' groups; `index` has nothing to choose here.
+    GeneralizedAlphaOptions g;
+    g.rho_inf = option(o, "rho_inf", g.rho_inf);
+    g.tolerance = option(o, "tolerance", g.tolerance);
+    g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
+    return fixed(GeneralizedAlphaStepper<State>(g));
+  }
   if (name == "rkmk45") {
     AdaptiveOptions a;
     a.rtol = option(o, "rtol", a.rtol);

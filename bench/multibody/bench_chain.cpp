@@ -39,6 +39,8 @@
 #include "integrators/rkmk.hpp"
 #include "joints/multibody/constrained_acceleration.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
+#include "integrators/generalized_alpha.hpp"
+#include "joints/articulated/articulated_second_order.hpp"
 #include "joints/articulated_scene.hpp"
 #include "joints/multibody/multibody_system.hpp"
 
@@ -172,6 +174,10 @@ void chainJointSteps(benchmark::State& st, Stepper stepper) {
   for (auto _ : st) {
     y = stepper.step(system, t, y, h, &report);
     t += h;
+    if (!report.converged) {
+      st.SkipWithError(report.failure);
+      break;
+    }
     if (++steps % kResetSteps == 0) {
       st.PauseTiming();
       y = y0;
@@ -194,6 +200,11 @@ void BM_ChainStep_joint_cf4(benchmark::State& st) {
   chainJointSteps(st, CommutatorFree4Stepper<articulated::ArticulatedState>());
 }
 BENCHMARK(BM_ChainStep_joint_cf4)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_ChainStep_joint_genalpha(benchmark::State& st) {
+  chainJointSteps(st, GeneralizedAlphaStepper<articulated::ArticulatedState>(GeneralizedAlphaOptions{}));
+}
+BENCHMARK(BM_ChainStep_joint_genalpha)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
@@ -278,6 +289,7 @@ int main(int argc, char** argv) {
       {"BM_ChainStep_joint_rkmk4", "BM_ChainStep_mujoco_rk4"}, {"BM_ChainStep_joint_cf4", "BM_ChainStep_mujoco_rk4"},
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_euler"}, {"BM_ChainStep_lgvi", "BM_ChainStep_mujoco_euler"},
       {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"},
+      {"BM_ChainStep_joint_genalpha", "BM_ChainStep_mujoco_implicit"},
       {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"}};
   for (const auto& pair : pairs) {
     const char* lieflow_family = pair.first;

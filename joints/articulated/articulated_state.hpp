@@ -25,6 +25,7 @@ namespace articulated {
 struct ArticulatedState {
   using Scalar = double;
   using Tangent = Eigen::VectorXd;
+  static constexpr int kTangentDim = Eigen::Dynamic;
 
   Eigen::VectorXd q;         ///< nq angles (unwrapped)
   std::vector<SO3d> N;       ///< ns relative rotations

@@ -110,6 +110,19 @@ class ArticulatedSystem {
     return data_[i].V.tail<3>() + data_[i].V.head<3>().cross(data_[i].c);
   }
 
+  /// The terms of M(q) v̇ + g(q, v, t) = 0 for the generalized-α method
+  /// (integrators/generalized_alpha.hpp, articulated_second_order.hpp): the
+  /// joint-space mass matrix by the composite-rigid-body algorithm
+  /// (Featherstone 2008, §6.2, in world coordinates: a body's composite
+  /// inertia is added to its parent's as it is, through Pᵀ · P for a
+  /// rotation-only body), g = −M u̇ with u̇ from the ABA (so the residual
+  /// vanishes exactly at the ABA's accelerations), and C_t, K_t the joints'
+  /// dashpots and springs (the velocity- and configuration-dependence of the
+  /// other forces left out: Newton then converges linearly, at a rate of
+  /// order h² for them). A prescribed coordinate's row is v̇ = φ̈(t).
+  void secondOrderTerms(double t, const State& y, Eigen::MatrixXd* M, Eigen::VectorXd* g, Eigen::MatrixXd* Ct,
+                        Eigen::MatrixXd* Kt) const;
+
   /// Kinetic + gravitational + spring energy (the maximal formulation's).
   double energy(double t, const State& y) const;
   /// Spatial angular momentum about the world origin.
@@ -156,6 +169,8 @@ class ArticulatedSystem {
   bool has_user_torques_ = false;
   bool conserves_momentum_ = false;
   mutable std::vector<BodyData> data_;
+  /// Composite inertias of the mass matrix (sized at its first use).
+  mutable std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> composite_;
   mutable Eigen::VectorXd udot_;
 };
 

@@ -42,7 +42,7 @@ TEST_P(StepAllocations, NoneInJointCoordinates) {
   const Simulation sim(loadScene(GetParam()));
   std::string why;
   if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
-  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"}) {
+  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha"}) {
     SCOPED_TRACE(integrator);
     const bench::StepAllocations a = bench::countStepAllocations(sim, integrator, "joint");
     ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";

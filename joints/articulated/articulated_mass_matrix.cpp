@@ -1,0 +1,93 @@
+// ArticulatedSystem: the joint-space mass matrix (composite-rigid-body
+// algorithm) and the terms of M v̇ + g = 0 for the generalized-α method.
+#include "joints/articulated/articulated_system.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+namespace {
+
+/// Pᵀ X for a rotation-only body at c, P (ω, v) = (ω, c × ω): the force
+/// (n, f) becomes its moment about c, (n − c × f, 0).
+Vector6 projectForce(const Eigen::Vector3d& c, const Vector6& f) {
+  Vector6 r;
+  r << f.head<3>() - c.cross(f.tail<3>()), Eigen::Vector3d::Zero();
+  return r;
+}
+
+}  // namespace
+
+void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::MatrixXd* M, Eigen::VectorXd* g,
+                                         Eigen::MatrixXd* Ct, Eigen::MatrixXd* Kt) const {
+  const int n = dofs();
+  forwardPass(t, y, true, true);
+  // Composite-rigid-body algorithm, leaves to root, on the rigid inertias the
+  // forward pass left in IA (before the ABA accumulates into them).
+  composite_.resize(bodyCount());
+  for (int i = 0; i < bodyCount(); ++i) composite_[i] = data_[i].IA;
+  M->setZero(n, n);
+  for (int i = bodyCount() - 1; i >= 0; --i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    const BodyData& d = data_[i];
+    const int nf = d.free;
+    if (b.parent != kGround) {
+      if (b.rotation_only) {
+        Matrix6 P = Matrix6::Zero();
+        P.topLeftCorner<3, 3>().setIdentity();
+        P.bottomLeftCorner<3, 3>() << 0.0, -d.c.z(), d.c.y(), d.c.z(), 0.0, -d.c.x(), -d.c.y(), d.c.x(), 0.0;
+        composite_[b.parent] += P.transpose() * composite_[i] * P;
+      } else {
+        composite_[b.parent] += composite_[i];
+      }
+    }
+    for (int k = 0; k < nf; ++k) {
+      // F = I_c s_k: the force that column k's unit rate takes through the
+      // subtree; M(u_k, u_l) = s_lᵀ F for the columns l of i and its ancestors.
+      Vector6 F = composite_[i] * d.S.col(k);
+      const int row = d.free_u[k];
+      for (int l = 0; l < nf; ++l) (*M)(row, d.free_u[l]) = d.S.col(l).dot(F);
+      int below = i;
+      for (int j = b.parent; j != kGround; below = j, j = model_.bodies[j].parent) {
+        if (model_.bodies[below].rotation_only) F = projectForce(data_[below].c, F);
+        const BodyData& dj = data_[j];
+        for (int l = 0; l < dj.free; ++l) {
+          const double m = dj.S.col(l).dot(F);
+          (*M)(row, dj.free_u[l]) = m;
+          (*M)(dj.free_u[l], row) = m;
+        }
+      }
+    }
+  }
+  // Prescribed coordinates: the row v̇ = φ̈(t).
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k)
+      if (b.prescribed(k)) (*M)(b.u_begin + k, b.u_begin + k) = 1.0;
+  }
+  // g = −M u̇, u̇ from the ABA at the same state (it reads the forward pass
+  // above: the rigid inertias are still in IA).
+  udot_.resize(n);
+  solve(Vector6::Zero(), &udot_);
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k)
+      if (b.prescribed(k)) udot_[b.u_begin + k] = data_[i].phiddot[k];
+  }
+  g->resize(n);
+  g->noalias() = -(*M) * udot_;
+  if (Ct) Ct->setZero(n, n);
+  if (Kt) Kt->setZero(n, n);
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < b.coordinates(); ++k) {
+      if (b.prescribed(k)) continue;
+      const multibody::CoordinateDrive& drive = model_.drives[i][k];
+      const int u = b.u_begin + k;
+      if (Ct) (*Ct)(u, u) = drive.damping;
+      if (Kt) (*Kt)(u, u) = drive.stiffness;
+    }
+  }
+}
+
+}  // namespace articulated
+}  // namespace lieflow
