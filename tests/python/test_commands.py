@@ -234,6 +234,24 @@ def interrupt_after(seconds, call):
     return time.perf_counter() - start - seconds
 
 
+def test_study_in_joint_coordinates(tmp_path):
+    # The same study in both formulations: the same reference (maximal
+    # coordinates), errors of the same size at the same step (both fourth
+    # order), and genalpha offered in joint coordinates.
+    runs = {f: lieflow.study("double-pendulum", integrators=["rkmk4", "genalpha"], dt=[0.004, 0.002], t_end=0.5,
+                             min_time=0.001, formulation=f) for f in ("maximal", "joint")}
+    assert runs["joint"]["reference"] == runs["maximal"]["reference"]
+    for f, result in runs.items():
+        rows = result["rows"]
+        assert list(rows["integrator"]) == ["rkmk4", "rkmk4", "genalpha", "genalpha"], f
+        assert not any(rows["failed"]), f
+    joint, maximal = runs["joint"]["rows"], runs["maximal"]["rows"]
+    ratio = np.asarray(joint["orientation_error"][:2]) / np.asarray(maximal["orientation_error"][:2])
+    assert np.all((ratio > 0.2) & (ratio < 5.0)), ratio
+    with pytest.raises(lieflow.InputError, match="lgvi"):
+        lieflow.study("double-pendulum", integrators=["lgvi"], dt=[0.004], t_end=0.1, formulation="joint")
+
+
 def test_a_long_study_stops_on_ctrl_c(tmp_path):
     # The reference alone (projected rkmk4 at h = 3.1e-6 over 300 s, 1e8 steps) would take minutes.
     late = interrupt_after(0.5, lambda: lieflow.study("double-pendulum", integrators=["rkmk4"], dt=[1e-4],
