@@ -29,6 +29,7 @@ constexpr const char* kUsage =
     "                        [--every N] [--stats] [--options KEY=VALUE,...]\n"
     "                        [--formulation maximal|joint]\n"
     "                        [--noise-gyro S] [--noise-angle S] [--noise-quat S] [--seed N]\n"
+    "                        [--imu] [--noise-acc S] [--bias-gyro S]\n"
     "                        [--max-steps N] [--max-input-mb N] [--max-bodies N] [--quiet]\n"
     "\n"
     "Simulates SCENE (a JSON scene file or a built-in scene: lieflow scenes).\n"
@@ -46,7 +47,12 @@ constexpr const char* kUsage =
     "  --stats            print one JSON object: integrator, formulation, dt, steps, wall_seconds,\n"
     "                     ns_per_step, energy_drift, momentum_drift, constraint_error,\n"
     "                     newton_iterations_mean, invariants, failed, failure\n"
+    "  --imu              also write each body's accelerometer B.ax, B.ay, B.az: the specific\n"
+    "                     force R^T(a - g) [m/s^2] at its sensor point (the scene's \"sensor\",\n"
+    "                     body axes from the centre of mass; default the centre of mass)\n"
     "  --noise-gyro S     add N(0, S^2) rad/s to every B.wx, B.wy, B.wz written (a gyroscope)\n"
+    "  --bias-gyro S      add a constant bias per gyroscope axis, drawn once from N(0, S^2) rad/s\n"
+    "  --noise-acc S      add N(0, S^2) m/s^2 to every B.ax, B.ay, B.az written (needs --imu)\n"
     "  --noise-angle S    add N(0, S^2) rad to every joint angle J.phi, J.phi1, J.phi2 written\n"
     "  --noise-quat S     rotate every written quaternion by exp(d), d ~ N(0, S^2 I) rad (body frame)\n"
     "  --seed N           seed of the noise generator (default 1)\n"
@@ -78,12 +84,12 @@ int runSimulate(int argc, char** argv) {
   std::unique_ptr<AtomicOutputFile> file;
   if (args.has("--out")) file = std::make_unique<AtomicOutputFile>(args.value("--out", ""), "--out");
   std::ostream* csv_stream = file ? &file->stream() : (stats ? nullptr : &std::cout);
-  RecordingNoise noisy(simulation.columns(), noise);
+  RecordingNoise noisy(simulation.columns(options.imu), noise);
   std::function<void(const std::vector<double>&)> sink;
   std::unique_ptr<CsvWriter> csv;
   if (csv_stream) {
     csv = std::make_unique<CsvWriter>(*csv_stream);
-    csv->header(simulation.columns());
+    csv->header(simulation.columns(options.imu));
     sink = [&](const std::vector<double>& row) {
       if (!noise.any()) return csv->row(row);
       std::vector<double> r = row;

@@ -6,6 +6,9 @@
 ///   --noise-quat σ   (rad)    every body quaternion q ← q ⊗ exp(δ), δ ~ N(0, σ² I₃)
 ///                             a body-frame rotation (the angle error has RMS √3 σ),
 ///                             written with q_w ≥ 0;
+///   --noise-acc σ    (m/s²)   every B.ax, B.ay, B.az (--imu) + N(0, σ²);
+///   --bias-gyro σ    (rad/s)  one constant bias per gyroscope axis, drawn once
+///                             from N(0, σ²) before any row, added to every row;
 ///   --seed N                  seed of the std::mt19937_64 generator (default 1).
 /// Only the written rows are perturbed; the simulation and --stats are not.
 /// Rates J.phidot and positions are left exact.
@@ -22,8 +25,10 @@ struct NoiseOptions {
   double gyro = 0.0;
   double angle = 0.0;
   double quaternion = 0.0;
+  double acc = 0.0;
+  double gyro_bias = 0.0;
   unsigned long long seed = 1;
-  bool any() const { return gyro > 0.0 || angle > 0.0 || quaternion > 0.0; }
+  bool any() const { return gyro > 0.0 || angle > 0.0 || quaternion > 0.0 || acc > 0.0 || gyro_bias > 0.0; }
 };
 
 class RecordingNoise {
@@ -33,10 +38,15 @@ class RecordingNoise {
   void apply(std::vector<double>* row);
   /// Whether the columns hold joint angles (--noise-angle has something to do).
   bool hasAngleColumns() const { return !angle_.empty(); }
+  /// Whether the columns hold accelerometer readings (--noise-acc).
+  bool hasAccelerometerColumns() const { return !acc_.empty(); }
+  /// The gyroscope biases drawn (one per B.wx, B.wy, B.wz column, in column order).
+  const std::vector<double>& gyroBiases() const { return bias_; }
 
  private:
   NoiseOptions options_;
-  std::vector<int> gyro_, angle_, quat_;  // quat_: index of each body's qw
+  std::vector<int> gyro_, angle_, quat_, acc_;  // quat_: index of each body's qw
+  std::vector<double> bias_;
   std::mt19937_64 gen_;
   std::normal_distribution<double> normal_{0.0, 1.0};
 };

@@ -16,8 +16,12 @@ NoiseOptions noiseFrom(const Arguments& args, const std::vector<std::string>& co
   noise.gyro = args.has("--noise-gyro") ? args.positiveNumber("--noise-gyro", 0.0) : 0.0;
   noise.angle = args.has("--noise-angle") ? args.positiveNumber("--noise-angle", 0.0) : 0.0;
   noise.quaternion = args.has("--noise-quat") ? args.positiveNumber("--noise-quat", 0.0) : 0.0;
+  noise.acc = args.has("--noise-acc") ? args.positiveNumber("--noise-acc", 0.0) : 0.0;
+  noise.gyro_bias = args.has("--bias-gyro") ? args.positiveNumber("--bias-gyro", 0.0) : 0.0;
   noise.seed = static_cast<unsigned long long>(args.nonNegativeLong("--seed", 1));
   const RecordingNoise probe(columns, noise);
+  if (noise.acc > 0.0 && !probe.hasAccelerometerColumns())
+    throw UsageError("--noise-acc: the rows have no accelerometer columns (B.ax, B.ay, B.az): add --imu");
   if (noise.angle > 0.0 && !probe.hasAngleColumns())
     throw UsageError("--noise-angle: the scene has no joint angle columns (J.phi, J.phi1, J.phi2) to perturb");
   if (args.has("--seed") && !noise.any())
@@ -41,7 +45,8 @@ std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<
 const std::set<std::string>& simulateValueFlags() {
   static const std::set<std::string> flags = [] {
     std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",
-                               "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed"};
+                               "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed",
+                               "--noise-acc",  "--bias-gyro"};
     f.insert(runLimitFlags().begin(), runLimitFlags().end());
     return f;
   }();
@@ -49,7 +54,7 @@ const std::set<std::string>& simulateValueFlags() {
 }
 
 const std::set<std::string>& simulateSwitches() {
-  static const std::set<std::string> switches = {"--stats", "--quiet"};
+  static const std::set<std::string> switches = {"--stats", "--quiet", "--imu"};
   return switches;
 }
 
@@ -58,7 +63,8 @@ SimulateRequest simulateRequestFrom(const Arguments& args, std::optional<SceneDe
   request.simulation = simulationFrom(args, std::move(scene), "simulate");
   request.options = simulationOptionsFrom(request.simulation->scene(), args);
   request.options.every = args.positiveInt("--every", 1);
-  request.noise = noiseFrom(args, request.simulation->columns());
+  request.options.imu = args.has("--imu");
+  request.noise = noiseFrom(args, request.simulation->columns(request.options.imu));
   return request;
 }
 

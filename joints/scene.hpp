@@ -39,6 +39,9 @@ struct BodyDescription {
   /// {"stiffness": k, "rest_orientation": [w, x, y, z]}): body torque
   /// −k log(R_rest⁻¹ R). Rotation-only bodies and bodies on a pivot only.
   double spring_stiffness = 0.0;
+  /// The inertial sensor's point ("sensor"), body axes, from the centre of
+  /// mass: where `simulate --imu` evaluates the specific force B.ax, B.ay, B.az.
+  Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
   Eigen::Quaterniond spring_rest = Eigen::Quaterniond::Identity();
 };
 

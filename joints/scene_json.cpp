@@ -204,6 +204,7 @@ BodyDescription readBody(const json& v, int index, const std::string& source) {
     b.velocity = r.vector3("velocity");
     b.has_velocity = true;
   }
+  if (r.has("sensor")) b.sensor = r.vector3("sensor");
   if (r.has("torsional_spring")) {
     ObjectReader spring(r.get("torsional_spring"), r.fieldPath("torsional_spring"), source);
     b.spring_stiffness = spring.positiveNumber("stiffness");

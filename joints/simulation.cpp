@@ -47,6 +47,8 @@ std::string fmt(const Eigen::Vector3d& v) {
 
 std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   auto model = std::make_unique<Simulation::Model>();
+  model->gravity = scene.gravity;
+  for (const BodyDescription& b : scene.bodies) model->sensors.push_back(b.sensor);
   if (needsMultibody(scene)) {
     model->multibody = assembleMultibody(scene);
     model->invariants = InvariantSet::multibody(model->multibody->system->conservesAngularMomentum());
@@ -249,7 +251,7 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
-std::vector<std::string> Simulation::columns() const {
+std::vector<std::string> Simulation::columns(bool imu) const {
   std::vector<std::string> cols = {"t"};
   if (model_->multibody) {
     const multibody::MultibodySystem& sys = *model_->multibody->system;
@@ -258,6 +260,8 @@ std::vector<std::string> Simulation::columns() const {
       for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz"}) cols.push_back(b + "." + c);
       if (!sys.rotationOnly(i))
         for (const char* c : {"x", "y", "z", "vx", "vy", "vz"}) cols.push_back(b + "." + c);
+      if (imu)
+        for (const char* c : {"ax", "ay", "az"}) cols.push_back(b + "." + c);
     }
     for (std::size_t k = 0; k < sys.model().joints.size(); ++k) {
       const std::string& j = sys.model().joints[k].name;
@@ -274,6 +278,8 @@ std::vector<std::string> Simulation::columns() const {
   for (const char* c : {"qw", "qx", "qy", "qz", "wx", "wy", "wz"}) cols.push_back(b + "." + c);
   if (model_->translational_output)
     for (const char* c : {"x", "y", "z", "vx", "vy", "vz"}) cols.push_back(b + "." + c);
+  if (imu)
+    for (const char* c : {"ax", "ay", "az"}) cols.push_back(b + "." + c);
   for (const char* c : {"energy", "Lx", "Ly", "Lz", "constraint_error"}) cols.push_back(c);
   return cols;
 }
@@ -380,7 +386,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
     const std::string why = spec->check(kv.second);
     if (!why.empty()) throw InvalidInput(field, why + " (" + spec->meaning + ")");
   }
-  const std::vector<std::string> columns = this->columns();
+  const std::vector<std::string> columns = this->columns(options.imu);
 
   const Model& m = *model_;
   // The exact flow is sampled on the output grid; everything else steps.

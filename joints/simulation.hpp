@@ -47,6 +47,11 @@ struct SimulationOptions {
   /// joints' own coordinates, joints/articulated_scene.hpp) or empty for the
   /// default, kDefaultFormulation.
   std::string formulation;
+  /// Rows carry each body's accelerometer reading B.ax, B.ay, B.az after its
+  /// other columns (columns(true)): the specific force f = Rᵀ(a_s − g) at the
+  /// body's sensor point s (BodyDescription::sensor), body axes, gravity
+  /// included, as an inertial sensor reports it (../shared/DESIGN.md).
+  bool imu = false;
 };
 
 /// The formulation of a scene with joints when none is asked for.
@@ -99,8 +104,9 @@ class Simulation {
 
   const SceneDescription& scene() const { return scene_; }
 
-  /// CSV column names (README "Trajectory and recording CSV").
-  std::vector<std::string> columns() const;
+  /// CSV column names (README "Trajectory and recording CSV"); with `imu`,
+  /// B.ax, B.ay, B.az after each body's columns (SimulationOptions::imu).
+  std::vector<std::string> columns(bool imu = false) const;
 
   /// Names of the quantities this scene conserves (joints/invariants.hpp),
   /// in the order of SimulationResult::invariants.

@@ -37,6 +37,9 @@ struct Simulation::Model {
   std::string articulated_why;
   /// What the scene conserves (a fresh copy tracks each run).
   InvariantSet invariants;
+  /// Gravity and each body's sensor point (scene order), for --imu rows.
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> sensors;
 };
 
 /// Runs a scene in joint coordinates (simulation_articulated.cpp): the

@@ -25,8 +25,22 @@ inline void appendBody(const Simulation::Model& m, const SO3d& R, const Eigen::V
   if (m.translational_output) row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
 }
 
+/// Appends an accelerometer's reading at the point s (body axes, from the
+/// centre of mass) of a body with orientation R, angular velocity ω and
+/// acceleration ω̇ (body axes), centre-of-mass acceleration a_c (world):
+///   f = Rᵀ(a_s − g) = Rᵀ(a_c − g) + ω̇ × s + ω × (ω × s)
+/// (the specific force, gravity included: at rest it reads −Rᵀg).
+inline void appendSpecificForce(const Eigen::Matrix3d& R, const Eigen::Vector3d& omega,
+                                const Eigen::Vector3d& omega_dot, const Eigen::Vector3d& a_c,
+                                const Eigen::Vector3d& gravity, const Eigen::Vector3d& s, std::vector<double>* row) {
+  const Eigen::Vector3d f = R.transpose() * (a_c - gravity) + omega_dot.cross(s) + omega.cross(omega.cross(s));
+  row->insert(row->end(), {f.x(), f.y(), f.z()});
+}
+
 struct RowBuilder {
   const Simulation::Model& model;
+  /// Rows carry B.ax, B.ay, B.az (SimulationOptions::imu).
+  bool imu = false;
 
   void operator()(const RotorSystem<double>& sys, double t, const RotorState<double>& y,
                   std::vector<double>* row) const {
@@ -38,6 +52,16 @@ struct RowBuilder {
       v = y.R * y.omega.cross(model.params.com_from_pivot);
     }
     appendBody(model, y.R, y.omega, p, v, row);
+    if (imu) {
+      // About a pivot the centre of mass turns on a sphere; a free rotor's is held.
+      typename RotorState<double>::Tangent F;
+      sys.velocity(t, y, &F);
+      const Eigen::Vector3d wdot = F.tail<3>(), r = model.params.com_from_pivot;
+      const Eigen::Vector3d a_c = model.params.has_pivot
+                                      ? Eigen::Vector3d(y.R * (wdot.cross(r) + y.omega.cross(y.omega.cross(r))))
+                                      : Eigen::Vector3d::Zero();
+      appendSpecificForce(y.R.matrix(), y.omega, wdot, a_c, model.gravity, model.sensors[0], row);
+    }
     const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
     row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
   }
@@ -47,6 +71,12 @@ struct RowBuilder {
     row->clear();
     row->push_back(t);
     appendBody(model, y.R, y.omega, y.p, y.v, row);
+    if (imu) {
+      typename FreeBodyState<double>::Tangent F;
+      sys.velocity(t, y, &F);
+      appendSpecificForce(y.R.matrix(), y.omega, F.segment<3>(9), F.segment<3>(6), model.gravity, model.sensors[0],
+                          row);
+    }
     const Eigen::Vector3d L = sys.spatialAngularMomentum(y);
     row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
   }
@@ -55,6 +85,9 @@ struct RowBuilder {
                   std::vector<double>* row) const {
     row->clear();
     row->push_back(t);
+    // u̇ per body: (v̇ world, ω̇ body), or ω̇ for a rotation-only body.
+    if (imu) sys.velocity(t, y, &field);
+    const int n = static_cast<int>(field.size()) / 2;
     for (int i = 0; i < sys.bodyCount(); ++i) {
       const auto& P = y.bodies.poses[i];
       const auto& V = y.bodies.velocities[i];
@@ -62,6 +95,13 @@ struct RowBuilder {
       row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), V.omega.x(), V.omega.y(), V.omega.z()});
       if (!sys.rotationOnly(i))
         row->insert(row->end(), {P.p.x(), P.p.y(), P.p.z(), V.v.x(), V.v.y(), V.v.z()});
+      if (imu) {
+        const int o = n + sys.dofBegin(i);
+        const bool rot = sys.rotationOnly(i);
+        const Eigen::Vector3d a_c = rot ? Eigen::Vector3d::Zero() : Eigen::Vector3d(field.segment<3>(o));
+        appendSpecificForce(P.R.matrix(), V.omega, field.segment<3>(o + (rot ? 0 : 3)), a_c, model.gravity,
+                            model.sensors[i], row);
+      }
     }
     for (const multibody::JointOutput& o : sys.jointOutputs(t, y)) {
       if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
@@ -96,6 +136,9 @@ struct RowBuilder {
       row->insert(row->end(), {q.w(), q.x(), q.y(), q.z(), w.x(), w.y(), w.z()});
       if (!sys.model().bodies[i].rotation_only)
         row->insert(row->end(), {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()});
+      if (imu)
+        appendSpecificForce(sys.rotation(i), w, sys.angularAccelerationBody(i), sys.accelerationOfCentre(i),
+                            model.gravity, model.sensors[b], row);
     }
     for (const articulated::ArticulatedJointOutput& o : joint_outputs) {
       if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
@@ -107,6 +150,7 @@ struct RowBuilder {
   }
 
   mutable std::vector<articulated::ArticulatedJointOutput> joint_outputs;
+  mutable Eigen::VectorXd field;
   mutable std::vector<Eigen::Quaterniond> last_quaternions;
 };
 
@@ -213,7 +257,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   DriftTracker drift;
   drift.momentum_conserved = system.conservesAngularMomentum();
   InvariantSet invariants = model.invariants;
-  RowBuilder rows{model};
+  RowBuilder rows{model, options.imu};
   std::vector<double> row;
   typename System::State last;
   double t_last = 0.0;

@@ -164,7 +164,7 @@ py::dict simulate(std::vector<std::string> tokens, const std::optional<std::stri
   const app::Arguments args(argv.argc(), argv.argv(), app::simulateValueFlags(), app::simulateSwitches());
   app::SimulateRequest request = app::simulateRequestFrom(args, scene ? std::move(scene) : sceneFrom(scene_json, args));
   request.options.progress = [](double, long) { checkSignals(); };
-  const std::vector<std::string> columns = request.simulation->columns();
+  const std::vector<std::string> columns = request.simulation->columns(request.options.imu);
   std::vector<double> data;
   long rows = 0;
   std::string non_finite;

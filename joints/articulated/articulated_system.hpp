@@ -123,6 +123,17 @@ class ArticulatedSystem {
   void secondOrderTerms(double t, const State& y, Eigen::MatrixXd* M, Eigen::VectorXd* g, Eigen::MatrixXd* Ct,
                         Eigen::MatrixXd* Kt) const;
 
+  /// Body i's angular acceleration (body axes) and its centre of mass's
+  /// acceleration (world), a_c = a_O + α × c + ω × v_c from the spatial
+  /// acceleration (α, a_O) of the last accelerations() or jointOutputs().
+  Eigen::Vector3d angularAccelerationBody(int i) const {
+    return data_[i].R.transpose() * data_[i].a.head<3>();
+  }
+  Eigen::Vector3d accelerationOfCentre(int i) const {
+    const BodyData& d = data_[i];
+    return d.a.tail<3>() + d.a.head<3>().cross(d.c) + d.V.head<3>().cross(velocityOfCentre(i));
+  }
+
   /// Kinetic + gravitational + spring energy (the maximal formulation's).
   double energy(double t, const State& y) const;
   /// Spatial angular momentum about the world origin.

@@ -134,7 +134,8 @@ def _callables(name, loads):
 
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
-             moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None):
+             moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
+             imu=False):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a built-in name (``lieflow.scenes()``) or a dict
@@ -143,8 +144,10 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
                 (None: the scene's own);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
     formulation: "maximal" or "joint" (--formulation; None: the default);
-    noise:      dict with any of gyro, angle, quat (standard deviations, as
-                --noise-gyro/--noise-angle/--noise-quat) and seed;
+    noise:      dict with any of gyro, angle, quat, acc, bias_gyro (standard
+                deviations, as --noise-gyro/--noise-angle/--noise-quat/
+                --noise-acc/--bias-gyro) and seed;
+    imu:        also the accelerometer columns B.ax, B.ay, B.az (--imu);
     torques:    {body name: f(t, state)}: a torque on the body [N m], body
                 frame, about its centre of mass; state is a dict with q
                 (w, x, y, z), omega (body frame), p and v (world);
@@ -162,16 +165,17 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     """
     positional, scene_json = _scene(scene)
     noise = dict(noise or {})
-    unknown = set(noise) - {"gyro", "angle", "quat", "seed"}
+    unknown = set(noise) - {"gyro", "angle", "quat", "acc", "bias_gyro", "seed"}
     if unknown:
-        raise InputError(f"noise: unknown key(s) {sorted(unknown)} (gyro, angle, quat, seed)")
+        raise InputError(f"noise: unknown key(s) {sorted(unknown)} (gyro, angle, quat, acc, bias_gyro, seed)")
     spec = {"integrator": ("--integrator", _text), "dt": ("--dt", _number), "t_end": ("--t-end", _number),
             "every": ("--every", _integer), "options": ("--options", _options),
             "gyro": ("--noise-gyro", _number), "angle": ("--noise-angle", _number),
             "quat": ("--noise-quat", _number), "seed": ("--seed", _integer),
-            "formulation": ("--formulation", _text), **_LIMITS}
+            "acc": ("--noise-acc", _number), "bias_gyro": ("--bias-gyro", _number),
+            "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
-                                            formulation=formulation,
+                                            formulation=formulation, imu=imu,
                                             max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
