@@ -234,6 +234,22 @@ def interrupt_after(seconds, call):
     return time.perf_counter() - start - seconds
 
 
+def test_imu_columns_equal_the_command(run_command, tmp_path):
+    args = ["--integrator", "rkmk4", "--dt", "0.001", "--t-end", "0.2", "--imu", "--noise-acc", "0.05",
+            "--bias-gyro", "0.01", "--seed", "4"]
+    status, _, err = run_command("simulate", "double-pendulum", *args, "--out", tmp_path / "imu.csv")
+    assert status == 0, err
+    header, rows = read_csv(tmp_path / "imu.csv")
+    result = lieflow.simulate("double-pendulum", integrator="rkmk4", dt=0.001, t_end=0.2, imu=True,
+                              noise={"acc": 0.05, "bias_gyro": 0.01, "seed": 4})
+    assert list(result.columns) == header
+    assert header.index("upper.ax") == header.index("upper.vz") + 1
+    for j, name in enumerate(header):
+        np.testing.assert_array_equal(result.columns[name], [float(r[j]) for r in rows], err_msg=name)
+    with pytest.raises(lieflow.InputError, match="--imu"):
+        lieflow.simulate("double-pendulum", integrator="rkmk4", dt=0.001, t_end=0.01, noise={"acc": 0.1})
+
+
 def test_study_in_joint_coordinates(tmp_path):
     # The same study in both formulations: the same reference (maximal
     # coordinates), errors of the same size at the same step (both fourth
