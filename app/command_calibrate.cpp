@@ -24,6 +24,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
+#include "calibration/joint_centre.hpp"
 #include "calibration/recording.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/universal_fit.hpp"
@@ -53,6 +54,10 @@ constexpr const char* kUsage =
     "             joint coordinate from its recorded angle; the body, its inertia, gravity and\n"
     "             the joint's geometry come from the scene (one body on the joint to ground)\n"
     "Always: rms_residual, iterations, converged, message; axis sigmas are 1-sigma RMS angles.\n"
+    "With both bodies' accelerometers (B.ax,B.ay,B.az) and gyroscopes, hinge and universal\n"
+    "also give the joint centre from each body's sensor point, in its axes: anchor_main,\n"
+    "anchor_secondary [m] with anchor_main_sigma, anchor_secondary_sigma (1-sigma RMS position\n"
+    "error; on a hinge the point of the axis closest to the two sensors), or anchor_note.\n"
     "\n"
     "hinge and universal:\n"
     "  --main A, --secondary B   the joint's bodies; with exactly two bodies in the recording\n"
@@ -117,6 +122,30 @@ AxisFitOptions fitOptions(const Arguments& args) {
 Json vector3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 /// The keys every calibration prints, after the fit's own.
+/// With both bodies' gyroscopes and accelerometers, the joint centre
+/// (calibration/joint_centre.hpp): anchor_main, anchor_secondary [m] from
+/// each sensor point in its body's axes, with σ; `axes` are a hinge's (its
+/// centre closest to the sensors) or null. Where the motion does not
+/// determine it, anchor_note says why and the axes' result stands.
+void addJointCentre(Json& j, const calibration::JointSamples& joint, const Eigen::Vector3d* axis_main,
+                    const Eigen::Vector3d* axis_secondary) {
+  if (!joint.hasAngularVelocities() || !joint.main.hasSpecificForce() || !joint.secondary.hasSpecificForce())
+    return;
+  try {
+    const calibration::JointCentreFit c = calibration::fitJointCentre(joint, axis_main, axis_secondary);
+    j["anchor_main"] = vector3(c.anchor_main);
+    j["anchor_secondary"] = vector3(c.anchor_secondary);
+    j["anchor_main_sigma"] = c.sigma_main;
+    j["anchor_secondary_sigma"] = c.sigma_secondary;
+    j["anchor_rms_residual"] = c.rms_residual;
+    j["anchor_frame"] = std::string("from each body's sensor point, body axes [m]") +
+                        (axis_main ? "; on the hinge axis, the point closest to the two sensors" : "");
+    j["anchor_converged"] = c.converged;
+  } catch (const calibration::NotIdentifiable& e) {
+    j["anchor_note"] = std::string("joint centre ") + e.what();
+  }
+}
+
 void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSamples& joint) {
   j["rms_residual"] = s.rms_residual;
   j["iterations"] = s.iterations;
@@ -400,6 +429,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
       addSummary(j, fit.summary, joint);
       j["sign"] = fit.sign;
+      addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
       return finish(j, fit.summary.converged, fit.summary.message, what);
     }
     const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);
@@ -409,6 +439,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
     j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
     addSummary(j, fit.summary, joint);
     j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
+    addJointCentre(j, joint, nullptr, nullptr);
     return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {
     return failed(what, e);

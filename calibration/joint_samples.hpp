@@ -21,9 +21,13 @@ struct BodySamples {
   std::string name;
   std::vector<SO3d> orientation;                    ///< R(t_k); empty when not recorded
   std::vector<Eigen::Vector3d> angular_velocity;    ///< ω(t_k), body frame; empty when not recorded
+  /// The accelerometer's specific force f(t_k) = Rᵀ(a_s − g) [m/s²], body
+  /// frame, at the sensor point (B.ax, B.ay, B.az); empty when not recorded.
+  std::vector<Eigen::Vector3d> specific_force;
 
   bool hasOrientation() const { return !orientation.empty(); }
   bool hasAngularVelocity() const { return !angular_velocity.empty(); }
+  bool hasSpecificForce() const { return !specific_force.empty(); }
 };
 
 /// The two bodies of a joint: `main` (body 1, the frame of `axis_main`) and

@@ -18,6 +18,7 @@ namespace {
 
 constexpr std::array<const char*, 4> kQuaternionSuffixes = {"qw", "qx", "qy", "qz"};
 constexpr std::array<const char*, 3> kRateSuffixes = {"wx", "wy", "wz"};
+constexpr std::array<const char*, 3> kAccelerometerSuffixes = {"ax", "ay", "az"};
 /// Body columns of the trajectory CSV that calibration does not use; they
 /// still make their prefix a body.
 constexpr std::array<const char*, 6> kOtherBodySuffixes = {"x", "y", "z", "vx", "vy", "vz"};
@@ -58,6 +59,7 @@ struct BodyColumns {
   std::string name;
   std::array<int, 4> quaternion{-1, -1, -1, -1};
   std::array<int, 3> rate{-1, -1, -1};
+  std::array<int, 3> acc{-1, -1, -1};
 };
 
 /// Checks that a column group is complete or absent, naming what is missing.
@@ -131,7 +133,8 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
     const std::string suffix = dot == std::string::npos ? "" : name.substr(dot + 1);
     const bool quaternion = contains(kQuaternionSuffixes, suffix);
     const bool rate = contains(kRateSuffixes, suffix);
-    if (prefix.empty() || (!quaternion && !rate && !contains(kOtherBodySuffixes, suffix))) {
+    const bool acc = contains(kAccelerometerSuffixes, suffix);
+    if (prefix.empty() || (!quaternion && !rate && !acc && !contains(kOtherBodySuffixes, suffix))) {
       scalar_cols.push_back(c);
       rec.scalars.push_back(ScalarColumn{name, {}});
       continue;
@@ -139,21 +142,24 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
     auto it = body_cols.begin();
     while (it != body_cols.end() && it->name != prefix) ++it;
     if (it == body_cols.end()) {
-      body_cols.push_back(BodyColumns{prefix, {-1, -1, -1, -1}, {-1, -1, -1}});
+      body_cols.push_back(BodyColumns{prefix, {-1, -1, -1, -1}, {-1, -1, -1}, {-1, -1, -1}});
       it = body_cols.end() - 1;
     }
     for (std::size_t i = 0; i < kQuaternionSuffixes.size(); ++i)
       if (suffix == kQuaternionSuffixes[i]) it->quaternion[i] = c;
     for (std::size_t i = 0; i < kRateSuffixes.size(); ++i)
       if (suffix == kRateSuffixes[i]) it->rate[i] = c;
+    for (std::size_t i = 0; i < kAccelerometerSuffixes.size(); ++i)
+      if (suffix == kAccelerometerSuffixes[i]) it->acc[i] = c;
   }
   if (time_col < 0) throw InvalidInput(where(source, 1), "no column t (the header must name a time column t)");
 
-  std::vector<bool> has_q, has_w;
+  std::vector<bool> has_q, has_w, has_a;
   for (const BodyColumns& b : body_cols) {
     has_q.push_back(completeGroup(source, b.name, b.quaternion, kQuaternionSuffixes, "orientation"));
     has_w.push_back(completeGroup(source, b.name, b.rate, kRateSuffixes, "angular velocity"));
-    rec.bodies.push_back(BodySamples{b.name, {}, {}});
+    has_a.push_back(completeGroup(source, b.name, b.acc, kAccelerometerSuffixes, "accelerometer"));
+    rec.bodies.push_back(BodySamples{b.name, {}, {}, {}});
   }
 
   // Rows.
@@ -213,6 +219,7 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
       }
       if (has_w[b])
         body.angular_velocity.emplace_back(values[cols.rate[0]], values[cols.rate[1]], values[cols.rate[2]]);
+      if (has_a[b]) body.specific_force.emplace_back(values[cols.acc[0]], values[cols.acc[1]], values[cols.acc[2]]);
     }
   }
   if (rec.time.empty()) throw InvalidInput(source, "no data rows after the header");

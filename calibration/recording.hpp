@@ -1,8 +1,9 @@
 /// \file
 /// The recording CSV of ../shared/DESIGN.md ("Trajectory and recording CSV"):
 /// one header row, then one row per time. Columns: `t`; per body B any of the
-/// groups `B.qw,B.qx,B.qy,B.qz` (Hamilton quaternion, R maps body → world) and
-/// `B.wx,B.wy,B.wz` (angular velocity in the body frame), and the other
+/// groups `B.qw,B.qx,B.qy,B.qz` (Hamilton quaternion, R maps body → world),
+/// `B.wx,B.wy,B.wz` (angular velocity in the body frame) and `B.ax,B.ay,B.az`
+/// (accelerometer: specific force in the body frame), and the other
 /// trajectory columns (`B.x`, `J.phi`, `energy`, ...), which are checked but not
 /// used by the axis fits. Bodies are discovered from the column prefixes of the
 /// body columns; the columns that are neither `t` nor body columns (`J.phi`,

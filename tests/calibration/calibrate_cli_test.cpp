@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "calibration/synthetic_motion.hpp"
@@ -230,6 +231,47 @@ TEST(CalibCli, SpringFromASimulatedRecording) {
   o = run("calibrate spring " + still + " --scene spring-hinge --stiffness-start 12 --damping-start 0.1");
   EXPECT_EQ(o.status, 1);
   EXPECT_NE(o.err.find("not identifiable: the joint angle barely moves"), std::string::npos) << o.err;
+}
+
+/// `simulate --imu` then `calibrate universal`: two rotation-only bodies on
+/// a universal joint at their common centre of mass, sensors away from it, so
+/// the joint centre from each sensor is −sensor; with the accelerometers the
+/// JSON carries anchor_main, anchor_secondary and their σ, the truth within
+/// 4σ; without them, no anchor keys.
+TEST(CalibCli, JointCentreFromAccelerometers) {
+  const std::string scene = testStem() + "_pair.json", rec = testStem() + ".csv";
+  std::ofstream f(scene);
+  f << R"({"name": "pair", "gravity": [0, 0, -9.81], "bodies": [
+    {"name": "upper", "mass": 1.0, "inertia": [0.02, 0.05, 0.065], "rotation_only": true,
+     "angular_velocity": [1.0, -0.5, 1.5], "sensor": [0.05, -0.03, 0.08]},
+    {"name": "lower", "mass": 1.0, "inertia": [0.012, 0.03, 0.035], "rotation_only": true,
+     "angular_velocity": [0.5, 1.0, 2.0], "sensor": [-0.04, 0.06, 0.02]}],
+    "joints": [{"name": "cross", "type": "universal", "main": "upper", "secondary": "lower",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0], "axis1_main": [1, 0, 0],
+     "axis2_secondary": [0, 1, 0]}],
+    "integrator": {"name": "rkmk4", "dt": 0.001}, "t_end": 10})";
+  f.close();
+  Outcome o = run("simulate " + scene + " --every 10 --imu --noise-gyro 0.01 --noise-acc 0.05 --noise-quat 0.005 "
+                  "--seed 5 --out " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = run("calibrate universal " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  const Eigen::Vector3d truth[2] = {Eigen::Vector3d(-0.05, 0.03, -0.08), Eigen::Vector3d(0.04, -0.06, -0.02)};
+  const char* keys[2] = {"anchor_main", "anchor_secondary"};
+  for (int b = 0; b < 2; ++b) {
+    ASSERT_TRUE(j.contains(keys[b])) << o.out;
+    const Eigen::Vector3d a(j[keys[b]][0].get<double>(), j[keys[b]][1].get<double>(), j[keys[b]][2].get<double>());
+    const double sigma = j[std::string(keys[b]) + "_sigma"].get<double>();
+    EXPECT_GT(sigma, 0.0);
+    EXPECT_LT(sigma, 0.03);
+    EXPECT_LT((a - truth[b]).norm(), 4.0 * sigma) << keys[b] << " " << a.transpose();
+  }
+  o = run("simulate " + scene + " --every 10 --noise-gyro 0.01 --noise-quat 0.005 --seed 5 --out " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = run("calibrate universal " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_FALSE(nlohmann::json::parse(o.out).contains("anchor_main"));
 }
 
 }  // namespace
