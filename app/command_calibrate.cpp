@@ -41,6 +41,7 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kUsage =
     "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
+    "       lieflow calibrate spherical RECORDING.csv [--main A] [--secondary B]\n"
     "       lieflow calibrate spring RECORDING.csv --scene SCENE [--joint J] [options]\n"
     "\n"
     "Fits a joint's axes, or a joint coordinate's spring and dashpot, to a recording (the\n"
@@ -50,6 +51,8 @@ constexpr const char* kUsage =
     "             axis_sigma_deg (from gyroscopes, orientations or both)\n"
     "  universal  both axes of a universal joint: axis1_main, axis2_secondary and their\n"
     "             _sigma_deg (needs orientations; gyroscopes are used too when present)\n"
+    "  spherical  the centre of a ball joint from both bodies' gyroscopes and accelerometers:\n"
+    "             anchor_main, anchor_secondary [m] from each sensor point and their _sigma\n"
     "  spring     stiffness, damping, rest_angle (and their _sigma) of a revolute or universal\n"
     "             joint coordinate from its recorded angle; the body, its inertia, gravity and\n"
     "             the joint's geometry come from the scene (one body on the joint to ground)\n"
@@ -197,6 +200,37 @@ CommandOutcome finish(const Json& j, bool converged, const std::string& message,
 
 CommandOutcome failed(const std::string& what, const std::exception& e) {
   return {Json(), kComputationFailed, what + ": " + e.what()};
+}
+
+/// `calibrate spherical`: the centre of a ball joint (calibration/joint_centre.hpp).
+CommandOutcome runSpherical(const calibration::JointSamples& joint, const std::string& what) {
+  for (const calibration::BodySamples* b : {&joint.main, &joint.secondary})
+    if (!b->hasAngularVelocity() || !b->hasSpecificForce())
+      throw InvalidInput(joint.source, "calibrate spherical needs both bodies' gyroscopes and accelerometers: body '" +
+                                           b->name + "' has no " + (b->hasAngularVelocity() ? "B.ax, B.ay, B.az" : "B.wx, B.wy, B.wz") +
+                                           " columns");
+  try {
+    const calibration::JointCentreFit c = calibration::fitJointCentre(joint, nullptr, nullptr);
+    Json j;
+    j["anchor_main"] = vector3(c.anchor_main);
+    j["anchor_secondary"] = vector3(c.anchor_secondary);
+    j["anchor_main_sigma"] = c.sigma_main;
+    j["anchor_secondary_sigma"] = c.sigma_secondary;
+    j["anchor_frame"] = "from each body's sensor point, body axes [m]";
+    j["rms_residual"] = c.rms_residual;
+    j["rms_residual_unit"] = "m/s^2";
+    j["iterations"] = c.iterations;
+    j["converged"] = c.converged;
+    j["message"] = c.message;
+    j["main"] = joint.main.name;
+    j["secondary"] = joint.secondary.name;
+    j["samples"] = c.samples;
+    return finish(j, c.converged, c.message, what);
+  } catch (const calibration::NotIdentifiable& e) {
+    return failed(what, e);
+  } catch (const calibration::FitFailed& e) {
+    return failed(what, e);
+  }
 }
 
 /// Recordings above this size get a line on stderr before they are read:
@@ -400,10 +434,11 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   FLAGS_minloglevel = args.has("--verbose") ? google::GLOG_INFO : google::GLOG_FATAL;
   const std::vector<std::string>& pos = args.positional();
   if (pos.empty())
-    throw UsageError("calibrate needs hinge, universal or spring and a RECORDING.csv (see lieflow calibrate --help)");
+    throw UsageError(
+        "calibrate needs hinge, universal, spherical or spring and a RECORDING.csv (see lieflow calibrate --help)");
   const std::string& kind = pos[0];
-  if (kind != "hinge" && kind != "universal" && kind != "spring")
-    throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal, spring)");
+  if (kind != "hinge" && kind != "universal" && kind != "spherical" && kind != "spring")
+    throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal, spherical, spring)");
   if (pos.size() != 2) throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv");
   if (kind == "spring") return runSpring(args, pos[1], interrupted);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
@@ -418,6 +453,11 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   const calibration::JointSamples joint =
       calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", ""));
   const std::string what = "calibrate " + kind + " " + pos[1];
+  if (kind == "spherical") {
+    for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
+      if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of the axis fits, not of spherical");
+    return runSpherical(joint, what);
+  }
   try {
     Json j;
     if (kind == "hinge") {

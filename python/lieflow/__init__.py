@@ -6,8 +6,8 @@ The Python face of the C++ library and of the ``lieflow`` command:
 - ``simulate``, ``study``, ``stability``: the commands, with their flags as
   keyword arguments and their outputs as NumPy arrays and dicts
   (lieflow.commands);
-- ``calibrate_hinge``, ``calibrate_universal``, ``calibrate_spring``: the
-  fits (in builds with Ceres);
+- ``calibrate_hinge``, ``calibrate_universal``, ``calibrate_spherical``,
+  ``calibrate_spring``: the fits (in builds with Ceres);
 - ``sweep``: many runs at once on a Dask cluster (lieflow.sweep).
 
 Bad input raises ``InputError`` (a ValueError) with the command's message; a
@@ -31,6 +31,7 @@ from .groups import SE3, SO3  # noqa: E402
 from .commands import (  # noqa: E402
     SimulationResult,
     calibrate_hinge,
+    calibrate_spherical,
     calibrate_spring,
     calibrate_universal,
     scenes,

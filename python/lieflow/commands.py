@@ -394,6 +394,23 @@ def calibrate_universal(recording, main=None, secondary=None, use=None, loss=Non
     return _calibrate("universal", recording, _AXIS_FIT, values, partial)
 
 
+_CENTRE_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text),
+               "max_iterations": ("--max-iterations", _integer), "min_samples": ("--min-samples", _integer),
+               "max_input_mb": ("--max-input-mb", _integer), "max_rows": ("--max-rows", _integer),
+               "verbose": ("--verbose", None)}
+
+
+def calibrate_spherical(recording, main=None, secondary=None, max_input_mb=None, max_rows=None, verbose=False,
+                        partial=False):
+    """The centre of a ball joint from both bodies' gyroscopes and
+    accelerometers (B.wx.., B.ax..), as ``lieflow calibrate spherical``:
+    anchor_main, anchor_secondary [m] from each sensor point in its body's
+    axes, their _sigma, rms_residual, converged, message; errors as
+    calibrate_hinge."""
+    values = dict(main=main, secondary=secondary, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose)
+    return _calibrate("spherical", recording, _CENTRE_FIT, values, partial)
+
+
 _SPRING_FIT = {"scene": ("--scene", _text), "joint": ("--joint", _text), "main": ("--main", _text),
                "secondary": ("--secondary", _text), "coordinate": ("--coordinate", _integer),
                "fit_rest_angle": ("--fit-rest-angle", None), "hold_damping": ("--hold-damping", None),

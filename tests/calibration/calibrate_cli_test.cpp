@@ -167,7 +167,7 @@ TEST(CalibCli, BadInputAndUsageExitTwo) {
 
   o = run("calibrate frobnicate " + three);
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("unknown calibration 'frobnicate' (available: hinge, universal, spring)"), std::string::npos)
+  EXPECT_NE(o.err.find("unknown calibration 'frobnicate' (available: hinge, universal, spherical, spring)"), std::string::npos)
       << o.err;
   o = run("calibrate spring " + three);
   EXPECT_EQ(o.status, 2);
@@ -272,6 +272,42 @@ TEST(CalibCli, JointCentreFromAccelerometers) {
   o = run("calibrate universal " + rec);
   ASSERT_EQ(o.status, 0) << o.err;
   EXPECT_FALSE(nlohmann::json::parse(o.out).contains("anchor_main"));
+}
+
+/// `calibrate spherical`: the same pair on a ball joint; the centre within
+/// 4σ of −sensor in each body; without accelerometers, exit 2 naming them.
+TEST(CalibCli, SphericalJointCentre) {
+  const std::string scene = testStem() + "_ball.json", rec = testStem() + ".csv";
+  std::ofstream f(scene);
+  f << R"({"name": "ball", "gravity": [0, 0, -9.81], "bodies": [
+    {"name": "upper", "mass": 1.0, "inertia": [0.02, 0.05, 0.065], "rotation_only": true,
+     "angular_velocity": [2.0, -1.0, 1.5], "sensor": [0.05, -0.03, 0.08]},
+    {"name": "lower", "mass": 1.0, "inertia": [0.012, 0.03, 0.035], "rotation_only": true,
+     "angular_velocity": [-1.0, 2.5, 0.5], "sensor": [-0.04, 0.06, 0.02]}],
+    "joints": [{"name": "ball", "type": "spherical", "main": "upper", "secondary": "lower",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0]}],
+    "integrator": {"name": "rkmk4", "dt": 0.001}, "t_end": 10})";
+  f.close();
+  Outcome o = run("simulate " + scene + " --every 10 --imu --noise-gyro 0.01 --noise-acc 0.05 --seed 6 --out " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = run("calibrate spherical " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  for (const char* key : {"anchor_main", "anchor_secondary", "anchor_main_sigma", "anchor_secondary_sigma",
+                          "rms_residual", "iterations", "converged", "message"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  const Eigen::Vector3d truth[2] = {Eigen::Vector3d(-0.05, 0.03, -0.08), Eigen::Vector3d(0.04, -0.06, -0.02)};
+  const char* keys[2] = {"anchor_main", "anchor_secondary"};
+  for (int b = 0; b < 2; ++b) {
+    const Eigen::Vector3d a(j[keys[b]][0].get<double>(), j[keys[b]][1].get<double>(), j[keys[b]][2].get<double>());
+    EXPECT_LT((a - truth[b]).norm(), 4.0 * j[std::string(keys[b]) + "_sigma"].get<double>()) << a.transpose();
+  }
+  o = run("simulate " + scene + " --every 10 --noise-gyro 0.01 --out " + rec);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = run("calibrate spherical " + rec);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("B.ax, B.ay, B.az"), std::string::npos) << o.err;
+  EXPECT_EQ(run("calibrate spherical " + rec + " --use gyroscopes").status, 2);
 }
 
 }  // namespace

@@ -134,10 +134,11 @@ TEST(CalibJointCentre, NeedsBothAccelerometers) {
 }
 
 /// 50 trials, random initial rates (2-4 rad/s per axis), gyroscope noise
-/// 0.01 rad/s and accelerometer noise 0.05 m/s² at 100 Hz for 10 s (3 s
-/// under the sanitizers): errors within 3σ in all but 2, mean (error/σ)² in
-/// [0.5, 1.6].
-void expectHonest(const std::string& type, unsigned seed) {
+/// 0.01 rad/s and accelerometer noise 0.05 m/s² at 100 Hz for 10 s (also
+/// under the sanitizers: on 3 s recordings σ is too small, mean (error/σ)²
+/// 1.7–2.3 on the spherical joint, calibration/README.md): errors within 3σ in
+/// all but 2, mean (error/σ)² in [0.5, 1.6].
+void expectHonest(const std::string& type, unsigned seed, double seconds = 10.0) {
   const HingeTruth truth;
   const bool hinge = type == "revolute";
   std::mt19937 gen(seed);
@@ -151,7 +152,7 @@ void expectHonest(const std::string& type, unsigned seed) {
     noise.gyro = 0.01;
     noise.acc = 0.05;
     noise.seed = gen();
-    const JointSamples joint = record(pairScene(type, w1, w2), test::kSanitized ? 3.0 : 10.0, noise);
+    const JointSamples joint = record(pairScene(type, w1, w2), seconds, noise);
     JointCentreFit fit;
     try {
       fit = hinge ? fitJointCentre(joint, &truth.j1, &truth.j2) : fitJointCentre(joint, nullptr, nullptr);

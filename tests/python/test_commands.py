@@ -164,6 +164,34 @@ def test_calibrate_equals_the_command(tmp_path, run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_spherical_equals_the_command(tmp_path, run_command):
+    scene = {"name": "ball", "gravity": [0, 0, -9.81], "t_end": 5, "integrator": {"name": "rkmk4", "dt": 0.001},
+             "bodies": [{"name": "upper", "mass": 1.0, "inertia": [0.02, 0.05, 0.065], "rotation_only": True,
+                         "angular_velocity": [2.0, -1.0, 1.5], "sensor": [0.05, -0.03, 0.08]},
+                        {"name": "lower", "mass": 1.0, "inertia": [0.012, 0.03, 0.035], "rotation_only": True,
+                         "angular_velocity": [-1.0, 2.5, 0.5], "sensor": [-0.04, 0.06, 0.02]}],
+             "joints": [{"name": "ball", "type": "spherical", "main": "upper", "secondary": "lower",
+                         "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0]}]}
+    recording = lieflow.simulate(scene, every=10, imu=True, noise={"gyro": 0.01, "acc": 0.05, "seed": 2}).columns
+    path = tmp_path / "ball.csv"
+    with open(path, "w") as f:
+        names = list(recording)
+        f.write(",".join(names) + "\n")
+        for row in zip(*(recording[n] for n in names)):
+            f.write(",".join(repr(float(v)) for v in row) + "\n")
+    status, out, err = run_command("calibrate", "spherical", path)
+    assert status == 0, err
+    command = json.loads(out)
+    for source in (str(path), recording):
+        fit = lieflow.calibrate_spherical(source)
+        assert list(fit) == list(command)
+        for key in set(command) - TIMING:
+            assert fit[key] == command[key], key
+    truth = np.array([-0.05, 0.03, -0.08])
+    assert np.linalg.norm(np.array(command["anchor_main"]) - truth) < 4 * command["anchor_main_sigma"]
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_spring_equals_the_command(tmp_path, run_command):
     status, _, err = run_command("simulate", "spring-hinge", "--every", "10", "--noise-angle", "0.01", "--out",
                                  tmp_path / "decay.csv", "--quiet")
