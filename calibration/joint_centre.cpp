@@ -103,20 +103,24 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
                                              b->name + ".ax, " + b->name + ".ay, " + b->name + ".az)");
   }
   const std::size_t n = samples.time.size();
-  if (n < 12)
-    throw NotIdentifiable("the joint centre needs at least 12 samples (the recording has " + std::to_string(n) +
-                          ")");
+  if (n < 2 * kWindow + 12)
+    throw NotIdentifiable("the joint centre needs at least " + std::to_string(2 * kWindow + 12) +
+                          " samples (the recording has " + std::to_string(n) + ")");
+  // The residual of sample k (k − kWindow ≥ 0, k + kWindow < n).
+  const auto residualAt = [&](std::size_t k) {
+    return CentreResidual{samples.main.specific_force[k],
+                          samples.main.angular_velocity[k],
+                          rateDerivative(samples.time, samples.main.angular_velocity, k),
+                          samples.secondary.specific_force[k],
+                          samples.secondary.angular_velocity[k],
+                          rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
+  };
   double o1[3] = {0.0, 0.0, 0.0}, o2[3] = {0.0, 0.0, 0.0};
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);
   double scale = 0.0;  // RMS of |ω|² + |ω̇|: the data rows' Jacobian scale [1/s²]
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    CentreResidual c{samples.main.specific_force[k],
-                     samples.main.angular_velocity[k],
-                     rateDerivative(samples.time, samples.main.angular_velocity, k),
-                     samples.secondary.specific_force[k],
-                     samples.secondary.angular_velocity[k],
-                     rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
+    const CentreResidual c = residualAt(k);
     scale += std::pow(c.w1.squaredNorm() + c.a1.norm(), 2) + std::pow(c.w2.squaredNorm() + c.a2.norm(), 2);
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CentreResidual, 1, 3, 3>(new CentreResidual(c)),
                              nullptr, o1, o2);
@@ -152,12 +156,7 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
   // The data rows' residual sum of squares (the gauge row holds to rounding).
   double rss = 0.0;
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    const CentreResidual c{samples.main.specific_force[k],
-                           samples.main.angular_velocity[k],
-                           rateDerivative(samples.time, samples.main.angular_velocity, k),
-                           samples.secondary.specific_force[k],
-                           samples.secondary.angular_velocity[k],
-                           rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
+    const CentreResidual c = residualAt(k);
     double r = 0.0;
     c(o1, o2, &r);
     rss += r * r;
@@ -181,12 +180,7 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
     jo2[i] = Jet(o2[i], 3 + i);
   }
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    const CentreResidual c{samples.main.specific_force[k],
-                           samples.main.angular_velocity[k],
-                           rateDerivative(samples.time, samples.main.angular_velocity, k),
-                           samples.secondary.specific_force[k],
-                           samples.secondary.angular_velocity[k],
-                           rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
+    const CentreResidual c = residualAt(k);
     Jet r;
     c(jo1, jo2, &r);
     e.push_back(r.a);
