@@ -25,6 +25,7 @@
 #include "joints/multibody_scene.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_observer.hpp"
+#include "joints/simulation_unconstrained.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -133,6 +134,7 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
                            const typename System::State& y0, const SimulationOptions& o,
                            const std::vector<std::string>& columns,
                            const std::function<void(const std::vector<double>&)>& row) {
+  if (auto result = runUnconstrained(model, system, y0, o, columns, row)) return *result;
   using State = typename System::State;
   const std::string& name = o.integrator;
   const long n = stepCount(0.0, o.t_end, o.dt);
@@ -141,12 +143,6 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
       return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
     });
   };
-  if (name == "rkmk-euler") return fixed(RkmkStepper<State>(ButcherTableau::euler()));
-  if (name == "rkmk-heun") return fixed(RkmkStepper<State>(ButcherTableau::heun()));
-  if (name == "rkmk3") return fixed(RkmkStepper<State>(ButcherTableau::kutta3()));
-  if (name == "rkmk4") return fixed(RkmkStepper<State>(ButcherTableau::rk4()));
-  if (name == "cg3") return fixed(CrouchGrossman3Stepper<State>());
-  if (name == "cf4") return fixed(CommutatorFree4Stepper<State>());
   if (name == "lgvi") {
     LgviOptions l;
     l.tolerance = option(o, "tolerance", l.tolerance);
@@ -156,24 +152,6 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
     return fixed(LgviStepper<State>(l));
   }
   if (name == "splitting") return fixed(SplittingStepper<State>(system.inertia()));
-  if (name == "genalpha") {
-    GeneralizedAlphaOptions g;
-    g.rho_inf = option(o, "rho_inf", g.rho_inf);
-    g.tolerance = option(o, "tolerance", g.tolerance);
-    g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
-    return fixed(GeneralizedAlphaStepper<State>(g));
-  }
-  if (name == "rkmk45") {
-    AdaptiveOptions a;
-    a.rtol = option(o, "rtol", a.rtol);
-    a.atol = option(o, "atol", a.atol);
-    a.max_steps = o.max_steps;
-    a.heartbeat = o.progress;
-    const RkmkStepper<State> stepper(ButcherTableau::dormandPrince54());
-    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
-      return integrateAdaptive(stepper, system, y0, 0.0, o.t_end, o.dt, a, observer);
-    });
-  }
   throw InvalidInput("--integrator", "'" + name + "' is not available for this scene");
 }
 

@@ -42,6 +42,8 @@ struct RowBuilder {
   /// Rows carry B.ax, B.ay, B.az (SimulationOptions::imu).
   bool imu = false;
 
+  RowBuilder(const Simulation::Model& m, bool with_imu) : model(m), imu(with_imu) {}
+
   void operator()(const RotorSystem<double>& sys, double t, const RotorState<double>& y,
                   std::vector<double>* row) const {
     row->clear();
