@@ -93,6 +93,30 @@ BENCHMARK(BM_ChainFreeFunction)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::k
 /// 1e-3), outside the timing, as bench_chain_mujoco.cpp's runs do.
 constexpr long kResetSteps = 1000;
 
+/// The timed loop: one step of h = 1e-3 per iteration from *y at *t, the
+/// state carried over, back to y0 every kResetSteps steps outside the timing;
+/// a step that fails stops the benchmark with its reason.
+template <typename Stepper, typename System, typename State>
+void timedSteps(benchmark::State& st, Stepper& stepper, const System& system, const State& y0, State* y, double* t) {
+  const double h = bench::kChainStep;
+  StepReport report;
+  long steps = 0;
+  for (auto _ : st) {
+    *y = stepper.step(system, *t, *y, h, &report);
+    *t += h;
+    if (!report.converged) {
+      st.SkipWithError(report.failure);
+      break;
+    }
+    if (++steps % kResetSteps == 0) {
+      st.PauseTiming();
+      *y = y0;
+      *t = 0.0;
+      st.ResumeTiming();
+    }
+  }
+}
+
 /// One full step of `stepper` on the chain (h = 1e-3), state carried over.
 template <typename Stepper>
 void chainSteps(benchmark::State& st, Stepper stepper) {
@@ -105,23 +129,7 @@ void chainSteps(benchmark::State& st, Stepper stepper) {
   const MultibodyGroupState y0 = system.makeState(s);
   MultibodyGroupState y = y0;
   double t = 0.0;
-  const double h = bench::kChainStep;
-  StepReport report;
-  long steps = 0;
-  for (auto _ : st) {
-    y = stepper.step(system, t, y, h, &report);
-    t += h;
-    if (!report.converged) {
-      st.SkipWithError(report.failure);
-      break;
-    }
-    if (++steps % kResetSteps == 0) {
-      st.PauseTiming();
-      y = y0;
-      t = 0.0;
-      st.ResumeTiming();
-    }
-  }
+  timedSteps(st, stepper, system, y0, &y, &t);
   st.counters["constraint_error"] = system.constraintError(t, y);
   st.SetComplexityN(N);
 }
@@ -168,23 +176,7 @@ void chainJointSteps(benchmark::State& st, Stepper stepper) {
   const articulated::ArticulatedState y0 = scene->y0;
   articulated::ArticulatedState y = y0;
   double t = 0.0;
-  const double h = bench::kChainStep;
-  StepReport report;
-  long steps = 0;
-  for (auto _ : st) {
-    y = stepper.step(system, t, y, h, &report);
-    t += h;
-    if (!report.converged) {
-      st.SkipWithError(report.failure);
-      break;
-    }
-    if (++steps % kResetSteps == 0) {
-      st.PauseTiming();
-      y = y0;
-      t = 0.0;
-      st.ResumeTiming();
-    }
-  }
+  timedSteps(st, stepper, system, y0, &y, &t);
   st.counters["energy"] = system.energy(t, y);
   st.SetComplexityN(N);
 }
