@@ -125,6 +125,17 @@ AxisFitOptions fitOptions(const Arguments& args) {
 Json vector3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 /// The keys every calibration prints, after the fit's own.
+/// The joint centre's keys: anchor_main, anchor_secondary, their _sigma and
+/// the frame they are in.
+void putJointCentre(Json& j, const calibration::JointCentreFit& c, bool hinge) {
+  j["anchor_main"] = vector3(c.anchor_main);
+  j["anchor_secondary"] = vector3(c.anchor_secondary);
+  j["anchor_main_sigma"] = c.sigma_main;
+  j["anchor_secondary_sigma"] = c.sigma_secondary;
+  j["anchor_frame"] = std::string("from each body's sensor point, body axes [m]") +
+                      (hinge ? "; on the hinge axis, the point closest to the two sensors" : "");
+}
+
 /// With both bodies' gyroscopes and accelerometers, the joint centre
 /// (calibration/joint_centre.hpp): anchor_main, anchor_secondary [m] from
 /// each sensor point in its body's axes, with σ; `axes` are a hinge's (its
@@ -136,13 +147,8 @@ void addJointCentre(Json& j, const calibration::JointSamples& joint, const Eigen
     return;
   try {
     const calibration::JointCentreFit c = calibration::fitJointCentre(joint, axis_main, axis_secondary);
-    j["anchor_main"] = vector3(c.anchor_main);
-    j["anchor_secondary"] = vector3(c.anchor_secondary);
-    j["anchor_main_sigma"] = c.sigma_main;
-    j["anchor_secondary_sigma"] = c.sigma_secondary;
+    putJointCentre(j, c, axis_main != nullptr);
     j["anchor_rms_residual"] = c.rms_residual;
-    j["anchor_frame"] = std::string("from each body's sensor point, body axes [m]") +
-                        (axis_main ? "; on the hinge axis, the point closest to the two sensors" : "");
     j["anchor_converged"] = c.converged;
   } catch (const calibration::NotIdentifiable& e) {
     j["anchor_note"] = std::string("joint centre ") + e.what();
@@ -212,11 +218,7 @@ CommandOutcome runSpherical(const calibration::JointSamples& joint, const std::s
   try {
     const calibration::JointCentreFit c = calibration::fitJointCentre(joint, nullptr, nullptr);
     Json j;
-    j["anchor_main"] = vector3(c.anchor_main);
-    j["anchor_secondary"] = vector3(c.anchor_secondary);
-    j["anchor_main_sigma"] = c.sigma_main;
-    j["anchor_secondary_sigma"] = c.sigma_secondary;
-    j["anchor_frame"] = "from each body's sensor point, body axes [m]";
+    putJointCentre(j, c, false);
     j["rms_residual"] = c.rms_residual;
     j["rms_residual_unit"] = "m/s^2";
     j["iterations"] = c.iterations;
