@@ -126,7 +126,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   model.gravity = scene.gravity;
   const int nb = static_cast<int>(scene.bodies.size());
   model.tree_index.assign(nb, -1);
-  model.joint_child.assign(scene.joints.size(), -1);
+  model.scene_joints = static_cast<int>(scene.joints.size());
   for (int t = 0; t < nb; ++t) model.tree_index[order[t]] = t;
   auto orientation = [&](int scene_body) {
     return scene_body < 0 ? Eigen::Matrix3d::Identity()
@@ -150,7 +150,6 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     ArticulatedBody b;
     b.mass = bd.mass;
     b.inertia = bd.inertia;
-    b.scene_body = c;
     b.scene_joint = k;
     b.rotation_only = bd.rotation_only;
     b.initial_orientation = bd.orientation.normalized();
@@ -212,7 +211,6 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
         b.is_prescribed[i] = d.prescribed.has_value();
       }
     }
-    model.joint_child[k] = t;
     model.bodies.push_back(b);
     model.names.push_back(bd.name);
     model.drives.push_back(std::move(drives));

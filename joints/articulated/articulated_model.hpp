@@ -42,7 +42,6 @@ struct ArticulatedBody {
   double mass = 0.0;
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  ///< about the centre of mass, body axes
   int parent = kGround;                                   ///< tree index, < own index
-  int scene_body = -1;                                    ///< index in SceneDescription::bodies
   int scene_joint = -1;                                   ///< index in SceneDescription::joints; −1: none
   /// A rotation-only body: its centre of mass stays at `fixed_position`
   /// (held by a support, as in the maximal formulation); it turns with its
@@ -96,8 +95,8 @@ struct ArticulatedModel {
   int rotations = 0;           ///< ns: spherical joints
   /// Scene body index → tree index.
   std::vector<int> tree_index;
-  /// Scene joint index → tree index of its child body (−1 for none).
-  std::vector<int> joint_child;
+  /// How many joints the scene has (the joint outputs are by scene joint).
+  int scene_joints = 0;
 
   int dofs() const { return scalar_coordinates + 3 * rotations; }
   int bodyCount() const { return static_cast<int>(bodies.size()); }

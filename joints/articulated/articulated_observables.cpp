@@ -40,7 +40,7 @@ Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) con
 
 void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const {
   accelerations(t, y, &udot_);
-  out->assign(model_.joint_child.size(), ArticulatedJointOutput());
+  out->assign(model_.scene_joints, ArticulatedJointOutput());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     const BodyData& d = data_[i];
