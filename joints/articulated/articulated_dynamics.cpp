@@ -192,10 +192,7 @@ void ArticulatedSystem::passToParent(int i, const Matrix6& Ia, const Vector6& pa
     parent.pA += pa;
     return;
   }
-  // Pᵀ I_a P and Pᵀ p_a, P = [I 0; [c]× 0].
-  Matrix6 P = Matrix6::Zero();
-  P.topLeftCorner<3, 3>().setIdentity();
-  P.bottomLeftCorner<3, 3>() = hat(data_[i].c);
+  const Matrix6 P = rotationOnlyMap(data_[i].c);
   parent.IA += P.transpose() * Ia * P;
   parent.pA += P.transpose() * pa;
 }

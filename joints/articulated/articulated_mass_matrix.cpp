@@ -32,9 +32,7 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
     const int nf = d.free;
     if (b.parent != kGround) {
       if (b.rotation_only) {
-        Matrix6 P = Matrix6::Zero();
-        P.topLeftCorner<3, 3>().setIdentity();
-        P.bottomLeftCorner<3, 3>() << 0.0, -d.c.z(), d.c.y(), d.c.z(), 0.0, -d.c.x(), -d.c.y(), d.c.x(), 0.0;
+        const Matrix6 P = rotationOnlyMap(d.c);
         composite_[b.parent] += P.transpose() * composite_[i] * P;
       } else {
         composite_[b.parent] += composite_[i];

@@ -58,6 +58,15 @@ namespace articulated {
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
+/// P (ω, v) = (ω, c × ω) as a 6 × 6 matrix [I 0; [c]× 0]: the motion of a
+/// rotation-only body held at c (file comment).
+inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
+  Matrix6 P = Matrix6::Zero();
+  P.topLeftCorner<3, 3>().setIdentity();
+  P.bottomLeftCorner<3, 3>() << 0.0, -c.z(), c.y(), c.z(), 0.0, -c.x(), -c.y(), c.x(), 0.0;
+  return P;
+}
+
 /// One joint's outputs (CSV `J.phi, J.phidot, J.moment`): angles, rates and
 /// the moment the joint exerts on its main body about each axis (the same
 /// definition as the maximal formulation's multibody::JointOutput).
