@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include "liegroup/invalid_input.hpp"
 
@@ -52,6 +56,7 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
                                                "both bodies' angular velocities (B.wx,B.wy,B.wz); '" +
                                                samples.main.name + "' has " + has(samples.main) + ", '" +
                                                samples.secondary.name + "' has " + has(samples.secondary));
+      if (d.orientations && d.rates) checkOrientationsAgreeWithRates(samples);
       return d;
     case DataUse::kOrientations: d.orientations = true; break;
     case DataUse::kAngularVelocities: d.rates = true; break;
@@ -59,7 +64,47 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
   }
   if (d.orientations) requireGroup(samples, true, joint);
   if (d.rates) requireGroup(samples, false, joint);
+  if (d.orientations && d.rates) checkOrientationsAgreeWithRates(samples);
   return d;
+}
+
+void checkOrientationsAgreeWithRates(const JointSamples& samples) {
+  for (const BodySamples* b : {&samples.main, &samples.secondary}) {
+    const std::size_t n = samples.time.size();
+    if (n < 3) return;
+    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    double g2 = 0.0, u2 = 0.0;
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+      const double dt = samples.time[k + 1] - samples.time[k];
+      const Eigen::Vector3d u = (b->orientation[k].inverse() * b->orientation[k + 1]).log() / dt;
+      const Eigen::Vector3d g = 0.5 * (b->angular_velocity[k] + b->angular_velocity[k + 1]);
+      M.noalias() += u * g.transpose();
+      g2 += g.squaredNorm();
+      u2 += u.squaredNorm();
+    }
+    if (std::sqrt(g2 / (n - 1)) < kMinConsistencyRate) continue;
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d C = svd.matrixU() * D * svd.matrixV().transpose();
+    const Eigen::AngleAxisd turn(C);
+    const double deg = turn.angle() * 180.0 / 3.141592653589793;
+    // Σ|u − Cg|² and Σ|u − g|² (|Cg| = |g|): only a C that explains the rates
+    // significantly better than the identity counts (a motion about one axis
+    // leaves C free about the others; noise alone improves the fit by Δχ² ≈ 3).
+    const double misfit_C = u2 + g2 - 2.0 * (C.transpose() * M).trace();
+    const double misfit_I = u2 + g2 - 2.0 * M.trace();
+    const double variance = std::max(misfit_C, 1e-300) / (n - 1);
+    if (deg <= kFrameMismatchDeg || (misfit_I - misfit_C) / variance <= kFrameSignificance) continue;
+    std::ostringstream why;
+    why.precision(3);
+    why << "body '" << b->name << "': its quaternions (" << b->name << ".qw..qz) do not turn as its gyroscopes ("
+        << b->name << ".wx..wz) say: their rates agree only after a constant rotation of " << deg
+        << " degrees about (" << turn.axis().x() << ", " << turn.axis().y() << ", " << turn.axis().z()
+        << ") in the body frame, so the two are not in the same frame; fit one of them (--use gyroscopes or "
+           "--use orientations) or bring the quaternions into the gyroscopes' frame";
+    throw InvalidInput(samples.source, why.str());
+  }
 }
 
 std::vector<Eigen::Matrix3d> relativeOrientations(const JointSamples& samples) {

@@ -27,6 +27,27 @@ struct DataSelection {
 /// the fit in the message ("hinge").
 DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint);
 
+/// Before a fit that uses both: each body's quaternions must turn as its
+/// gyroscopes say. The quaternions' rates u_k = log(R_kᵀR_{k+1})/Δt (body
+/// frame) are compared with the gyroscopes' g_k = (ω_k + ω_{k+1})/2 through
+/// the rotation C that best maps g onto u (Kabsch: C = U diag(1, 1, det) Vᵀ
+/// from Σ u gᵀ = U S Vᵀ); noise averages out of Σ u gᵀ, so a C turned by more
+/// than kFrameMismatchDeg that fits the rates significantly better than the
+/// identity (Σ|u − g|² − Σ|u − Cg|² above kFrameSignificance times the
+/// per-sample misfit Σ|u − Cg|²/(n − 1): a Δχ² that 3 parameters fitted to
+/// noise do not reach; a motion about a single axis leaves C free about the
+/// others, and C then fits no better than I) means the quaternions are not in the
+/// gyroscopes' frame (a real sensor's fused orientation output can be in
+/// another). Throws
+/// lieflow::InvalidInput naming the recording, the body, the angle and axis of
+/// C and what to do, instead of a fit that fails at the end ("residual far
+/// above the noise"). Bodies that barely turn (RMS |g| below
+/// kMinConsistencyRate) are not checked.
+constexpr double kFrameMismatchDeg = 5.0;
+constexpr double kFrameSignificance = 100.0;
+constexpr double kMinConsistencyRate = 0.05;  // rad/s
+void checkOrientationsAgreeWithRates(const JointSamples& samples);
+
 /// R₁ᵀR₂ per sample (the secondary body's orientation in the main body's frame).
 std::vector<Eigen::Matrix3d> relativeOrientations(const JointSamples& samples);
 
