@@ -137,12 +137,7 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
   if (auto result = runUnconstrained(model, system, y0, o, columns, row)) return *result;
   using State = typename System::State;
   const std::string& name = o.integrator;
-  const long n = stepCount(0.0, o.t_end, o.dt);
-  auto fixed = [&](auto stepper) {
-    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
-      return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
-    });
-  };
+  auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
   if (name == "lgvi") {
     LgviOptions l;
     l.tolerance = option(o, "tolerance", l.tolerance);
@@ -164,12 +159,7 @@ SimulationResult runMultibody(const Simulation::Model& model, const SimulationOp
   const multibody::MultibodySystem& system = *model.multibody->system;
   const State& y0 = model.multibody->y0;
   const std::string& name = o.integrator;
-  const long n = stepCount(0.0, o.t_end, o.dt);
-  auto fixed = [&](auto stepper) {
-    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
-      return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
-    });
-  };
+  auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
   auto projected = [&](auto inner) { return fixed(ProjectedStepper<decltype(inner)>(std::move(inner))); };
   if (name == "rkmk-euler") return projected(RkmkStepper<State>(ButcherTableau::euler()));
   if (name == "rkmk-heun") return projected(RkmkStepper<State>(ButcherTableau::heun()));
@@ -371,11 +361,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   auto run_on = [&](const auto& system, const auto& y0) {
     if (options.integrator != "exact") return runSystem(m, system, y0, options, columns, row);
     const ExactFreeRigidBody flow(system.inertia(), y0.R.quaternion(), y0.omega);
-    const long n = stepCount(0.0, options.t_end, options.dt);
-    return observeRun(m, system, options, n, columns, row, [&](auto& observer) {
-      return integrateFixedStep(ExactStepper{&flow, 0.0}, system, y0, 0.0, options.t_end, options.dt,
-                                observer);
-    });
+    return runFixedStep(m, system, y0, options, columns, row, ExactStepper{&flow, 0.0});
   };
   SimulationResult result;
   try {

@@ -330,5 +330,16 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   return result;
 }
 
+/// Steps `stepper` from y0 over [0, o.t_end] at o.dt through observeRun.
+template <typename System, typename Stepper>
+SimulationResult runFixedStep(const Simulation::Model& model, const System& system,
+                              const typename System::State& y0, const SimulationOptions& o,
+                              const std::vector<std::string>& columns,
+                              const std::function<void(const std::vector<double>&)>& row, Stepper stepper) {
+  return observeRun(model, system, o, stepCount(0.0, o.t_end, o.dt), columns, row, [&](auto& observer) {
+    return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
+  });
+}
+
 }  // namespace simulation_detail
 }  // namespace lieflow

@@ -31,11 +31,7 @@ std::optional<SimulationResult> runUnconstrained(const Simulation::Model& model,
   using State = typename System::State;
   const std::string& name = o.integrator;
   const long n = stepCount(0.0, o.t_end, o.dt);
-  auto fixed = [&](auto stepper) {
-    return observeRun(model, system, o, n, columns, row, [&](auto& observer) {
-      return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
-    });
-  };
+  auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
   if (name == "rkmk-euler") return fixed(RkmkStepper<State>(ButcherTableau::euler()));
   if (name == "rkmk-heun") return fixed(RkmkStepper<State>(ButcherTableau::heun()));
   if (name == "rkmk3") return fixed(RkmkStepper<State>(ButcherTableau::kutta3()));

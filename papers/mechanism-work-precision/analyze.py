@@ -69,12 +69,6 @@ def time_for(points, level):
     return None
 
 
-def best_error(all_series, t, prefix):
-    values = [error_at(p, t) for k, p in all_series.items() if k.startswith(prefix)]
-    values = [v for v in values if v is not None]
-    return (min(values), None) if values else (None, None)
-
-
 def best_lieflow(all_series, t):
     best, who = None, None
     for k, p in all_series.items():
