@@ -20,6 +20,19 @@ std::string has(const BodySamples& b) {
   return "neither orientations nor angular velocities";
 }
 
+bool bothHaveAccelerometers(const JointSamples& s) {
+  return s.main.hasSpecificForce() && s.secondary.hasSpecificForce();
+}
+
+void requireAccelerometers(const JointSamples& s, const std::string& joint) {
+  for (const BodySamples* b : {&s.main, &s.secondary})
+    if (!b->hasSpecificForce()) {
+      const std::string& n = b->name;
+      throw InvalidInput(s.source, joint + " fit with accelerometers: body '" + n + "' has no columns " + n + ".ax," +
+                                       n + ".ay," + n + ".az");
+    }
+}
+
 void requireGroup(const JointSamples& s, bool orientation, const std::string& joint) {
   for (const BodySamples* b : {&s.main, &s.secondary}) {
     const bool present = orientation ? b->hasOrientation() : b->hasAngularVelocity();
@@ -36,15 +49,22 @@ void requireGroup(const JointSamples& s, bool orientation, const std::string& jo
 }  // namespace
 
 std::string DataSelection::name() const {
-  if (orientations && rates) return "orientations+gyroscopes";
-  return orientations ? "orientations" : "gyroscopes";
+  std::string n = orientations && rates ? "orientations+gyroscopes" : orientations ? "orientations" : "gyroscopes";
+  return accelerometers ? n + "+accelerometers" : n;
 }
 
-DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint) {
+DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint,
+                         bool accelerometers_used) {
   for (const BodySamples* b : {&samples.main, &samples.secondary})
     if ((b->hasOrientation() && b->orientation.size() != samples.time.size()) ||
-        (b->hasAngularVelocity() && b->angular_velocity.size() != samples.time.size()))
+        (b->hasAngularVelocity() && b->angular_velocity.size() != samples.time.size()) ||
+        (b->hasSpecificForce() && b->specific_force.size() != samples.time.size()))
       throw InvalidInput(samples.source, "body '" + b->name + "' has a different number of samples than t");
+  const bool asks_accelerometers = use == DataUse::kGyroscopesAccelerometers || use == DataUse::kAll;
+  if (asks_accelerometers && !accelerometers_used)
+    throw InvalidInput(samples.source, std::string("--use ") + dataUseName(use) + ": the " + joint +
+                                           " fit does not use accelerometers (the hinge fit does; the joint "
+                                           "centre is reported from them whenever both bodies have them)");
   DataSelection d;
   switch (use) {
     case DataUse::kAuto:
@@ -57,13 +77,17 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
                                                samples.main.name + "' has " + has(samples.main) + ", '" +
                                                samples.secondary.name + "' has " + has(samples.secondary));
       if (d.orientations && d.rates) checkOrientationsAgreeWithRates(samples);
+      d.accelerometers = accelerometers_used && d.rates && bothHaveAccelerometers(samples);
       return d;
     case DataUse::kOrientations: d.orientations = true; break;
     case DataUse::kAngularVelocities: d.rates = true; break;
     case DataUse::kBoth: d.orientations = d.rates = true; break;
+    case DataUse::kGyroscopesAccelerometers: d.rates = d.accelerometers = true; break;
+    case DataUse::kAll: d.orientations = d.rates = d.accelerometers = true; break;
   }
   if (d.orientations) requireGroup(samples, true, joint);
   if (d.rates) requireGroup(samples, false, joint);
+  if (d.accelerometers) requireAccelerometers(samples, joint);
   if (d.orientations && d.rates) checkOrientationsAgreeWithRates(samples);
   return d;
 }

@@ -17,15 +17,20 @@ namespace calibration {
 struct DataSelection {
   bool orientations = false;
   bool rates = false;
-  /// "gyroscopes", "orientations" or "orientations+gyroscopes".
+  bool accelerometers = false;  ///< with rates (the centre's acceleration needs ω, ω̇)
+  /// "gyroscopes", "orientations", "orientations+gyroscopes", each with
+  /// "+accelerometers" when they are used.
   std::string name() const;
 };
 
-/// The groups `use` asks for (kAuto: all that both bodies have). Throws
-/// lieflow::InvalidInput naming the recording, the body and the missing
-/// columns when a requested group, or every group, is missing. `joint` names
-/// the fit in the message ("hinge").
-DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint);
+/// The groups `use` asks for (kAuto: all that both bodies have; the
+/// accelerometers only where `accelerometers_used` — the hinge fit — and
+/// with the gyroscopes). Throws lieflow::InvalidInput naming the recording,
+/// the body and the missing columns when a requested group, or every group,
+/// is missing, or when accelerometers are asked of a fit that does not use
+/// them. `joint` names the fit in the message ("hinge").
+DataSelection selectData(const JointSamples& samples, DataUse use, const std::string& joint,
+                         bool accelerometers_used = false);
 
 /// Before a fit that uses both: each body's quaternions must turn as its
 /// gyroscopes say. The quaternions' rates u_k = log(R_kᵀR_{k+1})/Δt (body

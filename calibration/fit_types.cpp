@@ -25,15 +25,19 @@ const char* dataUseName(DataUse use) {
     case DataUse::kAngularVelocities: return "gyroscopes";
     case DataUse::kOrientations: return "orientations";
     case DataUse::kBoth: return "both";
+    case DataUse::kGyroscopesAccelerometers: return "gyroscopes+accelerometers";
+    case DataUse::kAll: return "all";
     case DataUse::kAuto: break;
   }
   return "auto";
 }
 
 DataUse parseDataUse(const std::string& text, const std::string& field) {
-  for (DataUse use : {DataUse::kAuto, DataUse::kAngularVelocities, DataUse::kOrientations, DataUse::kBoth})
+  for (DataUse use : {DataUse::kAuto, DataUse::kAngularVelocities, DataUse::kOrientations, DataUse::kBoth,
+                      DataUse::kGyroscopesAccelerometers, DataUse::kAll})
     if (text == dataUseName(use)) return use;
-  throw InvalidInput(field, "unknown data selection '" + text + "' (auto, gyroscopes, orientations, both)");
+  throw InvalidInput(field, "unknown data selection '" + text +
+                                "' (auto, gyroscopes, orientations, both, gyroscopes+accelerometers, all)");
 }
 
 }  // namespace calibration

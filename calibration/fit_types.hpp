@@ -22,14 +22,17 @@ namespace calibration {
 enum class RobustLoss { kNone, kHuber, kCauchy };
 
 /// Which recorded columns a fit uses. kAuto takes everything the joint's two
-/// bodies have (orientations and/or angular velocities).
-enum class DataUse { kAuto, kAngularVelocities, kOrientations, kBoth };
+/// bodies have (orientations and/or angular velocities, and for a hinge the
+/// accelerometers with the angular velocities); kGyroscopesAccelerometers
+/// and kAll ask for the accelerometers explicitly (hinge fits only).
+enum class DataUse { kAuto, kAngularVelocities, kOrientations, kBoth, kGyroscopesAccelerometers, kAll };
 
 /// "none", "huber", "cauchy" and back; parseRobustLoss throws
 /// lieflow::InvalidInput naming `field` for anything else.
 const char* robustLossName(RobustLoss loss);
 RobustLoss parseRobustLoss(const std::string& text, const std::string& field);
-/// "auto", "gyroscopes", "orientations", "both" and back.
+/// "auto", "gyroscopes", "orientations", "both", "gyroscopes+accelerometers",
+/// "all" and back.
 const char* dataUseName(DataUse use);
 DataUse parseDataUse(const std::string& text, const std::string& field);
 

@@ -11,6 +11,7 @@
 #include "calibration/hinge_residuals.hpp"
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
+#include "calibration/joint_centre.hpp"
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
 #include "calibration/unit_axis.hpp"
@@ -29,12 +30,33 @@ constexpr int kMaxRefinedMinima = 4;
 constexpr double kRefineChiSquare = 30.0;
 constexpr const char* kOrientationHint =
     "the joint must move: the relative orientation of the two bodies has to turn about the hinge";
+constexpr const char* kAccelerometerHint =
+    "with accelerometers the joint centre's acceleration (gravity included) must turn within each body's "
+    "frame, or the bodies must turn about directions other than the hinge axis";
+/// Δχ² between the accelerometer constraint's cost at (j₁, −j₂) and at
+/// (j₁, j₂) above which the accelerometers fix the relative sign.
+constexpr double kSignChiSquare = 25.0;
+
+/// The accelerometer residual kind: the centre's acceleration in both bodies'
+/// axes at a point of the axis (joint_centre.hpp), one block per interior sample.
+std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std::vector<NamedStart>* starts) {
+  Eigen::Vector3d o1, o2;
+  solveJointCentre(samples, &o1, &o2);
+  const CentreForces c = centreSpecificForces(samples, o1, o2);
+  std::vector<AccelerometerHingeResidual> blocks;
+  blocks.reserve(c.main.size());
+  for (std::size_t k = 0; k < c.main.size(); ++k) blocks.emplace_back(c.main[k], c.secondary[k]);
+  for (const AxisPair& a : hingeStartsFromCentreForces(c.main, c.secondary))
+    starts->push_back({a, "closed form (accelerometers)"});
+  return std::make_unique<SampleResidualKind<AccelerometerHingeResidual, 1>>(
+      "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
+}
 
 }  // namespace
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
-  const DataSelection data = selectData(samples, options.use, "hinge");
+  const DataSelection data = selectData(samples, options.use, "hinge", true);
   requireEnoughSamples(samples.size(), options);
 
   const std::vector<Eigen::Matrix3d> R12 =
@@ -81,11 +103,21 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
       const double s2 = minima.empty() ? 0.0 : minima.front().cost / std::max(1, samples.size() - 4);
       for (std::size_t i = 0; i < minima.size() && static_cast<int>(i) < kMaxRefinedMinima; ++i) {
         const bool rival = s2 > 0.0 && (minima[i].cost - minima.front().cost) / s2 <= kRefineChiSquare;
-        if (i == 0 || rival) starts.push_back({minima[i].axes, origin(minima[i].start)});
+        if (i != 0 && !rival) continue;
+        starts.push_back({minima[i].axes, origin(minima[i].start)});
+        // The gyroscopes' cost is even in each axis; the accelerometers' is not.
+        if (data.accelerometers)
+          starts.push_back({{minima[i].axes.axis1, -minima[i].axes.axis2}, origin(minima[i].start) + ", turned"});
       }
       if (starts.empty()) starts.push_back({closed_form.front(), origin(0)});
       context.hint = kRateHint;
     }
+  }
+  const ResidualKind* accelerometers = nullptr;
+  if (data.accelerometers) {
+    kinds.push_back(accelerometerKind(samples, &starts));
+    accelerometers = kinds.back().get();
+    context.hint = kAccelerometerHint;
   }
   for (std::size_t i = 0; i < options.extra_starts.size(); ++i)
     starts.push_back({options.extra_starts[i], "given start " + std::to_string(i + 1)});
@@ -96,11 +128,23 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
 
   HingeFit fit;
   Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
+  // The accelerometers' constraint is odd in j₂: its cost at (j₁, −j₂) says
+  // whether it fixes the relative sign.
+  double sign_delta = 0.0;
+  if (accelerometers) {
+    const double w = 1.0 / solution.summary.residuals.back().noise_scale;
+    const Eigen::Vector3d turned = -j2;
+    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), &w, nullptr) -
+                        accelerometers->cost(j1.data(), j2.data(), &w, nullptr));
+  }
   if (data.orientations) {
     double agreement = 0.0;
     for (const Eigen::Matrix3d& R : R12) agreement += j1.dot(R * j2);
     if (agreement < 0.0) j2 = -j2;
     fit.sign = "R1 j1 = R2 j2 from the orientations";
+  } else if (std::abs(sign_delta) > kSignChiSquare) {
+    if (sign_delta < 0.0) j2 = -j2;
+    fit.sign = "R1 j1 = R2 j2 from the accelerometers (the centre's acceleration along the axis)";
   } else {
     const HingeSignEvidence evidence =
         hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity, j1, j2);

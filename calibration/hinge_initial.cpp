@@ -91,5 +91,26 @@ AxisPair hingeAxesFromOrientations(const std::vector<Eigen::Matrix3d>& R12) {
   return {svd.matrixU().col(0), svd.matrixV().col(0)};
 }
 
+std::vector<AxisPair> hingeStartsFromCentreForces(const std::vector<Eigen::Vector3d>& c1,
+                                                  const std::vector<Eigen::Vector3d>& c2) {
+  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t k = 0; k < c1.size(); ++k) {
+    Eigen::Matrix<double, 6, 1> row;
+    row << c1[k], -c2[k];
+    const double n2 = row.squaredNorm();
+    if (n2 > 0.0) G.selfadjointView<Eigen::Lower>().rankUpdate(row, 1.0 / n2);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(
+      Eigen::Matrix<double, 6, 6>(G.selfadjointView<Eigen::Lower>()));
+  const Eigen::Matrix<double, 6, 1> e0 = eig.eigenvectors().col(0), e1 = eig.eigenvectors().col(1);
+  const Eigen::Vector3d j1 = e0.head<3>().norm() >= e1.head<3>().norm() ? e0.head<3>() : e1.head<3>();
+  const Eigen::Vector3d j2 = e0.tail<3>().norm() >= e1.tail<3>().norm() ? e0.tail<3>() : e1.tail<3>();
+  const Eigen::Vector3d a1 = j1.norm() > 0.0 ? Eigen::Vector3d(j1.normalized()) : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d a2 = j2.norm() > 0.0 ? Eigen::Vector3d(j2.normalized()) : Eigen::Vector3d::UnitX();
+  // The sign the smallest eigenvector gives first (its halves are consistent there).
+  const double s = e0.head<3>().dot(a1) * e0.tail<3>().dot(a2) >= 0.0 ? 1.0 : -1.0;
+  return {AxisPair{a1, s * a2}, AxisPair{a1, -s * a2}};
+}
+
 }  // namespace calibration
 }  // namespace lieflow

@@ -33,6 +33,18 @@ AxisPair hingeAxesFromRates(const std::vector<Eigen::Vector3d>& w1, const std::v
 std::vector<AxisPair> hingeStartsFromRates(const std::vector<Eigen::Vector3d>& w1,
                                            const std::vector<Eigen::Vector3d>& w2);
 
+/// From the accelerations at the joint centre (AccelerometerHingeResidual):
+/// j₁·c₁ − j₂·c₂ = 0 is linear and homogeneous in x = (j₁, j₂), so x is the
+/// null vector of the stacked rows [c₁ᵀ, −c₂ᵀ] (each scaled to unit norm), the
+/// eigenvector of the smallest eigenvalue of their 6 × 6 Gram matrix, each
+/// half then normalized. When the centre's acceleration stays in the plane
+/// perpendicular to the axis (a knee in the sagittal plane) the null space is
+/// (j₁, 0) and (0, j₂), and the two smallest eigenvectors mix them: each half
+/// is taken from whichever of the two carries more of it. Both relative signs
+/// are returned (the planar case does not fix it); the fit's cost decides.
+std::vector<AxisPair> hingeStartsFromCentreForces(const std::vector<Eigen::Vector3d>& c1,
+                                                  const std::vector<Eigen::Vector3d>& c2);
+
 /// From orientations: Σₖ ‖j₁ − R₁₂ₖ j₂‖² = 2N − 2 j₁ᵀ(Σₖ R₁₂ₖ) j₂ over unit
 /// axes is least at the first singular vectors of M = Σₖ R₁ᵀR₂ (the exact
 /// least-squares solution; its sign gives R₁j₁ ≈ R₂j₂, since u₁ᵀMv₁ = σ₁ ≥ 0).

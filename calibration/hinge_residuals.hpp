@@ -51,6 +51,33 @@ struct GyroHingeResidual {
   }
 };
 
+/// Accelerometers with gyroscopes. The joint centre's acceleration is one
+/// world vector; each body sees it as its specific force moved from the
+/// sensor to the centre, f_c,k (joint_centre.hpp), and the hinge turns body 2
+/// relative to body 1 only about the axis, which keeps a vector's component
+/// along it: j₁·f_c,1 = j₂·f_c,2 [m/s²] (Olsson, Kok, Seel & Halvorsen
+/// 2020's accelerometer constraint, at the centre instead of at the
+/// sensors). Linear in the axes: gravity and the centre's own acceleration
+/// fix the axes even when both bodies turn almost only about the hinge, where
+/// the gyroscopes' constraint rises only quadratically. Any point of the axis
+/// serves as the centre: moving it by λ along the axis changes both sides by
+/// −λ‖ω_k × j_k‖², equal by Seel's constraint. One noise component.
+struct AccelerometerHingeResidual {
+  Eigen::Vector3d c1;  ///< f_c,1, body 1's axes
+  Eigen::Vector3d c2;  ///< f_c,2, body 2's axes
+  const double* weight = nullptr;
+
+  AccelerometerHingeResidual(const Eigen::Vector3d& centre_force1, const Eigen::Vector3d& centre_force2)
+      : c1(centre_force1), c2(centre_force2) {}
+
+  template <typename T>
+  bool operator()(const T* j1_data, const T* j2_data, T* r) const {
+    const Eigen::Map<const Vector3<T>> j1(j1_data), j2(j2_data);
+    r[0] = *weight * (mixed::dot(c1, Vector3<T>(j1)) - mixed::dot(c2, Vector3<T>(j2)));
+    return true;
+  }
+};
+
 /// Orientations: j₁ − R₁ᵀR₂ j₂ = 0 (the axis as one world line, in body 1's
 /// frame; its norm is ‖R₁j₁ − R₂j₂‖). Noise on R₁, R₂ moves it within the plane
 /// ⟂ j₁ only: 2 noise components per sample. In rad (the angle between R₁j₁

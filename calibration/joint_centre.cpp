@@ -68,7 +68,7 @@ struct HingeGauge {
 /// (attenuation); this window divides that noise by ~4 (m = 6: ‖c‖ =
 /// 0.18/Δt against 0.71/Δt), and the cubic keeps the smoothing error at
 /// O((mΔt)⁴ ω⁽⁵⁾) where a local line or quadratic leaves O((mΔt)² ω⃛).
-constexpr int kWindow = 6;
+constexpr int kWindow = kCentreWindow;
 constexpr int kOrder = 3;
 /// Lags of the residuals' autocovariance in the sandwich covariance:
 /// neighbouring residuals share rates through the window.
@@ -90,10 +90,8 @@ Eigen::Vector3d rateDerivative(const std::vector<double>& t, const std::vector<E
   return d;
 }
 
-}  // namespace
 
-JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d* axis_main,
-                              const Eigen::Vector3d* axis_secondary) {
+void requireCentreData(const JointSamples& samples) {
   for (const BodySamples* b : {&samples.main, &samples.secondary}) {
     if (!b->hasAngularVelocity())
       throw InvalidInput(samples.source, "the joint centre needs the gyroscopes of body '" + b->name + "' (" +
@@ -101,34 +99,43 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
     if (!b->hasSpecificForce())
       throw InvalidInput(samples.source, "the joint centre needs the accelerometers of body '" + b->name + "' (" +
                                              b->name + ".ax, " + b->name + ".ay, " + b->name + ".az)");
+    if (b->specific_force.size() != samples.time.size())
+      throw InvalidInput(samples.source, "body '" + b->name + "' has a different number of accelerometer samples than t");
   }
   const std::size_t n = samples.time.size();
   if (n < 2 * kWindow + 12)
     throw NotIdentifiable("the joint centre needs at least " + std::to_string(2 * kWindow + 12) +
                           " samples (the recording has " + std::to_string(n) + ")");
-  // The residual of sample k (k − kWindow ≥ 0, k + kWindow < n).
-  const auto residualAt = [&](std::size_t k) {
-    return CentreResidual{samples.main.specific_force[k],
-                          samples.main.angular_velocity[k],
-                          rateDerivative(samples.time, samples.main.angular_velocity, k),
-                          samples.secondary.specific_force[k],
-                          samples.secondary.angular_velocity[k],
-                          rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
-  };
-  double o1[3] = {0.0, 0.0, 0.0}, o2[3] = {0.0, 0.0, 0.0};
+}
+
+/// The residual of interior sample k (k − kWindow ≥ 0, k + kWindow < n).
+CentreResidual residualAt(const JointSamples& samples, std::size_t k) {
+  return CentreResidual{samples.main.specific_force[k],
+                        samples.main.angular_velocity[k],
+                        rateDerivative(samples.time, samples.main.angular_velocity, k),
+                        samples.secondary.specific_force[k],
+                        samples.secondary.angular_velocity[k],
+                        rateDerivative(samples.time, samples.secondary.angular_velocity, k)};
+}
+
+/// Least squares of the norm residuals (and the hinge gauge when the axes
+/// are given) from o = 0; o1, o2 receive the solution.
+ceres::Solver::Summary solveCentre(const JointSamples& samples, const Eigen::Vector3d* axis_main,
+                                   const Eigen::Vector3d* axis_secondary, double* o1, double* o2) {
+  const std::size_t n = samples.time.size();
+  for (int i = 0; i < 3; ++i) o1[i] = o2[i] = 0.0;
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);
   double scale = 0.0;  // RMS of |ω|² + |ω̇|: the data rows' Jacobian scale [1/s²]
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    const CentreResidual c = residualAt(k);
+    const CentreResidual c = residualAt(samples, k);
     scale += std::pow(c.w1.squaredNorm() + c.a1.norm(), 2) + std::pow(c.w2.squaredNorm() + c.a2.norm(), 2);
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CentreResidual, 1, 3, 3>(new CentreResidual(c)),
                              nullptr, o1, o2);
   }
   const int rows = static_cast<int>(n) - 2 * kWindow;
   scale = std::sqrt(scale / (2.0 * rows));
-  const bool hinge = axis_main && axis_secondary;
-  if (hinge) {
+  if (axis_main && axis_secondary) {
     const double weight = kGaugeWeight * std::max(scale, 1.0) * std::sqrt(static_cast<double>(rows));
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<HingeGauge, 1, 3, 3>(
                                  new HingeGauge{axis_main->normalized(), axis_secondary->normalized(), weight}),
@@ -145,6 +152,40 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
   ceres::Solve(options, &problem, &summary);
   if (!summary.IsSolutionUsable())
     throw FitFailed("the joint-centre solve failed: " + summary.message);
+  return summary;
+}
+
+}  // namespace
+
+CentreForces centreSpecificForces(const JointSamples& samples, const Eigen::Vector3d& o1, const Eigen::Vector3d& o2) {
+  requireCentreData(samples);
+  CentreForces out;
+  const std::size_t n = samples.time.size();
+  out.first = kWindow;
+  for (std::size_t k = kWindow; k + kWindow < n; ++k) {
+    const CentreResidual c = residualAt(samples, k);
+    out.main.push_back(CentreResidual::moved<double>(c.f1, c.w1, c.a1, o1));
+    out.secondary.push_back(CentreResidual::moved<double>(c.f2, c.w2, c.a2, o2));
+  }
+  return out;
+}
+
+void solveJointCentre(const JointSamples& samples, Eigen::Vector3d* anchor_main, Eigen::Vector3d* anchor_secondary) {
+  requireCentreData(samples);
+  double o1[3], o2[3];
+  solveCentre(samples, nullptr, nullptr, o1, o2);
+  *anchor_main = Eigen::Vector3d(o1[0], o1[1], o1[2]);
+  *anchor_secondary = Eigen::Vector3d(o2[0], o2[1], o2[2]);
+}
+
+JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d* axis_main,
+                              const Eigen::Vector3d* axis_secondary) {
+  requireCentreData(samples);
+  const std::size_t n = samples.time.size();
+  double o1[3], o2[3];
+  const ceres::Solver::Summary summary = solveCentre(samples, axis_main, axis_secondary, o1, o2);
+  const bool hinge = axis_main && axis_secondary;
+  const int rows = static_cast<int>(n) - 2 * kWindow;
 
   JointCentreFit fit;
   fit.anchor_main = Eigen::Vector3d(o1[0], o1[1], o1[2]);
@@ -156,7 +197,7 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
   // The data rows' residual sum of squares (the gauge row holds to rounding).
   double rss = 0.0;
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    const CentreResidual c = residualAt(k);
+    const CentreResidual c = residualAt(samples, k);
     double r = 0.0;
     c(o1, o2, &r);
     rss += r * r;
@@ -180,7 +221,7 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
     jo2[i] = Jet(o2[i], 3 + i);
   }
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {
-    const CentreResidual c = residualAt(k);
+    const CentreResidual c = residualAt(samples, k);
     Jet r;
     c(jo1, jo2, &r);
     e.push_back(r.a);

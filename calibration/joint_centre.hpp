@@ -27,6 +27,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -47,6 +48,27 @@ struct JointCentreFit {
   bool converged = false;
   std::string message;  ///< why the solver stopped
 };
+
+/// Samples at either end without an ω̇ (the cubic's half window): the
+/// accelerations at the centre start at sample kCentreWindow and end
+/// kCentreWindow before the last.
+constexpr int kCentreWindow = 6;
+
+/// The specific force at the centre, f_c,k = f_k + ω̇_k × o_k + ω_k × (ω_k ×
+/// o_k), of both bodies for samples kCentreWindow … n − 1 − kCentreWindow.
+struct CentreForces {
+  int first = kCentreWindow;             ///< sample index of main[0]
+  std::vector<Eigen::Vector3d> main;     ///< body 1's axes [m/s²]
+  std::vector<Eigen::Vector3d> secondary;
+};
+CentreForces centreSpecificForces(const JointSamples& samples, const Eigen::Vector3d& anchor_main,
+                                  const Eigen::Vector3d& anchor_secondary);
+
+/// The least-squares centre alone (no gauge, no covariance), for a hinge
+/// fit that needs the accelerations at a point of the axis before it knows
+/// the axis: on a hinge, where along the axis is whatever the solver reached
+/// from the sensors (the norm residuals do not see it).
+void solveJointCentre(const JointSamples& samples, Eigen::Vector3d* anchor_main, Eigen::Vector3d* anchor_secondary);
 
 /// The joint centre; `axis_main`, `axis_secondary` (unit) are a hinge's axes
 /// for the gauge, or null for a joint whose centre is a point (spherical,

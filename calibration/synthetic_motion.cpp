@@ -63,6 +63,16 @@ V SineSum<V>::derivative(double t) const {
   return x;
 }
 
+template <typename V>
+V SineSum<V>::secondDerivative(double t) const {
+  V x = offset * 0.0;
+  for (std::size_t k = 0; k < amplitude.size(); ++k) {
+    const double w = kTwoPi * frequency_hz[k];
+    x -= amplitude[k] * (w * w * std::sin(w * t + phase[k]));
+  }
+  return x;
+}
+
 template struct SineSum<double>;
 template struct SineSum<Eigen::Vector3d>;
 
@@ -92,6 +102,62 @@ TwoBodyState UniversalMotion::at(double t) const {
   s.w2 = E2.inverse() * (mount.inverse() * (E1.inverse() * (s.w1 + angle1.derivative(t) * axis1_main))) +
          angle2.derivative(t) * axis2_secondary;
   return s;
+}
+
+void JointMotion::specificForces(double t, Eigen::Vector3d* f1, Eigen::Vector3d* f2) const {
+  // ω̇ ≈ (ω(t−2h) − 8ω(t−h) + 8ω(t+h) − ω(t+2h)) / 12h.
+  const double h = kRateDerivativeStep;
+  const TwoBodyState m2 = at(t - 2.0 * h), m1 = at(t - h), p1 = at(t + h), p2 = at(t + 2.0 * h);
+  const Eigen::Vector3d dw1 = (m2.w1 - 8.0 * m1.w1 + 8.0 * p1.w1 - p2.w1) / (12.0 * h);
+  const Eigen::Vector3d dw2 = (m2.w2 - 8.0 * m1.w2 + 8.0 * p1.w2 - p2.w2) / (12.0 * h);
+  const TwoBodyState s = at(t);
+  const Eigen::Vector3d free_fall = sensors.centre.secondDerivative(t) - sensors.gravity;  // p̈ − g
+  const Eigen::Vector3d& o1 = sensors.anchor_main;
+  const Eigen::Vector3d& o2 = sensors.anchor_secondary;
+  *f1 = s.R1.inverse() * free_fall - dw1.cross(o1) - s.w1.cross(s.w1.cross(o1));
+  *f2 = s.R2.inverse() * free_fall - dw2.cross(o2) - s.w2.cross(s.w2.cross(o2));
+}
+
+SensorGeometry randomSensorGeometry(std::mt19937& gen) {
+  std::uniform_real_distribution<double> distance(0.05, 0.25), swing(-0.05, 0.05), frequency(0.5, 1.5),
+      phase(0.0, kTwoPi);
+  SensorGeometry g;
+  g.anchor_main = distance(gen) * randomUnit(gen);
+  g.anchor_secondary = distance(gen) * randomUnit(gen);
+  for (int k = 0; k < 2; ++k) {
+    g.centre.amplitude.emplace_back(swing(gen), swing(gen), swing(gen));
+    g.centre.frequency_hz.push_back(frequency(gen));
+    g.centre.phase.push_back(phase(gen));
+  }
+  return g;
+}
+
+HingeMotion kneeLikeHingeMotion(std::mt19937& gen, double wobble) {
+  std::uniform_real_distribution<double> swing(-0.6, 0.6), small(-1.0, 1.0), frequency(0.4, 1.2),
+      phase(0.0, kTwoPi);
+  HingeMotion m;
+  const Eigen::Vector3d u = randomUnit(gen);
+  const Eigen::Vector3d e1 = orthogonalUnit(u), e2 = u.cross(e1);
+  m.axis_main = u;  // R₁ u = u while the main body turns about u: the world axis is u
+  m.main.angle.offset = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 2; ++k) {
+    m.main.angle.amplitude.push_back(swing(gen) * u + wobble * (small(gen) * e1 + small(gen) * e2));
+    m.main.angle.frequency_hz.push_back(frequency(gen));
+    m.main.angle.phase.push_back(phase(gen));
+  }
+  m.angle.offset = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    m.angle.amplitude.push_back(swing(gen));
+    m.angle.frequency_hz.push_back(frequency(gen));
+    m.angle.phase.push_back(phase(gen));
+  }
+  m.mount = SO3d::random(gen);
+  m.sensors = randomSensorGeometry(gen);
+  // Sagittal: the centre moves and gravity points perpendicular to the axis.
+  for (Eigen::Vector3d& a : m.sensors.centre.amplitude) a -= a.dot(u) * u;
+  const double down = phase(gen);
+  m.sensors.gravity = -9.81 * (std::cos(down) * e1 + std::sin(down) * e2);
+  return m;
 }
 
 HingeMotion randomHingeMotion(std::mt19937& gen) {
@@ -140,6 +206,12 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
     if (noise.rates) {
       out.main.angular_velocity.push_back(s.w1 + gaussian(noise.rate_sigma));
       out.secondary.angular_velocity.push_back(s.w2 + gaussian(noise.rate_sigma));
+    }
+    if (noise.accelerometers) {
+      Eigen::Vector3d f1, f2;
+      motion.specificForces(t, &f1, &f2);
+      out.main.specific_force.push_back(f1 + gaussian(noise.acc_sigma));
+      out.secondary.specific_force.push_back(f2 + gaussian(noise.acc_sigma));
     }
   }
   return out;

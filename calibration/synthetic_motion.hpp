@@ -11,6 +11,14 @@
 ///               ω₂ = exp(−φ₂a₂) Cᵀ exp(−φ₁a₁) (ω₁ + φ̇₁ a₁) + φ̇₂ a₂.
 /// (Differentiate R₂ and use exp(φa)ᵀ a = a.) Recordings add Gaussian noise:
 /// ω + n with n ~ N(0, σ_ω² I), and R exp(η) with η ~ N(0, σ_R² I).
+///
+/// Accelerometers (SensorGeometry): the joint centre moves along p(t) in the
+/// world, and body k's sensor sits at p − R_k o_k (o_k the centre from the
+/// sensor, body axes). The sensor's acceleration is p̈ − R_k(ω̇_k × o_k +
+/// ω_k × (ω_k × o_k)), so it reads the specific force
+///   f_k = R_kᵀ(p̈ − g) − ω̇_k × o_k − ω_k × (ω_k × o_k),
+/// ω̇_k from a five-point central difference of the exact ω_k at
+/// kRateDerivativeStep (error O(h⁴) ≈ 1e-11 m/s² on these motions).
 #pragma once
 
 #include <random>
@@ -34,6 +42,7 @@ struct SineSum {
 
   V value(double t) const;
   V derivative(double t) const;
+  V secondDerivative(double t) const;
 };
 
 /// R(t) = exp(θ(t)).
@@ -49,10 +58,26 @@ struct TwoBodyState {
   Eigen::Vector3d w1, w2;
 };
 
+/// Where the accelerometers sit (file comment): the joint centre's world
+/// path p(t), the centre from each sensor o₁, o₂ (body axes), gravity g.
+struct SensorGeometry {
+  SineSum<Eigen::Vector3d> centre{Eigen::Vector3d::Zero(), {}, {}, {}};
+  Eigen::Vector3d anchor_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d anchor_secondary = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+};
+
+/// Step of the five-point difference that gives ω̇ for the accelerometers [s].
+constexpr double kRateDerivativeStep = 1e-3;
+
 class JointMotion {
  public:
   virtual ~JointMotion() = default;
   virtual TwoBodyState at(double t) const = 0;
+
+  SensorGeometry sensors;
+  /// Both sensors' specific forces f₁, f₂ at time t (file comment).
+  void specificForces(double t, Eigen::Vector3d* f1, Eigen::Vector3d* f2) const;
 };
 
 struct HingeMotion final : JointMotion {
@@ -81,12 +106,26 @@ struct UniversalMotion final : JointMotion {
 HingeMotion randomHingeMotion(std::mt19937& gen);
 /// The same for a universal joint, both angles swinging.
 UniversalMotion randomUniversalMotion(std::mt19937& gen);
+/// Sensors 5–25 cm from the joint centre in random directions, the centre
+/// swinging by about ±5 cm at 0.5–1.5 Hz (accelerations of 1–4 m/s²), gravity
+/// (0, 0, −9.81).
+SensorGeometry randomSensorGeometry(std::mt19937& gen);
+/// A knee-like hinge: the main body swings about the hinge axis (±0.6 rad,
+/// 0.4–1.2 Hz) with `wobble` rad of turning about the other two axes, the
+/// joint angle ±0.6 rad; the axis horizontal in the world, the centre moving
+/// in the plane perpendicular to it (sagittal), sensors as
+/// randomSensorGeometry. With small wobble both bodies turn almost only about
+/// the hinge axis: the gyroscopes' constraint ‖ω₁ × j₁‖ = ‖ω₂ × j₂‖ is nearly
+/// blind (it rises only quadratically), the accelerometers are not.
+HingeMotion kneeLikeHingeMotion(std::mt19937& gen, double wobble);
 
 struct RecordingNoise {
   double rate_sigma = 0.0;         ///< rad/s, per gyroscope axis
   double orientation_sigma = 0.0;  ///< rad, per axis of η in R exp(η)
   bool orientations = true;        ///< record B.qw..B.qz
   bool rates = true;               ///< record B.wx..B.wz
+  double acc_sigma = 0.0;          ///< m/s², per accelerometer axis
+  bool accelerometers = false;     ///< record B.ax..B.az (motion.sensors)
 };
 
 /// n samples at `rate_hz` from t = 0, bodies named "main" and "secondary".
