@@ -26,6 +26,7 @@
 #include "calibration/hinge_fit.hpp"
 #include "calibration/joint_centre.hpp"
 #include "calibration/recording.hpp"
+#include "calibration/unit_axis.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/universal_fit.hpp"
 #include "joints/grounded_joint_scene.hpp"
@@ -169,14 +170,24 @@ void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSample
   j["samples"] = s.samples;
   j["rms_residual_unit"] = s.residuals.front().unit;
   Json residuals = Json::array();
-  for (const calibration::ResidualStats& r : s.residuals)
-    residuals.push_back({{"kind", r.kind}, {"unit", r.unit}, {"samples", r.samples},
-                         {"noise_components", r.noise_dof}, {"rms", r.rms}, {"noise_scale", r.noise_scale}});
+  for (const calibration::ResidualStats& r : s.residuals) {
+    Json entry = {{"kind", r.kind}, {"unit", r.unit}, {"samples", r.samples}, {"noise_components", r.noise_dof},
+                  {"rms", r.rms}, {"noise_scale", r.noise_scale}};
+    // How well the joint model explains the data: the residual's scale over
+    // the sensor noise estimated without the model (1 for a perfect model).
+    if (r.independent_noise > 0.0) {
+      entry["independent_noise"] = r.independent_noise;
+      entry["residual_to_noise"] = r.residual_to_noise;
+    }
+    residuals.push_back(entry);
+  }
   j["residuals"] = residuals;
   j["reduced_chi_square"] = s.reduced_chi_square;
   j["starts"] = s.starts;
   j["start"] = s.start;
   j["reweightings"] = s.reweightings;
+  j["sigma_method"] = s.sigma_method;
+  if (s.gauss_newton_sigma_rad > 0.0) j["gauss_newton_sigma_deg"] = s.gauss_newton_sigma_rad * calibration::kRadToDeg;
   j["seconds"] = s.seconds;
 }
 

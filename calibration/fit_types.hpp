@@ -139,6 +139,14 @@ struct AxisFitSummary {
   double quadratic_ratio_min = 0.0;
   double quadratic_ratio_max = 0.0;
   int reweightings = 0;     ///< re-solves after re-estimating the noise scales
+  /// How σ was computed: "Gauss-Newton" (JᵀJ scaled by the reduced
+  /// chi-square, widened where the cost is flatter) or, under a robust loss,
+  /// the larger of it and the sandwich from B batch means (two_axis_solver.hpp
+  /// step 8), named so.
+  std::string sigma_method = "Gauss-Newton";
+  /// Under a robust loss, the Gauss–Newton σ the sandwich replaced (the
+  /// larger axis', rad); 0 otherwise.
+  double gauss_newton_sigma_rad = 0.0;
   double seconds = 0.0;     ///< wall time of the whole fit
 };
 

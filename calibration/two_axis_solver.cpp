@@ -222,6 +222,53 @@ void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_no
   *H_noise = hn.selfadjointView<Eigen::Lower>();
 }
 
+/// Step 8: the sandwich covariance in tangent coordinates (file comment of
+/// two_axis_solver.hpp); `batches` receives B. Returns false when it cannot
+/// be formed (too few samples, H singular).
+bool sandwichCovariance(AxisProblem& p, Eigen::Matrix4d* tangent, int* batches) {
+  ceres::Problem::EvaluateOptions eval;
+  eval.parameter_blocks = {p.axis1(), p.axis2()};
+  eval.residual_blocks = p.allBlocks();
+  eval.apply_loss_function = true;
+  std::vector<double> r;
+  ceres::CRSMatrix J;
+  p.problem().Evaluate(eval, nullptr, &r, nullptr, &J);
+  if (J.num_cols != 4) throw std::logic_error("two-axis fit: expected a Jacobian in the 4 tangent coordinates");
+  int fewest = std::numeric_limits<int>::max();
+  for (std::size_t k = 0; k < p.kindCount(); ++k) fewest = std::min(fewest, p.kind(k).blockCount());
+  const int B = std::min(kSandwichBatches, fewest / kSandwichMinBatchSamples);
+  if (B < 4) return false;
+  Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
+  std::vector<Eigen::Vector4d> S(B, Eigen::Vector4d::Zero());
+  int row = 0;
+  for (std::size_t k = 0; k < p.kindCount(); ++k) {
+    const int per_block = p.residualsPerBlock(k), blocks = p.kind(k).blockCount();
+    for (int b = 0; b < blocks; ++b) {
+      Eigen::Vector4d score = Eigen::Vector4d::Zero();
+      for (int i = 0; i < per_block; ++i, ++row) {
+        Eigen::Vector4d j = Eigen::Vector4d::Zero();
+        for (int e = J.rows[row]; e < J.rows[row + 1]; ++e) j[J.cols[e]] = J.values[e];
+        H.selfadjointView<Eigen::Lower>().rankUpdate(j);
+        score += r[row] * j;
+      }
+      S[static_cast<std::size_t>(b) * B / blocks] += score;
+    }
+  }
+  H = Eigen::Matrix4d(H.selfadjointView<Eigen::Lower>());
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (const Eigen::Vector4d& s : S) mean += s / B;
+  Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
+  for (const Eigen::Vector4d& s : S) M += (s - mean) * (s - mean).transpose();
+  M *= static_cast<double>(B) / (B - 1);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
+  if (!(eig.eigenvalues().minCoeff() > 1e-12 * eig.eigenvalues().maxCoeff())) return false;
+  const Eigen::Matrix4d Hinv =
+      eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  *tangent = Hinv * M * Hinv;
+  *batches = B;
+  return true;
+}
+
 }  // namespace
 
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
@@ -469,6 +516,25 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
       out.covariance1 = J1 * secant.topLeftCorner<2, 2>() * J1.transpose();
       out.covariance2 = J2 * secant.bottomRightCorner<2, 2>() * J2.transpose();
     }
+  }
+
+  // 8. Under a robust loss: the sandwich.
+  Eigen::Matrix4d sandwich;
+  int batches = 0;
+  if (robust && sandwichCovariance(p, &sandwich, &batches)) {
+    out.summary.gauss_newton_sigma_rad = std::max(out.sigma1_rad, out.sigma2_rad);
+    out.summary.sigma_method = "Gauss-Newton (larger than the sandwich from " + std::to_string(batches) + " batches)";
+  }
+  if (batches > 0 && to_angle * sandwich.trace() > out.covariance.trace()) {
+    out.covariance = to_angle * sandwich;
+    out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
+    out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
+    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
+    p.plusJacobian(p.axis1(), J1.data());
+    p.plusJacobian(p.axis2(), J2.data());
+    out.covariance1 = J1 * sandwich.topLeftCorner<2, 2>() * J1.transpose();
+    out.covariance2 = J2 * sandwich.bottomRightCorner<2, 2>() * J2.transpose();
+    out.summary.sigma_method = "sandwich (batch means, " + std::to_string(batches) + " batches; larger than Gauss-Newton)";
   }
   return out;
 }
