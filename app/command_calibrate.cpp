@@ -70,7 +70,12 @@ constexpr const char* kUsage =
     "                            data to fit (default auto: all both bodies have; a hinge fit\n"
     "                            uses the accelerometers with the gyroscopes: j1.a1 = j2.a2 at\n"
     "                            the joint centre)\n"
-    "  --loss none|huber|cauchy  robust loss per sample (default none)\n"
+    "  --loss none|huber|cauchy  robust loss per sample (default none); under a robust loss\n"
+    "                            sigma is the larger of Gauss-Newton and a sandwich (sigma_method)\n"
+    "  --fit-gyro-bias           hinge: estimate each gyroscope's constant bias (gyro_bias_main,\n"
+    "                            gyro_bias_secondary [rad/s] and _sigma; axis sigmas marginal)\n"
+    "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
+    "                            (time_offset [s]: its sample stamped t was taken at t + offset)\n"
     "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
     "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
     "                            an extra starting point (the closed-form one is always tried)\n"
@@ -119,6 +124,8 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
   o.max_sigma_deg = args.positiveNumber("--max-sigma-deg", o.max_sigma_deg);
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+  o.fit_gyro_bias = args.has("--fit-gyro-bias");
+  o.fit_time_offset = args.has("--fit-time-offset");
   if (args.has("--start-main") != args.has("--start-secondary"))
     throw UsageError("--start-main and --start-secondary go together");
   if (args.has("--start-main"))
@@ -420,7 +427,8 @@ const std::set<std::string>& calibrateValueFlags() {
 }
 
 const std::set<std::string>& calibrateSwitches() {
-  static const std::set<std::string> switches = {"--fit-rest-angle", "--hold-damping", "--verbose"};
+  static const std::set<std::string> switches = {"--fit-rest-angle", "--hold-damping", "--verbose", "--fit-gyro-bias",
+                                                 "--fit-time-offset"};
   return switches;
 }
 
@@ -485,6 +493,18 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
       addSummary(j, fit.summary, joint);
       j["sign"] = fit.sign;
+      if (fit.fitted_gyro_bias) {
+        j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
+        j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
+        j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
+        j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+        j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias "
+                              "along its axis: reported 0)";
+      }
+      if (fit.fitted_time_offset) {
+        j["time_offset"] = fit.time_offset;
+        j["time_offset_sigma"] = fit.time_offset_sigma;
+      }
       addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
       return finish(j, fit.summary.converged, fit.summary.message, what);
     }

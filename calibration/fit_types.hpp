@@ -59,6 +59,15 @@ struct AxisFitOptions {
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;
 
+  /// Hinge fits with gyroscopes: estimate each gyroscope's constant bias
+  /// (perpendicular to the axis) and/or the secondary sensor's clock offset
+  /// as nuisance parameters (hinge_fit.hpp; the axes' σ is marginal over them).
+  bool fit_gyro_bias = false;
+  bool fit_time_offset = false;
+  /// The clock offsets searched in whole samples before the fit refines the
+  /// fraction [s] (hinge_fit.cpp wholeSampleOffset).
+  double max_time_offset = 0.5;
+
   /// Starts tried besides the closed-form one (which is always tried); the
   /// solution of lowest cost wins.
   std::vector<AxisPair> extra_starts;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -12,9 +13,11 @@
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
 #include "calibration/joint_centre.hpp"
+#include "calibration/rate_derivative.hpp"
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
 #include "calibration/unit_axis.hpp"
+#include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -52,12 +55,124 @@ std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std
       "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
 }
 
+constexpr const char* kGyroKindName = "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)";
+/// Largest relative spread of the sampling interval for --fit-time-offset
+/// (the clock offset interpolates the secondary's rates on a uniform grid).
+constexpr double kUniformSampling = 1e-3;
+
+/// The whole samples m of the secondary sensor's clock offset: the shift
+/// (|m h| ≤ AxisFitOptions::max_time_offset) whose closed-form gyroscope axes
+/// (hingeAxesFromRates on ω₁,k and ω₂,k−m) leave the least mean squared
+/// Sampson residual. The fit then estimates the rest, a fraction of a sample.
+int wholeSampleOffset(const JointSamples& samples, double max_offset) {
+  const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
+  const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
+  const int n = samples.size();
+  const double h = (samples.time.back() - samples.time.front()) / (n - 1);
+  const int reach = std::min(static_cast<int>(std::floor(max_offset / h)), n / 2);
+  int best = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> a, b;
+  for (int m = -reach; m <= reach; ++m) {
+    a.clear();
+    b.clear();
+    for (int k = std::max(0, m); k < n && k - m < n; ++k) {
+      a.push_back(w1[k]);
+      b.push_back(w2[k - m]);
+    }
+    const AxisPair axes = hingeAxesFromRates(a, b);
+    double cost = 0.0, one = 1.0, r = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      GyroHingeResidual g(a[k], b[k]);
+      g.weight = &one;
+      g(axes.axis1.data(), axes.axis2.data(), &r);
+      cost += r * r;
+    }
+    cost /= static_cast<double>(a.size());
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = m;
+    }
+  }
+  return best;
+}
+
+/// The nuisance coordinates `options` asks for; InvalidInput where the data
+/// cannot carry them (no gyroscopes; a clock offset on non-uniform times).
+NuisanceSelection nuisanceOf(const JointSamples& samples, const DataSelection& data, const AxisFitOptions& options) {
+  NuisanceSelection n;
+  if (!options.fit_gyro_bias && !options.fit_time_offset) return n;
+  if (!data.rates)
+    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
+                                           " needs the gyroscopes in the fit (--use gyroscopes, both, "
+                                           "gyroscopes+accelerometers or all)");
+  if (options.fit_gyro_bias) n.active[0] = n.active[1] = n.active[2] = n.active[3] = true;
+  if (options.fit_time_offset) {
+    const std::vector<double>& t = samples.time;
+    const double h = (t.back() - t.front()) / (t.size() - 1);
+    for (std::size_t k = 0; k + 1 < t.size(); ++k)
+      if (std::abs(t[k + 1] - t[k] - h) > kUniformSampling * h)
+        throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
+                                               "] - t[" + std::to_string(k) + "] differs from the mean interval " +
+                                               "by more than " + std::to_string(kUniformSampling) + " of it");
+    n.active[4] = true;
+  }
+  return n;
+}
+
+/// A unit basis (3 × 2) of the plane perpendicular to a.
+Eigen::Matrix<double, 3, 2> perpendicularBasis(const Eigen::Vector3d& a) {
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = orthogonalUnit(a);
+  B.col(1) = a.normalized().cross(B.col(0));
+  return B;
+}
+
+/// The gyroscopes' residual kind with the nuisance block; `shift` whole
+/// samples of clock offset (0 without one).
+std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, const Eigen::Vector3d& j1,
+                                               const Eigen::Vector3d& j2, int shift, bool offset) {
+  const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
+  const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
+  const int n = samples.size();
+  const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(j1), B2 = perpendicularBasis(j2);
+  std::vector<GyroHingeNuisanceResidual> blocks;
+  blocks.reserve(n);
+  // With a clock offset, the secondary's samples need their slope (±kRateWindow).
+  const int edge = offset ? kRateWindow : 0;
+  for (int k = 0; k < n; ++k) {
+    const int k2 = k - shift;
+    if (k2 < edge || k2 >= n - edge) continue;
+    GyroHingeNuisanceResidual r;
+    r.w1 = w1[k];
+    r.w2 = w2[k2];
+    r.dw2 = offset ? rateDerivative(samples.time, w2, k2) : Eigen::Vector3d::Zero();
+    r.B1 = B1;
+    r.B2 = B2;
+    r.floor_sq = GyroHingeResidual(w1[k], w2[k2]).floor_sq;
+    blocks.push_back(r);
+  }
+  return std::make_unique<NuisanceResidualKind<GyroHingeNuisanceResidual, 1>>(
+      std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
+}
+
 }  // namespace
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
-  const DataSelection data = selectData(samples, options.use, "hinge", true);
+  DataSelection data = selectData(samples, options.use, "hinge", true);
+  if (options.fit_time_offset && (data.orientations || data.accelerometers)) {
+    // The clock offset pairs the gyroscopes' samples; the other kinds pair at the recorded times.
+    if (options.use != DataUse::kAuto)
+      throw InvalidInput(samples.source, std::string("--fit-time-offset with --use ") + dataUseName(options.use) +
+                                             ": the offset is estimated from the gyroscopes alone (use --use "
+                                             "gyroscopes or auto)");
+    data.orientations = data.accelerometers = false;
+    if (!data.rates) throw InvalidInput(samples.source, "--fit-time-offset needs both bodies' gyroscopes");
+  }
   requireEnoughSamples(samples.size(), options);
+  const NuisanceSelection nuisance = nuisanceOf(samples, data, options);
+  const int shift = options.fit_time_offset ? wholeSampleOffset(samples, options.max_time_offset) : 0;
 
   const std::vector<Eigen::Matrix3d> R12 =
       data.orientations ? relativeOrientations(samples) : std::vector<Eigen::Matrix3d>();
@@ -77,16 +192,12 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     context.hint = kOrientationHint;
   }
   if (data.rates) {
-    const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
-    const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
-    std::vector<GyroHingeResidual> blocks;
-    blocks.reserve(w1.size());
-    for (std::size_t k = 0; k < w1.size(); ++k) blocks.emplace_back(w1[k], w2[k]);
-    kinds.push_back(std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(
-        "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)", "rad/s", 1, std::move(blocks)));
-    kinds.back()->setIndependentNoise(
-        std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
-        "the third differences of the recorded angular velocities");
+    // The rates paired as the whole-sample clock offset says (as recorded without one).
+    std::vector<Eigen::Vector3d> w1, w2;
+    for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
+      w1.push_back(samples.main.angular_velocity[k]);
+      w2.push_back(samples.secondary.angular_velocity[k - shift]);
+    }
     if (!data.orientations) {
       // The closed form and a grid of starts, descended cheaply (hinge_search.hpp);
       // Ceres refines the best minimum and those that could rival it.
@@ -112,6 +223,21 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
       if (starts.empty()) starts.push_back({closed_form.front(), origin(0)});
       context.hint = kRateHint;
     }
+    // The gyroscopes' kind, with the nuisance block when biases or a clock
+    // offset are estimated (its bias planes from the first start's axes).
+    if (nuisance.count() > 0) {
+      const AxisPair& at = starts.front().axes;
+      kinds.push_back(gyroNuisanceKind(samples, at.axis1, at.axis2, shift, options.fit_time_offset));
+    } else {
+      std::vector<GyroHingeResidual> blocks;
+      blocks.reserve(w1.size());
+      for (std::size_t k = 0; k < w1.size(); ++k) blocks.emplace_back(w1[k], w2[k]);
+      kinds.push_back(std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(kGyroKindName, "rad/s", 1,
+                                                                                 std::move(blocks)));
+    }
+    kinds.back()->setIndependentNoise(
+        std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
+        "the third differences of the recorded angular velocities");
   }
   const ResidualKind* accelerometers = nullptr;
   if (data.accelerometers) {
@@ -124,7 +250,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
 
   std::vector<const ResidualKind*> kind_list;
   for (const auto& k : kinds) kind_list.push_back(k.get());
-  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context);
+  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context, nuisance);
 
   HingeFit fit;
   Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
@@ -134,8 +260,8 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   if (accelerometers) {
     const double w = 1.0 / solution.summary.residuals.back().noise_scale;
     const Eigen::Vector3d turned = -j2;
-    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), &w, nullptr) -
-                        accelerometers->cost(j1.data(), j2.data(), &w, nullptr));
+    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), nullptr, &w, nullptr) -
+                        accelerometers->cost(j1.data(), j2.data(), nullptr, &w, nullptr));
   }
   if (data.orientations) {
     double agreement = 0.0;
@@ -161,6 +287,22 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   fit.sigma_main_deg = solution.sigma1_rad * kRadToDeg;
   fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
+  if (nuisance.active[0]) {
+    // b = B ν in each body's axes; the component along the axis is not observable (0).
+    const std::vector<NamedStart>::const_reference first = starts.front();
+    const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1), B2 = perpendicularBasis(first.axes.axis2);
+    fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
+    fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);
+    fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
+    fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
+    fit.fitted_gyro_bias = true;
+  }
+  if (nuisance.active[4]) {
+    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+    fit.time_offset = shift * h + solution.nuisance[4];
+    fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
+    fit.fitted_time_offset = true;
+  }
   fit.information = solution.information;
   fit.summary = solution.summary;
   fit.summary.search_starts = search_starts;

@@ -43,6 +43,20 @@ struct HingeFit {
   double sigma_secondary_deg = 0.0;
   std::string sign;                ///< how the signs were fixed
   Eigen::Matrix4d covariance;      ///< rad², axis angles (j₁'s two, then j₂'s)
+  /// With AxisFitOptions::fit_gyro_bias: each gyroscope's constant bias [rad/s]
+  /// in its body's axes, perpendicular to the axis (the component along a
+  /// hinge's axis leaves ‖ω × j‖ unchanged: not observable, reported 0), and
+  /// its RMS σ.
+  bool fitted_gyro_bias = false;
+  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
+  double gyro_bias_main_sigma = 0.0;
+  double gyro_bias_secondary_sigma = 0.0;
+  /// With AxisFitOptions::fit_time_offset: the secondary sensor's clock
+  /// offset δ [s] (its sample stamped t was taken at t + δ) and its σ.
+  bool fitted_time_offset = false;
+  double time_offset = 0.0;
+  double time_offset_sigma = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
 

@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/rate_derivative.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -60,35 +61,11 @@ struct HingeGauge {
   }
 };
 
-/// The angular acceleration at sample k: the derivative at t_k of the cubic
-/// that fits ω over samples k − m … k + m in least squares (Savitzky–Golay,
-/// any spacing). A central difference would add noise σ_ω/(√2 Δt) to ω̇,
-/// which enters the residual through ω̇ × o as an error in the regressor and
-/// biases the centre toward the sensor in proportion to its variance
-/// (attenuation); this window divides that noise by ~4 (m = 6: ‖c‖ =
-/// 0.18/Δt against 0.71/Δt), and the cubic keeps the smoothing error at
-/// O((mΔt)⁴ ω⁽⁵⁾) where a local line or quadratic leaves O((mΔt)² ω⃛).
 constexpr int kWindow = kCentreWindow;
-constexpr int kOrder = 3;
 /// Lags of the residuals' autocovariance in the sandwich covariance:
 /// neighbouring residuals share rates through the window.
 constexpr int kLags = 2 * kWindow + 1;
 
-Eigen::Vector3d rateDerivative(const std::vector<double>& t, const std::vector<Eigen::Vector3d>& w, std::size_t k) {
-  constexpr int kPoints = 2 * kWindow + 1;
-  Eigen::Matrix<double, kPoints, kOrder + 1> A;
-  for (int i = 0; i < kPoints; ++i) {
-    const double tau = t[k + i - kWindow] - t[k];
-    double p = 1.0;
-    for (int j = 0; j <= kOrder; ++j, p *= tau) A(i, j) = p;
-  }
-  // c = e₁ᵀ (AᵀA)⁻¹ Aᵀ: the weights of the fitted polynomial's slope at τ = 0.
-  const Eigen::Matrix<double, kOrder + 1, kOrder + 1> AtA = A.transpose() * A;
-  const Eigen::Matrix<double, kOrder + 1, kPoints> P = AtA.ldlt().solve(A.transpose());
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  for (int i = 0; i < kPoints; ++i) d += P(1, i) * w[k + i - kWindow];
-  return d;
-}
 
 
 void requireCentreData(const JointSamples& samples) {

@@ -1,6 +1,8 @@
 /// \file
 /// A kind of residual of a two-axis fit (one block per sample, on the two
-/// unit-axis parameter blocks), as the solver of two_axis_solver.hpp sees it.
+/// unit-axis parameter blocks and, for kinds that have them, the nuisance
+/// block: gyroscope biases and a clock offset, hinge_fit.hpp), as the solver
+/// of two_axis_solver.hpp sees it.
 #pragma once
 
 #include <string>
@@ -14,6 +16,12 @@
 namespace lieflow {
 namespace calibration {
 
+/// Size of the nuisance parameter block: the two gyroscope biases in the
+/// planes perpendicular to the start axes (2 + 2) and the secondary
+/// sensor's clock offset (1). Coordinates a fit does not estimate are held
+/// constant (ceres::SubsetManifold).
+constexpr int kNuisanceSize = 5;
+
 class ResidualKind {
  public:
   virtual ~ResidualKind() = default;
@@ -26,16 +34,21 @@ class ResidualKind {
   virtual int noiseDof() const = 0;
   virtual int blockCount() const = 0;
 
-  /// Adds one block per sample on (axis1, axis2), each with `loss`, its
-  /// residuals multiplied by *weight (read at every evaluation, so the solver
-  /// can re-weight without rebuilding the problem). Appends the block ids.
+  /// Whether the blocks also depend on the nuisance block (kNuisanceSize).
+  virtual bool usesNuisance() const { return false; }
+
+  /// Adds one block per sample on (axis1, axis2) — and `nuisance` where
+  /// usesNuisance() — each with `loss`, its residuals multiplied by *weight
+  /// (read at every evaluation, so the solver can re-weight without
+  /// rebuilding the problem). Appends the block ids.
   virtual void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight,
-                         double* axis1, double* axis2, std::vector<ceres::ResidualBlockId>* ids) const = 0;
+                         double* axis1, double* axis2, double* nuisance,
+                         std::vector<ceres::ResidualBlockId>* ids) const = 0;
 
   /// Ceres' cost of all blocks, ½ Σ ρ(‖r‖²) (ρ(s) = s without a loss), at the
-  /// given axes and weight, calling the functors directly (cheaper than
-  /// ceres::Problem::Evaluate, which builds a program on every call).
-  virtual double cost(const double* axis1, const double* axis2, const double* weight,
+  /// given axes, nuisance and weight, calling the functors directly (cheaper
+  /// than ceres::Problem::Evaluate, which builds a program on every call).
+  virtual double cost(const double* axis1, const double* axis2, const double* nuisance, const double* weight,
                       const ceres::LossFunction* loss) const = 0;
 
   /// The noise scale this kind's residual should have (its unit), estimated
@@ -54,6 +67,17 @@ class ResidualKind {
   std::string independent_noise_source_;
 };
 
+/// ½ ρ(‖r‖²) of one block of n residuals (ρ(s) = s without a loss).
+inline double blockCost(const double* r, int n, const ceres::LossFunction* loss) {
+  double s = 0.0, rho[3];
+  for (int i = 0; i < n; ++i) s += r[i] * r[i];
+  if (loss) {
+    loss->Evaluate(s, rho);
+    s = rho[0];
+  }
+  return 0.5 * s;
+}
+
 /// The residual kind of a functor with members `const double* weight` and
 /// `template <class T> bool operator()(const T* axis1, const T* axis2, T* r)`
 /// returning kResiduals residuals; one functor per sample, differentiated by
@@ -69,32 +93,71 @@ class SampleResidualKind final : public ResidualKind {
   int noiseDof() const override { return noise_dof_; }
   int blockCount() const override { return static_cast<int>(samples_.size()); }
 
-  double cost(const double* axis1, const double* axis2, const double* weight,
+  double cost(const double* axis1, const double* axis2, const double* /*nuisance*/, const double* weight,
               const ceres::LossFunction* loss) const override {
-    double total = 0.0, r[kResiduals], rho[3];
+    double total = 0.0, r[kResiduals];
     for (const Functor& sample : samples_) {
       Functor f(sample);
       f.weight = weight;
       f(axis1, axis2, r);
-      double s = 0.0;
-      for (int i = 0; i < kResiduals; ++i) s += r[i] * r[i];
-      if (loss) {
-        loss->Evaluate(s, rho);
-        s = rho[0];
-      }
-      total += 0.5 * s;
+      total += blockCost(r, kResiduals, loss);
     }
     return total;
   }
 
   void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight, double* axis1,
-                 double* axis2, std::vector<ceres::ResidualBlockId>* ids) const override {
+                 double* axis2, double* /*nuisance*/, std::vector<ceres::ResidualBlockId>* ids) const override {
     ids->reserve(ids->size() + samples_.size());
     for (const Functor& sample : samples_) {
       auto* functor = new Functor(sample);
       functor->weight = weight;
       ids->push_back(problem->AddResidualBlock(
           new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3>(functor), loss, axis1, axis2));
+    }
+  }
+
+ private:
+  std::string name_;
+  std::string unit_;
+  int noise_dof_;
+  std::vector<Functor> samples_;
+};
+
+/// The same for a functor that also takes the nuisance block:
+/// `template <class T> bool operator()(const T* axis1, const T* axis2, const T* nuisance, T* r)`.
+template <typename Functor, int kResiduals>
+class NuisanceResidualKind final : public ResidualKind {
+ public:
+  NuisanceResidualKind(std::string name, std::string unit, int noise_dof, std::vector<Functor> samples)
+      : name_(std::move(name)), unit_(std::move(unit)), noise_dof_(noise_dof), samples_(std::move(samples)) {}
+
+  const std::string& name() const override { return name_; }
+  const std::string& unit() const override { return unit_; }
+  int noiseDof() const override { return noise_dof_; }
+  int blockCount() const override { return static_cast<int>(samples_.size()); }
+  bool usesNuisance() const override { return true; }
+
+  double cost(const double* axis1, const double* axis2, const double* nuisance, const double* weight,
+              const ceres::LossFunction* loss) const override {
+    double total = 0.0, r[kResiduals];
+    for (const Functor& sample : samples_) {
+      Functor f(sample);
+      f.weight = weight;
+      f(axis1, axis2, nuisance, r);
+      total += blockCost(r, kResiduals, loss);
+    }
+    return total;
+  }
+
+  void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight, double* axis1,
+                 double* axis2, double* nuisance, std::vector<ceres::ResidualBlockId>* ids) const override {
+    ids->reserve(ids->size() + samples_.size());
+    for (const Functor& sample : samples_) {
+      auto* functor = new Functor(sample);
+      functor->weight = weight;
+      ids->push_back(problem->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3, kNuisanceSize>(functor), loss, axis1, axis2,
+          nuisance));
     }
   }
 

@@ -199,17 +199,20 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
     const double t = k / rate_hz;
     const TwoBodyState s = motion.at(t);
     out.time.push_back(t);
+    // The secondary sensor's own clock (RecordingNoise::secondary_clock_offset).
+    const TwoBodyState late = noise.secondary_clock_offset != 0.0 ? motion.at(t + noise.secondary_clock_offset) : s;
     if (noise.orientations) {
       out.main.orientation.push_back((s.R1 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
-      out.secondary.orientation.push_back((s.R2 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
+      out.secondary.orientation.push_back((late.R2 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
     }
     if (noise.rates) {
-      out.main.angular_velocity.push_back(s.w1 + gaussian(noise.rate_sigma));
-      out.secondary.angular_velocity.push_back(s.w2 + gaussian(noise.rate_sigma));
+      out.main.angular_velocity.push_back(s.w1 + noise.gyro_bias_main + gaussian(noise.rate_sigma));
+      out.secondary.angular_velocity.push_back(late.w2 + noise.gyro_bias_secondary + gaussian(noise.rate_sigma));
     }
     if (noise.accelerometers) {
-      Eigen::Vector3d f1, f2;
+      Eigen::Vector3d f1, f2, unused;
       motion.specificForces(t, &f1, &f2);
+      if (noise.secondary_clock_offset != 0.0) motion.specificForces(t + noise.secondary_clock_offset, &unused, &f2);
       out.main.specific_force.push_back(f1 + gaussian(noise.acc_sigma));
       out.secondary.specific_force.push_back(f2 + gaussian(noise.acc_sigma));
     }

@@ -126,6 +126,11 @@ struct RecordingNoise {
   bool rates = true;               ///< record B.wx..B.wz
   double acc_sigma = 0.0;          ///< m/s², per accelerometer axis
   bool accelerometers = false;     ///< record B.ax..B.az (motion.sensors)
+  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();       ///< rad/s, added to ω₁
+  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();  ///< rad/s, added to ω₂
+  /// The secondary sensor's clock offset δ [s]: its sample stamped t_k
+  /// records the secondary body at t_k + δ.
+  double secondary_clock_offset = 0.0;
 };
 
 /// n samples at `rate_hz` from t = 0, bodies named "main" and "secondary".

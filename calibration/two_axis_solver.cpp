@@ -55,13 +55,50 @@ std::unique_ptr<ceres::LossFunction> makeLoss(const AxisFitOptions& options) {
 /// The problem: parameter blocks, residual blocks per kind and their weights.
 class AxisProblem {
  public:
-  AxisProblem(const std::vector<const ResidualKind*>& kinds, const AxisFitOptions& options)
+  AxisProblem(const std::vector<const ResidualKind*>& kinds, const AxisFitOptions& options,
+              const NuisanceSelection& nuisance)
       : kinds_(kinds), weights_(kinds.size(), 1.0), ids_(kinds.size()), loss_(makeLoss(options)),
         problem_(problemOptions()) {
-    for (std::size_t k = 0; k < kinds_.size(); ++k)
-      kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, &ids_[k]);
+    bool uses_nuisance = false;
+    for (std::size_t k = 0; k < kinds_.size(); ++k) {
+      kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, nuisance_, &ids_[k]);
+      uses_nuisance = uses_nuisance || kinds_[k]->usesNuisance();
+    }
     problem_.SetManifold(axis1_, &sphere_);
     problem_.SetManifold(axis2_, &sphere_);
+    active_ = uses_nuisance ? nuisance.count() : 0;
+    if (uses_nuisance && active_ == 0) throw std::logic_error("two-axis fit: a nuisance kind with nothing to estimate");
+    if (active_ > 0 && active_ < kNuisanceSize) {
+      std::vector<int> constant;
+      for (int i = 0; i < kNuisanceSize; ++i)
+        if (!nuisance.active[i]) constant.push_back(i);
+      subset_ = std::make_unique<ceres::SubsetManifold>(kNuisanceSize, constant);
+      problem_.SetManifold(nuisance_, subset_.get());
+    }
+    for (int i = 0; i < kNuisanceSize; ++i)
+      if (nuisance.active[i]) active_index_.push_back(i);
+  }
+
+  /// Estimated nuisance coordinates (0 without a nuisance block).
+  int nuisanceCount() const { return active_; }
+  double* nuisance() { return nuisance_; }
+  /// The parameter blocks whose Jacobian the analyses use: the axes, then the nuisance.
+  std::vector<double*> blocks() {
+    std::vector<double*> b = {axis1_, axis2_};
+    if (active_ > 0) b.push_back(nuisance_);
+    return b;
+  }
+  void resetNuisance() {
+    for (double& x : nuisance_) x = 0.0;
+  }
+  /// The estimated coordinates of the nuisance block, in order.
+  Eigen::VectorXd activeNuisance() const {
+    Eigen::VectorXd v(active_);
+    for (int i = 0; i < active_; ++i) v[i] = nuisance_[active_index_[i]];
+    return v;
+  }
+  void setActiveNuisance(const Eigen::VectorXd& v) {
+    for (int i = 0; i < active_; ++i) nuisance_[active_index_[i]] = v[i];
   }
 
   ceres::Problem& problem() { return problem_; }
@@ -118,17 +155,21 @@ class AxisProblem {
   /// SphereManifold's PlusJacobian at x (3×2, row-major).
   void plusJacobian(const double* x, double* jacobian) const { sphere_.PlusJacobian(x, jacobian); }
 
-  /// The cost (with the loss) at the axes moved by the tangent step δ (4 tangent coordinates).
-  double costAt(const AxisPair& base, const Eigen::Vector4d& delta) {
+  /// The cost (with the loss) at the axes moved by the tangent step δ (4
+  /// tangent coordinates) and the estimated nuisance moved by δν.
+  double costAt(const AxisPair& base, const Eigen::Vector4d& delta, const Eigen::VectorXd& nuisance_delta) {
     const AxisPair saved = axes();
+    const Eigen::VectorXd saved_nuisance = activeNuisance();
     const double b1[3] = {base.axis1.x(), base.axis1.y(), base.axis1.z()};
     const double b2[3] = {base.axis2.x(), base.axis2.y(), base.axis2.z()};
     sphere_.Plus(b1, delta.data(), axis1_);
     sphere_.Plus(b2, delta.data() + 2, axis2_);
+    if (active_ > 0) setActiveNuisance(saved_nuisance + nuisance_delta);
     double cost = 0.0;
     for (std::size_t k = 0; k < kinds_.size(); ++k)
-      cost += kinds_[k]->cost(axis1_, axis2_, &weights_[k], loss_.get());
+      cost += kinds_[k]->cost(axis1_, axis2_, nuisance_, &weights_[k], loss_.get());
     setAxes(saved);
+    if (active_ > 0) setActiveNuisance(saved_nuisance);
     return cost;
   }
 
@@ -145,8 +186,12 @@ class AxisProblem {
   std::vector<std::vector<ceres::ResidualBlockId>> ids_;
   std::unique_ptr<ceres::LossFunction> loss_;
   ceres::SphereManifold<3> sphere_;
+  std::unique_ptr<ceres::SubsetManifold> subset_;
   double axis1_[3] = {1.0, 0.0, 0.0};
   double axis2_[3] = {1.0, 0.0, 0.0};
+  double nuisance_[kNuisanceSize] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  int active_ = 0;
+  std::vector<int> active_index_;
   ceres::Problem problem_;
 };
 
@@ -163,7 +208,8 @@ double noiseScale(AxisProblem& p, std::size_t k, bool robust) {
     double sum = 0.0;
     for (double x : q) sum += x;
     const double mk = static_cast<double>(q.size()) * d;
-    variance = sum / std::max(1.0, mk - 4.0 * mk / p.noiseComponents());
+    const double parameters = 4.0 + p.nuisanceCount();
+    variance = sum / std::max(1.0, mk - parameters * mk / p.noiseComponents());
   }
   return std::max(std::sqrt(variance), kNoiseScaleFloor);
 }
@@ -192,23 +238,39 @@ int iterationsOf(const ceres::Solver::Summary& s) {
   return std::max(0, s.num_successful_steps) + std::max(0, s.num_unsuccessful_steps);
 }
 
-/// H = JᵀJ of the whitened residuals per rad² of axis rotation, the noise's
-/// share H_noise = ⅙ Σ Δ²Jₖᵀ Δ²Jₖ (second differences over consecutive samples
-/// of one kind; identifiability.hpp), and the cost.
-void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost) {
+/// Row r of a Jacobian over the axes' 4 tangent coordinates and the n − 4
+/// estimated nuisance coordinates; the axes' columns multiplied by `axis_scale`.
+Eigen::VectorXd jacobianRow(const ceres::CRSMatrix& J, int r, double axis_scale) {
+  Eigen::VectorXd j = Eigen::VectorXd::Zero(J.num_cols);
+  for (int e = J.rows[r]; e < J.rows[r + 1]; ++e) j[J.cols[e]] = (J.cols[e] < 4 ? axis_scale : 1.0) * J.values[e];
+  return j;
+}
+
+/// The Jacobian of every block over p.blocks() (with or without the loss).
+void evaluateJacobian(AxisProblem& p, bool apply_loss, double* cost, std::vector<double>* r, ceres::CRSMatrix* J) {
   ceres::Problem::EvaluateOptions eval;
-  eval.parameter_blocks = {p.axis1(), p.axis2()};
+  eval.parameter_blocks = p.blocks();
   eval.residual_blocks = p.allBlocks();
+  eval.apply_loss_function = apply_loss;
+  p.problem().Evaluate(eval, cost, r, nullptr, J);
+  if (J->num_cols != 4 + p.nuisanceCount())
+    throw std::logic_error("two-axis fit: expected a Jacobian in the 4 tangent coordinates and the nuisance");
+}
+
+/// H = JᵀJ of the whitened residuals per rad² of axis rotation — marginal
+/// over the estimated nuisance (the Schur complement H_aa − H_an H_nn⁻¹ H_na)
+/// — the noise's share H_noise = ⅙ Σ Δ²Jₖᵀ Δ²Jₖ of the axes' columns (second
+/// differences over consecutive samples of one kind; identifiability.hpp),
+/// the cost, and the nuisance's linear regression on the axes' tangent
+/// coordinates, δν = −H_nn⁻¹ H_na δ (empty without nuisance).
+void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost,
+                       Eigen::MatrixXd* profile) {
   ceres::CRSMatrix J;
-  p.problem().Evaluate(eval, cost, nullptr, nullptr, &J);
-  if (J.num_cols != 4) throw std::logic_error("two-axis fit: expected a Jacobian in the 4 tangent coordinates");
+  evaluateJacobian(p, true, cost, nullptr, &J);
+  const int n = J.num_cols;
   // Tangent coordinates δ turn an axis by ‖δ‖/2: ∂r/∂θ = 2 ∂r/∂δ.
-  auto row = [&](int r) {
-    Eigen::Vector4d j = Eigen::Vector4d::Zero();
-    for (int e = J.rows[r]; e < J.rows[r + 1]; ++e) j[J.cols[e]] = kSphereTangentPerRadian * J.values[e];
-    return j;
-  };
-  Eigen::Matrix4d h = Eigen::Matrix4d::Zero(), hn = Eigen::Matrix4d::Zero();
+  const auto row = [&](int r) { return jacobianRow(J, r, kSphereTangentPerRadian); };
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n), hn = Eigen::MatrixXd::Zero(n, n);
   for (int r = 0; r < J.num_rows; ++r) h.selfadjointView<Eigen::Lower>().rankUpdate(row(r));
   int begin = 0;
   for (std::size_t k = 0; k < p.kindCount(); ++k) {
@@ -218,53 +280,57 @@ void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_no
       hn.selfadjointView<Eigen::Lower>().rankUpdate(row(r + per_block) - 2.0 * row(r) + row(r - per_block), 1.0 / 6.0);
     begin = end;
   }
-  *H = h.selfadjointView<Eigen::Lower>();
-  *H_noise = hn.selfadjointView<Eigen::Lower>();
+  h = Eigen::MatrixXd(h.selfadjointView<Eigen::Lower>());
+  *H_noise = Eigen::MatrixXd(hn.selfadjointView<Eigen::Lower>()).topLeftCorner<4, 4>();
+  *H = h.topLeftCorner<4, 4>();
+  profile->resize(n - 4, 4);
+  if (n > 4) {
+    const Eigen::LDLT<Eigen::MatrixXd> nn(h.bottomRightCorner(n - 4, n - 4));
+    const Eigen::MatrixXd regression = nn.solve(h.bottomLeftCorner(n - 4, 4));
+    *H -= h.topRightCorner(4, n - 4) * regression;
+    *profile = -regression / kSphereTangentPerRadian;  // per tangent coordinate δ = kSphereTangentPerRadian θ
+  }
 }
 
-/// Step 8: the sandwich covariance in tangent coordinates (file comment of
+/// Step 8: the sandwich covariance of the axes in tangent coordinates
+/// (marginal: the axes' block of the whole H⁻¹MH⁻¹; file comment of
 /// two_axis_solver.hpp); `batches` receives B. Returns false when it cannot
 /// be formed (too few samples, H singular).
 bool sandwichCovariance(AxisProblem& p, Eigen::Matrix4d* tangent, int* batches) {
-  ceres::Problem::EvaluateOptions eval;
-  eval.parameter_blocks = {p.axis1(), p.axis2()};
-  eval.residual_blocks = p.allBlocks();
-  eval.apply_loss_function = true;
   std::vector<double> r;
   ceres::CRSMatrix J;
-  p.problem().Evaluate(eval, nullptr, &r, nullptr, &J);
-  if (J.num_cols != 4) throw std::logic_error("two-axis fit: expected a Jacobian in the 4 tangent coordinates");
+  evaluateJacobian(p, true, nullptr, &r, &J);
+  const int n = J.num_cols;
   int fewest = std::numeric_limits<int>::max();
   for (std::size_t k = 0; k < p.kindCount(); ++k) fewest = std::min(fewest, p.kind(k).blockCount());
   const int B = std::min(kSandwichBatches, fewest / kSandwichMinBatchSamples);
   if (B < 4) return false;
-  Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
-  std::vector<Eigen::Vector4d> S(B, Eigen::Vector4d::Zero());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+  std::vector<Eigen::VectorXd> S(B, Eigen::VectorXd::Zero(n));
   int row = 0;
   for (std::size_t k = 0; k < p.kindCount(); ++k) {
     const int per_block = p.residualsPerBlock(k), blocks = p.kind(k).blockCount();
     for (int b = 0; b < blocks; ++b) {
-      Eigen::Vector4d score = Eigen::Vector4d::Zero();
+      Eigen::VectorXd score = Eigen::VectorXd::Zero(n);
       for (int i = 0; i < per_block; ++i, ++row) {
-        Eigen::Vector4d j = Eigen::Vector4d::Zero();
-        for (int e = J.rows[row]; e < J.rows[row + 1]; ++e) j[J.cols[e]] = J.values[e];
+        const Eigen::VectorXd j = jacobianRow(J, row, 1.0);
         H.selfadjointView<Eigen::Lower>().rankUpdate(j);
         score += r[row] * j;
       }
       S[static_cast<std::size_t>(b) * B / blocks] += score;
     }
   }
-  H = Eigen::Matrix4d(H.selfadjointView<Eigen::Lower>());
-  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
-  for (const Eigen::Vector4d& s : S) mean += s / B;
-  Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
-  for (const Eigen::Vector4d& s : S) M += (s - mean) * (s - mean).transpose();
+  H = Eigen::MatrixXd(H.selfadjointView<Eigen::Lower>());
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(n);
+  for (const Eigen::VectorXd& s : S) mean += s / B;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  for (const Eigen::VectorXd& s : S) M += (s - mean) * (s - mean).transpose();
   M *= static_cast<double>(B) / (B - 1);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   if (!(eig.eigenvalues().minCoeff() > 1e-12 * eig.eigenvalues().maxCoeff())) return false;
-  const Eigen::Matrix4d Hinv =
+  const Eigen::MatrixXd Hinv =
       eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
-  *tangent = Hinv * M * Hinv;
+  *tangent = (Hinv * M * Hinv).topLeftCorner<4, 4>();
   *batches = B;
   return true;
 }
@@ -272,13 +338,16 @@ bool sandwichCovariance(AxisProblem& p, Eigen::Matrix4d* tangent, int* batches) 
 }  // namespace
 
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
-                             const AxisFitOptions& options, const IdentifiabilityContext& context) {
+                             const AxisFitOptions& options, const IdentifiabilityContext& context,
+                             const NuisanceSelection& nuisance) {
   if (kinds.empty() || starts.empty()) throw std::logic_error("solveTwoAxes: needs residuals and a start");
-  AxisProblem p(kinds, options);
+  AxisProblem p(kinds, options, nuisance);
+  const int parameters = 4 + p.nuisanceCount();
   const bool robust = options.loss != RobustLoss::kNone;
 
   // 1. Noise scales at the first start.
   p.setAxes(starts.front().axes);
+  p.resetNuisance();
   for (std::size_t k = 0; k < p.kindCount(); ++k) p.setWeight(k, 1.0 / noiseScale(p, k, true));
 
   // 2. Every start; the lowest cost wins. Every end point is kept for the
@@ -290,11 +359,14 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   ceres::Solver::Summary best;
   std::vector<EndPoint> ends;
   int best_start = -1;
+  std::vector<Eigen::VectorXd> end_nuisance;
   for (std::size_t s = 0; s < starts.size(); ++s) {
     p.setAxes(starts[s].axes);
+    p.resetNuisance();
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &p.problem(), &summary);
     ends.push_back({p.axes(), summary.final_cost, static_cast<int>(s)});
+    end_nuisance.push_back(p.activeNuisance());
     if (best_start < 0 || summary.final_cost < best.final_cost) {
       best = summary;
       best_start = static_cast<int>(s);
@@ -305,6 +377,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   std::vector<double> start_weights(p.kindCount());
   for (std::size_t k = 0; k < p.kindCount(); ++k) start_weights[k] = p.weight(k);
   p.setAxes(best_axes);
+  p.setActiveNuisance(end_nuisance[best_start]);
   out.summary.starts = static_cast<int>(starts.size());
   out.summary.start = starts[best_start].origin;
   out.summary.iterations = iterationsOf(best);
@@ -366,9 +439,10 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   // 4. Identifiability.
   double cost = 0.0;
   Eigen::Matrix4d H, H_noise;
-  informationAtAxes(p, &H, &H_noise, &cost);
+  Eigen::MatrixXd profile;
+  informationAtAxes(p, &H, &H_noise, &cost, &profile);
   const int m = p.noiseComponents();
-  const double s2 = m > 4 ? 2.0 * cost / (m - 4) : 0.0;
+  const double s2 = m > parameters ? 2.0 * cost / (m - parameters) : 0.0;
   out.summary.reduced_chi_square = s2;
   out.information = analyseInformation(H, H_noise, s2);
   requireIdentifiable(out.information, options, context);
@@ -379,8 +453,16 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   cov_options.num_threads = 1;
   ceres::Covariance covariance(cov_options);
   const std::vector<const double*> blocks = {p.axis1(), p.axis2()};
-  if (!covariance.Compute(blocks, &p.problem()))
+  std::vector<const double*> all_blocks = blocks;
+  if (p.nuisanceCount() > 0) all_blocks.push_back(p.nuisance());
+  if (!covariance.Compute(all_blocks, &p.problem()))
     throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
+  if (p.nuisanceCount() > 0) {
+    Eigen::Matrix<double, kNuisanceSize, kNuisanceSize, Eigen::RowMajor> cn;
+    covariance.GetCovarianceBlock(p.nuisance(), p.nuisance(), cn.data());
+    out.nuisance_covariance = s2 * Eigen::Matrix<double, kNuisanceSize, kNuisanceSize>(cn);
+    out.nuisance = Eigen::Map<const Eigen::Matrix<double, kNuisanceSize, 1>>(p.nuisance());
+  }
   Eigen::Matrix<double, 4, 4, Eigen::RowMajor> tangent;
   Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c1, c2;
   covariance.GetCovarianceMatrixInTangentSpace(blocks, tangent.data());
@@ -400,7 +482,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   // fit (kinds that have one; the others count with the fit's): a short
   // recording lets the best fit absorb part of the noise (seen: residuals 0.7
   // times the noise), which would inflate Δχ².
-  double s2_starts = m > 4 ? 2.0 * best_cost / (m - 4) : 0.0;
+  double s2_starts = m > parameters ? 2.0 * best_cost / (m - parameters) : 0.0;
   {
     double independent = 0.0;
     for (std::size_t k = 0; k < p.kindCount(); ++k) {
@@ -465,13 +547,13 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
       k * std::max(out.sigma1_rad, out.sigma2_rad) > kQuadraticCheckFloor) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(s2 * Eigen::Matrix4d(tangent));
     const AxisPair at = p.axes();
-    const double base = p.costAt(at, Eigen::Vector4d::Zero());
+    const double base = p.costAt(at, Eigen::Vector4d::Zero(), Eigen::VectorXd::Zero(p.nuisanceCount()));
     Eigen::Matrix<double, 4, 2> ratio;
     for (int i = 0; i < 4; ++i)
       for (int side = 0; side < 2; ++side) {
         const Eigen::Vector4d step = (side ? 1.0 : -1.0) * k * std::sqrt(std::max(0.0, eig.eigenvalues()[i])) *
                                      eig.eigenvectors().col(i);
-        ratio(i, side) = 2.0 * (p.costAt(at, step) - base) / s2 / (k * k);
+        ratio(i, side) = 2.0 * (p.costAt(at, step, profile * step) - base) / s2 / (k * k);
       }
     out.summary.quadratic_ratio_min = ratio.minCoeff();
     out.summary.quadratic_ratio_max = ratio.maxCoeff();

@@ -84,6 +84,22 @@ constexpr double kFlatSecant = 0.25;
 /// Noise scales are floored here so that exact data give finite weights.
 constexpr double kNoiseScaleFloor = 1e-12;
 
+/// Which coordinates of the nuisance block (residual_kind.hpp) the fit
+/// estimates; the others stay 0. With any, the axes' covariance, information
+/// and 3σ region are marginal over them: ceres::Covariance inverts the whole
+/// information matrix, the identifiability analysis takes the Schur
+/// complement H_aa − H_an H_nn⁻¹ H_na, and the quadratic check moves the
+/// nuisance along its regression on the axes (δν = −H_nn⁻¹ H_na δa, the
+/// linearized profile).
+struct NuisanceSelection {
+  bool active[kNuisanceSize] = {false, false, false, false, false};
+  int count() const {
+    int n = 0;
+    for (bool a : active) n += a;
+    return n;
+  }
+};
+
 /// A start and where it came from (for the summary).
 struct NamedStart {
   AxisPair axes;
@@ -97,6 +113,10 @@ struct TwoAxisSolution {
   Eigen::Matrix3d covariance2;
   double sigma1_rad = 0.0;            ///< √trace of axis 1's angle covariance
   double sigma2_rad = 0.0;
+  /// The nuisance block at the solution and its covariance (zero where not estimated).
+  Eigen::Matrix<double, kNuisanceSize, 1> nuisance = Eigen::Matrix<double, kNuisanceSize, 1>::Zero();
+  Eigen::Matrix<double, kNuisanceSize, kNuisanceSize> nuisance_covariance =
+      Eigen::Matrix<double, kNuisanceSize, kNuisanceSize>::Zero();
   AxisInformation information;
   AxisFitSummary summary;             ///< all but data, samples and seconds
 };
@@ -105,7 +125,8 @@ struct TwoAxisSolution {
 /// rms_residual) from `starts` (at least one; the first sets the noise
 /// scales). Throws NotIdentifiable.
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
-                             const AxisFitOptions& options, const IdentifiabilityContext& context);
+                             const AxisFitOptions& options, const IdentifiabilityContext& context,
+                             const NuisanceSelection& nuisance = NuisanceSelection());
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -12,6 +12,7 @@
 #include "calibration/unit_axis.hpp"
 #include "calibration/universal_initial.hpp"
 #include "calibration/universal_residuals.hpp"
+#include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -60,6 +61,8 @@ std::vector<double> relativeRateScales(const JointSamples& samples, const std::v
 }  // namespace
 
 UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+  if (options.fit_gyro_bias || options.fit_time_offset)
+    throw InvalidInput(samples.source, "gyroscope biases and clock offsets are estimated by the hinge fit only");
   const auto start_time = std::chrono::steady_clock::now();
   const DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)

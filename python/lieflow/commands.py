@@ -365,22 +365,27 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "max_iterations": ("--max-iterations", _integer), "max_sigma_deg": ("--max-sigma-deg", _number),
              "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
+_HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None))
 
 
 def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None, start_main=None,
                     start_secondary=None, max_iterations=None, max_sigma_deg=None, min_samples=None,
-                    max_input_mb=None, max_rows=None, verbose=False, partial=False):
+                    max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False, fit_time_offset=False,
+                    partial=False):
     """The hinge axis in both bodies' frames, as ``lieflow calibrate hinge``.
     recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...).
     Returns the command's JSON object as a dict (axis_main, axis_secondary,
     axis_sigma_deg, rms_residual, converged, message, ...). A fit the data do
     not identify, or one that does not converge, raises ComputationError (its
     .result holds the JSON when there is one); partial=True returns it with
-    "failed" and "failure" added instead."""
+    "failed" and "failure" added instead. fit_gyro_bias / fit_time_offset
+    estimate the gyroscopes' biases and the secondary sensor's clock offset
+    (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma)."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
-                  min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose)
-    return _calibrate("hinge", recording, _AXIS_FIT, values, partial)
+                  min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
+                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset)
+    return _calibrate("hinge", recording, _HINGE_FIT, values, partial)
 
 
 def calibrate_universal(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None,

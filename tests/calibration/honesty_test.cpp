@@ -117,7 +117,9 @@ TEST(CalibHonesty, HingeFromGyroscopesRobustLossSandwich) {
     expectHonest(
         correlated ? "huber_correlated" : "huber_white", [&](std::mt19937& gen) {
           const HingeMotion m = randomHingeMotion(gen);
-          JointSamples s = recordMotion(m, kSamples, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
+          // 1000 samples also under the sanitizers: the batches must be long
+          // against the noise's correlation (300 samples gave 3.2).
+          JointSamples s = recordMotion(m, 1000, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
           if (correlated) {
             std::normal_distribution<double> normal;
             constexpr double a = 0.9, sigma = 0.02;

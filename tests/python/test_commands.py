@@ -164,6 +164,25 @@ def test_calibrate_equals_the_command(tmp_path, run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_hinge_gyro_bias_and_clock_offset(tmp_path, run_command):
+    noise = {"gyro": 0.02, "bias_gyro": 0.05, "seed": 3}
+    status, _, err = run_command("simulate", "hinge-pair", "--every", "10", "--noise-gyro", "0.02", "--bias-gyro",
+                                 "0.05", "--seed", "3", "--out", tmp_path / "rec.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "hinge", tmp_path / "rec.csv", "--fit-gyro-bias", "--fit-time-offset")
+    assert status == 0, err
+    command = json.loads(out)
+    for key in ("gyro_bias_main", "gyro_bias_secondary", "gyro_bias_main_sigma", "gyro_bias_secondary_sigma",
+                "time_offset", "time_offset_sigma"):
+        assert key in command, key
+    assert abs(command["time_offset"]) < 5 * command["time_offset_sigma"] + 1e-3  # no offset simulated
+    recording = lieflow.simulate("hinge-pair", every=10, noise=noise).columns
+    fit = lieflow.calibrate_hinge(recording, fit_gyro_bias=True, fit_time_offset=True)
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_spherical_equals_the_command(tmp_path, run_command):
     scene = {"name": "ball", "gravity": [0, 0, -9.81], "t_end": 5, "integrator": {"name": "rkmk4", "dt": 0.001},
              "bodies": [{"name": "upper", "mass": 1.0, "inertia": [0.02, 0.05, 0.065], "rotation_only": True,
