@@ -72,6 +72,10 @@ constexpr const char* kUsage =
     "                            the joint centre)\n"
     "  --loss none|huber|cauchy  robust loss per sample (default none); under a robust loss\n"
     "                            sigma is the larger of Gauss-Newton and a sandwich (sigma_method)\n"
+    "  --estimator constraint|likelihood\n"
+    "                            hinge from gyroscopes: Seel's constraint (default, fast) or\n"
+    "                            maximum likelihood over the joint angle (sigma at the\n"
+    "                            Cramer-Rao bound; constraint_axis_*_sigma_deg for comparison)\n"
     "  --fit-gyro-bias           hinge: estimate each gyroscope's constant bias (gyro_bias_main,\n"
     "                            gyro_bias_secondary [rad/s] and _sigma; axis sigmas marginal)\n"
     "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
@@ -124,6 +128,7 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
   o.max_sigma_deg = args.positiveNumber("--max-sigma-deg", o.max_sigma_deg);
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+  o.estimator = calibration::parseHingeEstimator(args.value("--estimator", "constraint"), "--estimator");
   o.fit_gyro_bias = args.has("--fit-gyro-bias");
   o.fit_time_offset = args.has("--fit-time-offset");
   if (args.has("--start-main") != args.has("--start-secondary"))
@@ -336,7 +341,8 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
                          const std::function<bool()>& interrupted) {
   if (!args.has("--scene"))
     throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
-  for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
+  for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
+                           "--fit-gyro-bias", "--fit-time-offset"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate hinge|universal, not spring");
   calibration::SpringFitOptions o;
   const int coordinate = args.positiveInt("--coordinate", 1);
@@ -422,7 +428,8 @@ const std::set<std::string>& calibrateValueFlags() {
       "--main",          "--secondary",     "--use",           "--loss",       "--loss-scale",  "--start-main",
       "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",      "--joint",
       "--coordinate",    "--stiffness-start", "--damping-start", "--rest-angle-start", "--shooting", "--segments",
-      "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows"};
+      "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows",
+      "--estimator"};
   return flags;
 }
 
@@ -478,7 +485,8 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", ""));
   const std::string what = "calibrate " + kind + " " + pos[1];
   if (kind == "spherical") {
-    for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg"})
+    for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
+                           "--fit-gyro-bias", "--fit-time-offset"})
       if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of the axis fits, not of spherical");
     return runSpherical(joint, what);
   }
@@ -500,6 +508,13 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
         j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
         j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias "
                               "along its axis: reported 0)";
+      }
+      if (options.estimator == calibration::HingeEstimator::kLikelihood) {
+        j["estimator"] = "likelihood";
+        j["constraint_axis_main_sigma_deg"] = fit.constraint_sigma_main_deg;
+        j["constraint_axis_secondary_sigma_deg"] = fit.constraint_sigma_secondary_deg;
+        j["likelihood_noise_sigma"] = fit.likelihood.noise_sigma;
+        j["likelihood_iterations"] = fit.likelihood.iterations;
       }
       if (fit.fitted_time_offset) {
         j["time_offset"] = fit.time_offset;

@@ -32,6 +32,16 @@ const char* dataUseName(DataUse use) {
   return "auto";
 }
 
+const char* hingeEstimatorName(HingeEstimator e) {
+  return e == HingeEstimator::kLikelihood ? "likelihood" : "constraint";
+}
+
+HingeEstimator parseHingeEstimator(const std::string& text, const std::string& field) {
+  for (HingeEstimator e : {HingeEstimator::kConstraint, HingeEstimator::kLikelihood})
+    if (text == hingeEstimatorName(e)) return e;
+  throw InvalidInput(field, "unknown estimator '" + text + "' (constraint, likelihood)");
+}
+
 DataUse parseDataUse(const std::string& text, const std::string& field) {
   for (DataUse use : {DataUse::kAuto, DataUse::kAngularVelocities, DataUse::kOrientations, DataUse::kBoth,
                       DataUse::kGyroscopesAccelerometers, DataUse::kAll})

@@ -43,8 +43,17 @@ struct AxisPair {
   Eigen::Vector3d axis2;
 };
 
+/// The hinge fit's estimator from gyroscopes: Seel's constraint (fast; the
+/// lengths of the perpendicular rates) or maximum likelihood over the joint
+/// angle (hinge_likelihood.hpp; their phase too, σ at the Cramér–Rao bound).
+enum class HingeEstimator { kConstraint, kLikelihood };
+/// "constraint", "likelihood" and back (InvalidInput naming `field`).
+const char* hingeEstimatorName(HingeEstimator e);
+HingeEstimator parseHingeEstimator(const std::string& text, const std::string& field);
+
 struct AxisFitOptions {
   DataUse use = DataUse::kAuto;
+  HingeEstimator estimator = HingeEstimator::kConstraint;
   RobustLoss loss = RobustLoss::kNone;
   /// Threshold of the robust loss in units of the estimated noise σ̂.
   double loss_scale = 3.0;

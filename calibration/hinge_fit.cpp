@@ -9,6 +9,7 @@
 
 #include "calibration/data_selection.hpp"
 #include "calibration/hinge_initial.hpp"
+#include "calibration/hinge_likelihood.hpp"
 #include "calibration/hinge_residuals.hpp"
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
@@ -160,7 +161,20 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
-  DataSelection data = selectData(samples, options.use, "hinge", true);
+  if (options.estimator == HingeEstimator::kLikelihood) {
+    if (options.use != DataUse::kAuto && options.use != DataUse::kAngularVelocities)
+      throw InvalidInput(samples.source, std::string("--estimator likelihood with --use ") + dataUseName(options.use) +
+                                             ": the likelihood fit models the two gyroscopes alone (use --use "
+                                             "gyroscopes or auto)");
+    if (options.fit_gyro_bias || options.fit_time_offset)
+      throw InvalidInput(samples.source,
+                         "--estimator likelihood does not estimate gyroscope biases or clock offsets yet");
+    if (!samples.hasAngularVelocities())
+      throw InvalidInput(samples.source, "--estimator likelihood needs both bodies' gyroscopes");
+  }
+  DataSelection data = selectData(samples, options.estimator == HingeEstimator::kLikelihood
+                                               ? DataUse::kAngularVelocities : options.use,
+                                  "hinge", true);
   if (options.fit_time_offset && (data.orientations || data.accelerometers)) {
     // The clock offset pairs the gyroscopes' samples; the other kinds pair at the recorded times.
     if (options.use != DataUse::kAuto)
@@ -308,6 +322,24 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   fit.summary.search_starts = search_starts;
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
+  if (options.estimator == HingeEstimator::kLikelihood) {
+    // Refine by maximum likelihood over the joint angle (hinge_likelihood.hpp).
+    const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary);
+    fit.constraint_sigma_main_deg = fit.sigma_main_deg;
+    fit.constraint_sigma_secondary_deg = fit.sigma_secondary_deg;
+    const double flip = canonicalSign(ml.axis_main);
+    fit.axis_main = flip * ml.axis_main;
+    fit.axis_secondary = flip * ml.axis_secondary;
+    fit.sigma_main_deg = ml.sigma_main_deg;
+    fit.sigma_secondary_deg = ml.sigma_secondary_deg;
+    fit.likelihood = ml;
+    fit.sign = "R1 j1 = R2 j2 from the joint angle that turns the perpendicular rates (likelihood); overall sign: "
+               "largest component of axis_main positive";
+    if (!ml.converged) {
+      fit.summary.converged = false;
+      fit.summary.message = "the likelihood refinement did not converge: " + ml.message;
+    }
+  }
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
 }

@@ -20,6 +20,10 @@
 /// differences (whiteNoiseFromDifferences, RMS of both bodies') and the fitted
 /// residual is checked against it (AxisFitOptions::max_residual_to_noise).
 ///
+/// With AxisFitOptions::estimator = kLikelihood (gyroscopes only), the
+/// constraint fit (its refusals included) starts the maximum-likelihood fit
+/// over the joint angle (hinge_likelihood.hpp), whose axes and σ are reported.
+///
 /// Reported signs: R₁j₁ = R₂j₂ (from the data where they tell), and the
 /// largest-magnitude component of j₁ positive (the hinge's own direction is a
 /// convention: turning it over only negates the joint angle).
@@ -30,6 +34,7 @@
 #include <Eigen/Core>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/hinge_likelihood.hpp"
 #include "calibration/identifiability.hpp"
 #include "calibration/joint_samples.hpp"
 
@@ -52,6 +57,11 @@ struct HingeFit {
   Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
   double gyro_bias_main_sigma = 0.0;
   double gyro_bias_secondary_sigma = 0.0;
+  /// With HingeEstimator::kLikelihood: the refinement (its σ is the
+  /// Cramér–Rao bound at the estimate) and the constraint fit's σ it replaced.
+  HingeLikelihoodFit likelihood;
+  double constraint_sigma_main_deg = 0.0;
+  double constraint_sigma_secondary_deg = 0.0;
   /// With AxisFitOptions::fit_time_offset: the secondary sensor's clock
   /// offset δ [s] (its sample stamped t was taken at t + δ) and its σ.
   bool fitted_time_offset = false;

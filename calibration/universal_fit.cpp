@@ -63,6 +63,8 @@ std::vector<double> relativeRateScales(const JointSamples& samples, const std::v
 UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.fit_gyro_bias || options.fit_time_offset)
     throw InvalidInput(samples.source, "gyroscope biases and clock offsets are estimated by the hinge fit only");
+  if (options.estimator != HingeEstimator::kConstraint)
+    throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
   const auto start_time = std::chrono::steady_clock::now();
   const DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)

@@ -365,13 +365,14 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "max_iterations": ("--max-iterations", _integer), "max_sigma_deg": ("--max-sigma-deg", _number),
              "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
-_HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None))
+_HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
+                  estimator=("--estimator", _text))
 
 
 def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None, start_main=None,
                     start_secondary=None, max_iterations=None, max_sigma_deg=None, min_samples=None,
                     max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False, fit_time_offset=False,
-                    partial=False):
+                    estimator=None, partial=False):
     """The hinge axis in both bodies' frames, as ``lieflow calibrate hinge``.
     recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...).
     Returns the command's JSON object as a dict (axis_main, axis_secondary,
@@ -380,11 +381,12 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
     .result holds the JSON when there is one); partial=True returns it with
     "failed" and "failure" added instead. fit_gyro_bias / fit_time_offset
     estimate the gyroscopes' biases and the secondary sensor's clock offset
-    (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma)."""
+    (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma);
+    estimator="likelihood" fits by maximum likelihood over the joint angle."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
                   min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
-                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset)
+                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset, estimator=estimator)
     return _calibrate("hinge", recording, _HINGE_FIT, values, partial)
 
 

@@ -1,0 +1,275 @@
+#include "calibration/hinge_likelihood.hpp"
+
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <Eigen/Geometry>
+
+#include "calibration/fit_types.hpp"
+#include "calibration/unit_axis.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+/// Solver limits: far below any gyroscope's noise.
+constexpr int kMaxIterations = 100;
+constexpr double kTolerance = 1e-12;
+/// Samples of the five-point difference on either side.
+constexpr int kHalfStencil = 2;
+/// Largest relative spread of the sampling interval (φ̇ by a fixed stencil).
+constexpr double kUniformSampling = 1e-3;
+
+/// (ω₁,k − m₁,k) · w.
+struct MainGyro {
+  Eigen::Vector3d measured;
+  double weight;
+  template <typename T>
+  bool operator()(const T* w1, T* r) const {
+    for (int i = 0; i < 3; ++i) r[i] = weight * (w1[i] - measured[i]);
+    return true;
+  }
+};
+
+/// (Cᵀ[exp(−φ j₁) ω₁ + φ̇ j₁] − m₂,k) · w, equation (1) of the header, φ̇ the
+/// five-point difference of φ_{k−2} … φ_{k+2}; C as a unit quaternion
+/// (w, x, y, z), Ceres' convention.
+struct SecondaryGyro {
+  Eigen::Vector3d measured;
+  double inverse_step;  ///< 1/h
+  double weight;
+  template <typename T>
+  bool operator()(const T* w1, const T* pm2, const T* pm1, const T* p0, const T* pp1, const T* pp2, const T* j1,
+                  const T* q, T* r) const {
+    using std::cos;
+    using std::sin;
+    const T rate = (pm2[0] - 8.0 * pm1[0] + 8.0 * pp1[0] - pp2[0]) * (inverse_step / 12.0);
+    const T c = cos(p0[0]), s = sin(p0[0]);
+    const T jw = j1[0] * w1[0] + j1[1] * w1[1] + j1[2] * w1[2];
+    const T cross[3] = {j1[1] * w1[2] - j1[2] * w1[1], j1[2] * w1[0] - j1[0] * w1[2], j1[0] * w1[1] - j1[1] * w1[0]};
+    T v[3];
+    for (int i = 0; i < 3; ++i) v[i] = w1[i] * c - s * cross[i] + (1.0 - c) * jw * j1[i] + rate * j1[i];
+    const T conjugate[4] = {q[0], -q[1], -q[2], -q[3]};
+    T out[3];
+    ceres::QuaternionRotatePoint(conjugate, v, out);
+    for (int i = 0; i < 3; ++i) r[i] = weight * (out[i] - measured[i]);
+    return true;
+  }
+};
+
+/// The problem's parameters: ω₁,k, φ_k, j₁, C.
+struct Parameters {
+  std::vector<Eigen::Vector3d> w1;
+  std::vector<double> phi;
+  double j1[3];
+  double q[4];  ///< w, x, y, z
+};
+
+double uniformStep(const std::vector<double>& t, const std::string& source) {
+  const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    if (std::abs(t[k + 1] - t[k] - h) > kUniformSampling * h)
+      throw InvalidInput(source, "the likelihood hinge fit needs uniformly sampled times (t[" + std::to_string(k + 1) +
+                                     "] - t[" + std::to_string(k) + "] differs from the mean interval)");
+  return h;
+}
+
+/// The least-squares problem of the header on `p`, residuals times `weight`.
+class LikelihoodProblem {
+ public:
+  LikelihoodProblem(Parameters* p, const std::vector<Eigen::Vector3d>& m1, const std::vector<Eigen::Vector3d>& m2,
+                    double h, double weight)
+      : problem_(options()) {
+    const int n = static_cast<int>(p->w1.size());
+    for (int k = 0; k < n; ++k)
+      problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<MainGyro, 3, 3>(new MainGyro{m1[k], weight}), nullptr,
+                                p->w1[k].data());
+    for (int k = kHalfStencil; k + kHalfStencil < n; ++k)
+      problem_.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4>(
+              new SecondaryGyro{m2[k], 1.0 / h, weight}),
+          nullptr, p->w1[k].data(), &p->phi[k - 2], &p->phi[k - 1], &p->phi[k], &p->phi[k + 1], &p->phi[k + 2], p->j1,
+          p->q);
+    problem_.SetManifold(p->j1, &sphere_);
+    problem_.SetManifold(p->q, &quaternion_);
+    problem_.SetParameterBlockConstant(&p->phi[0]);  // gauge: φ₀ against C's turn about j₁
+    residuals_ = 3 * n + 3 * (n - 2 * kHalfStencil);
+    free_parameters_ = 3 * n + (n - 1) + 2 + 3;
+  }
+
+  ceres::Problem& problem() { return problem_; }
+  int degreesOfFreedom() const { return residuals_ - free_parameters_; }
+
+ private:
+  static ceres::Problem::Options options() {
+    ceres::Problem::Options o;
+    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return o;
+  }
+  ceres::SphereManifold<3> sphere_;
+  ceres::QuaternionManifold quaternion_;
+  ceres::Problem problem_;
+  int residuals_ = 0;
+  int free_parameters_ = 0;
+};
+
+/// j₂ = Cᵀ j₁ and its Jacobian with respect to (j₁, q) (3 × 7, ambient).
+Eigen::Vector3d secondaryAxis(const double* j1, const double* q, Eigen::Matrix<double, 3, 7>* jacobian) {
+  using Jet = ceres::Jet<double, 7>;
+  Jet j[3], c[4], out[3];
+  for (int i = 0; i < 3; ++i) j[i] = Jet(j1[i], i);
+  c[0] = Jet(q[0], 3);
+  for (int i = 1; i < 4; ++i) c[i] = -Jet(q[i], 3 + i);
+  ceres::QuaternionRotatePoint(c, j, out);
+  Eigen::Vector3d a;
+  for (int i = 0; i < 3; ++i) {
+    a[i] = out[i].a;
+    if (jacobian) jacobian->row(i) = out[i].v.transpose();
+  }
+  return a;
+}
+
+/// The axes' RMS angles (rad) from the covariance of (j₁, q) (ambient; times
+/// `scale`), or false when Ceres finds it rank deficient.
+bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigma1, double* sigma2) {
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::SPARSE_QR;
+  options.num_threads = 1;
+  ceres::Covariance covariance(options);
+  std::vector<std::pair<const double*, const double*>> blocks = {{p.j1, p.j1}, {p.q, p.q}, {p.j1, p.q}};
+  if (!covariance.Compute(blocks, &lp.problem())) return false;
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c11;
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> cqq;
+  Eigen::Matrix<double, 3, 4, Eigen::RowMajor> c1q;
+  covariance.GetCovarianceBlock(p.j1, p.j1, c11.data());
+  covariance.GetCovarianceBlock(p.q, p.q, cqq.data());
+  covariance.GetCovarianceBlock(p.j1, p.q, c1q.data());
+  Eigen::Matrix<double, 7, 7> all;
+  all << c11, c1q, c1q.transpose(), cqq;
+  all *= scale;
+  Eigen::Matrix<double, 3, 7> J;
+  secondaryAxis(p.j1, p.q, &J);
+  *sigma1 = std::sqrt(all.topLeftCorner<3, 3>().trace());
+  *sigma2 = std::sqrt((J * all * J.transpose()).trace());
+  return std::isfinite(*sigma1) && std::isfinite(*sigma2);
+}
+
+/// The start from a constraint fit's axes: φ̇ = j₂·ω₂ − j₁·ω₁ integrated
+/// (trapezoid), C = exp(γ j₁) C₀ with C₀ j₂ = j₁ and γ the weighted circular
+/// mean of angle(ω₁⊥) − φ − angle(C₀ω₂⊥) about j₁; returns the coherence
+/// |Σ w e^{iΔ}| / Σ w (1 for a perfect hinge), which picks j₂'s sign.
+double startFrom(const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std::vector<Eigen::Vector3d>& m1,
+                 const std::vector<Eigen::Vector3d>& m2, double h, Parameters* p) {
+  const int n = static_cast<int>(m1.size());
+  const Eigen::Vector3d j1 = a1.normalized(), j2 = a2.normalized();
+  p->w1 = m1;
+  p->phi.assign(n, 0.0);
+  double previous = j2.dot(m2[0]) - j1.dot(m1[0]);
+  for (int k = 1; k < n; ++k) {
+    const double rate = j2.dot(m2[k]) - j1.dot(m1[k]);
+    p->phi[k] = p->phi[k - 1] + 0.5 * h * (previous + rate);
+    previous = rate;
+  }
+  const Eigen::Quaterniond c0 = Eigen::Quaterniond::FromTwoVectors(j2, j1);
+  const Eigen::Vector3d e1 = orthogonalUnit(j1), e2 = j1.cross(e1);
+  std::complex<double> sum(0.0, 0.0);
+  double total = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d u = m1[k], v = c0 * m2[k];
+    const std::complex<double> zu(u.dot(e1), u.dot(e2)), zv(v.dot(e1), v.dot(e2));
+    const double w = std::abs(zu) * std::abs(zv);
+    if (w <= 0.0) continue;
+    sum += w * std::polar(1.0, std::arg(zu) - p->phi[k] - std::arg(zv));
+    total += w;
+  }
+  const double gamma = std::arg(sum);
+  const Eigen::Quaterniond c = Eigen::Quaterniond(Eigen::AngleAxisd(gamma, j1)) * c0;
+  for (int i = 0; i < 3; ++i) p->j1[i] = j1[i];
+  p->q[0] = c.w();
+  p->q[1] = c.x();
+  p->q[2] = c.y();
+  p->q[3] = c.z();
+  return total > 0.0 ? std::abs(sum) / total : 0.0;
+}
+
+}  // namespace
+
+HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
+                                      const Eigen::Vector3d& axis_secondary) {
+  if (!samples.hasAngularVelocities())
+    throw InvalidInput(samples.source, "the likelihood hinge fit needs both bodies' gyroscopes");
+  const int n = samples.size();
+  if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
+  const double h = uniformStep(samples.time, samples.source);
+  const std::vector<Eigen::Vector3d>& m1 = samples.main.angular_velocity;
+  const std::vector<Eigen::Vector3d>& m2 = samples.secondary.angular_velocity;
+  // j₂'s sign: the start whose perpendicular rates turn into each other.
+  Parameters p, turned;
+  const double coherence = startFrom(axis_main, axis_secondary, m1, m2, h, &p);
+  if (startFrom(axis_main, -axis_secondary, m1, m2, h, &turned) > coherence) p = turned;
+
+  LikelihoodProblem lp(&p, m1, m2, h, 1.0);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_SCHUR;
+  options.max_num_iterations = kMaxIterations;
+  options.function_tolerance = kTolerance;
+  options.gradient_tolerance = kTolerance;
+  options.parameter_tolerance = kTolerance;
+  options.logging_type = ceres::SILENT;
+  options.num_threads = 1;
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (Eigen::Vector3d& w : p.w1) ordering->AddElementToGroup(w.data(), 0);
+  for (double& phi : p.phi) ordering->AddElementToGroup(&phi, 1);
+  ordering->AddElementToGroup(p.j1, 1);
+  ordering->AddElementToGroup(p.q, 1);
+  options.linear_solver_ordering = ordering;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &lp.problem(), &summary);
+  if (!summary.IsSolutionUsable()) throw FitFailed("the likelihood hinge fit failed: " + summary.message);
+
+  HingeLikelihoodFit fit;
+  fit.axis_main = Eigen::Vector3d(p.j1[0], p.j1[1], p.j1[2]);
+  fit.axis_secondary = secondaryAxis(p.j1, p.q, nullptr);
+  fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  fit.converged = summary.termination_type == ceres::CONVERGENCE;
+  fit.message = summary.message;
+  const double s2 = 2.0 * summary.final_cost / lp.degreesOfFreedom();
+  fit.noise_sigma = std::sqrt(s2);
+  double sigma1 = 0.0, sigma2 = 0.0;
+  if (!axisSigmas(lp, p, s2, &sigma1, &sigma2))
+    throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
+  fit.sigma_main_deg = sigma1 * kRadToDeg;
+  fit.sigma_secondary_deg = sigma2 * kRadToDeg;
+  return fit;
+}
+
+HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
+  const int n = static_cast<int>(truth.time.size());
+  const double h = uniformStep(truth.time, "the bound's samples");
+  Parameters p;
+  p.w1 = truth.main_rate;
+  p.phi = truth.angle;
+  for (int i = 0; i < 3; ++i) p.j1[i] = truth.axis_main.normalized()[i];
+  const Eigen::Quaterniond c = truth.mount.quaternion();
+  p.q[0] = c.w();
+  p.q[1] = c.x();
+  p.q[2] = c.y();
+  p.q[3] = c.z();
+  // Exact "measurements": the model's own values, so the Jacobian is the truth's.
+  std::vector<Eigen::Vector3d> m2(n, Eigen::Vector3d::Zero());
+  LikelihoodProblem lp(&p, truth.main_rate, m2, h, 1.0 / rate_sigma);
+  HingeBound bound;
+  double sigma1 = 0.0, sigma2 = 0.0;
+  if (!axisSigmas(lp, p, 1.0, &sigma1, &sigma2)) throw NotIdentifiable("the recording's information is singular");
+  bound.sigma_main_deg = sigma1 * kRadToDeg;
+  bound.sigma_secondary_deg = sigma2 * kRadToDeg;
+  return bound;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

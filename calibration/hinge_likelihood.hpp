@@ -1,0 +1,71 @@
+/// \file
+/// The hinge axis from two gyroscopes by maximum likelihood over the whole
+/// motion, and the Cramér–Rao bound of a recording.
+///
+/// Seel's constraint ‖ω₁ × j₁‖ = ‖ω₂ × j₂‖ (hinge_residuals.hpp) keeps only the
+/// lengths of the rates perpendicular to the axis; their phase is lost. A
+/// hinge tells more: with R₂ = R₁ exp(φ j₁) C (C j₂ = j₁) the secondary's rate is
+///   ω₂ = Cᵀ exp(−φ j₁) ω₁ + φ̇ Cᵀ j₁,                                  (1)
+/// so the joint angle φ(t), which the rates about the axis integrate to,
+/// turns the main body's perpendicular rate into the secondary's. The model:
+/// unknowns the true ω₁,k (3 per sample), φ_k (1 per sample), j₁ (unit,
+/// SphereManifold) and C (unit quaternion); measurements ω₁,k + n and ω₂,k + n
+/// with white noise σ per axis; φ̇_k the five-point central difference of φ
+/// (error h⁴φ⁽⁵⁾/30, below 1e-7 rad/s on 100 Hz recordings of the motions
+/// here), so (1) holds at samples 2 … n − 3; φ₀ is held (the rotation of C
+/// about j₁ and an offset of φ are one freedom). j₂ = Cᵀ j₁.
+///
+/// Least squares of the whitened residuals is the maximum-likelihood
+/// estimate; its Gauss–Newton covariance of (j₁, C), marginal over the 4n
+/// nuisance unknowns (ceres::Covariance, sparse QR), is the Cramér–Rao bound
+/// evaluated at the estimate. hingeCramerRao evaluates the same at the true
+/// motion: the bound of the recording. Solved by Ceres (sparse Schur, the ω₁,k
+/// eliminated first) from a constraint fit's axes (fitHinge).
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "calibration/joint_samples.hpp"
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+struct HingeLikelihoodFit {
+  Eigen::Vector3d axis_main;       ///< j₁, unit
+  Eigen::Vector3d axis_secondary;  ///< j₂ = Cᵀ j₁ (sign: R₁ j₁ = R₂ j₂)
+  double sigma_main_deg = 0.0;     ///< RMS angle: √trace of j₁'s ambient covariance
+  double sigma_secondary_deg = 0.0;
+  double noise_sigma = 0.0;        ///< σ of one gyroscope axis, from the residuals [rad/s]
+  int iterations = 0;
+  bool converged = false;
+  std::string message;             ///< Ceres' reason for stopping
+};
+
+/// Maximum likelihood from both bodies' gyroscopes, started at a hinge fit's
+/// axes (any sign). Throws lieflow::InvalidInput without both bodies'
+/// gyroscopes or with non-uniform times, FitFailed when the solve fails.
+HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
+                                      const Eigen::Vector3d& axis_secondary);
+
+/// The true motion of a hinge recording, for the bound.
+struct HingeTruthSamples {
+  std::vector<double> time;
+  std::vector<Eigen::Vector3d> main_rate;  ///< true ω₁,k
+  std::vector<double> angle;               ///< φ_k
+  Eigen::Vector3d axis_main;               ///< j₁
+  SO3d mount;                              ///< C
+};
+
+/// The Cramér–Rao bound of a recording: the RMS angle σ of j₁ and j₂ that
+/// no unbiased estimator from these gyroscopes (noise σ per axis) beats.
+struct HingeBound {
+  double sigma_main_deg = 0.0;
+  double sigma_secondary_deg = 0.0;
+};
+HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma);
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,132 @@
+/// \file
+/// The likelihood hinge fit and the Cramér–Rao bound (hinge_likelihood.hpp)
+/// on synthetic recordings (synthetic_motion.hpp), the bound computed at the
+/// true motion.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "calibration/hinge_fit.hpp"
+#include "calibration/hinge_likelihood.hpp"
+#include "calibration/synthetic_motion.hpp"
+#include "calibration_test_helpers.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+using test::lineErrorDeg;
+
+HingeTruthSamples truthOf(const HingeMotion& m, int n, double rate_hz) {
+  HingeTruthSamples t;
+  for (int k = 0; k < n; ++k) {
+    const double time = k / rate_hz;
+    t.time.push_back(time);
+    t.main_rate.push_back(m.main.bodyRate(time));
+    t.angle.push_back(m.angle.value(time));
+  }
+  t.axis_main = m.axis_main;
+  t.mount = m.mount;
+  return t;
+}
+
+constexpr int kSamples = test::kSanitized ? 300 : 1000;
+
+/// 50 random hinge recordings, gyroscopes σ = 0.1 rad/s, 10 s at 100 Hz:
+/// the likelihood fit's σ is the Cramér–Rao bound of the recording (computed
+/// at the true motion) within 10 % on every one, it is honest, and its axes
+/// are within 0.5° in ≥ 95 % (measured: 50 of 50; σ/bound 0.959–1.033; mean
+/// (error/σ)² 0.92 / 0.89), where the constraint fit reaches 0.5° in 45 of 50
+/// with σ 1.52 times the bound on average.
+TEST(CalibHingeLikelihood, AtTheCramerRaoBoundAndHonest) {
+  std::mt19937 gen(3);
+  int within_half = 0, constraint_half = 0, answered = 0, covered[2] = {0, 0};
+  double ratio[2] = {0.0, 0.0}, efficiency_min = 1e9, efficiency_max = 0.0, constraint_excess = 0.0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const HingeMotion m = randomHingeMotion(gen);
+    RecordingNoise noise;
+    noise.rate_sigma = 0.1;
+    noise.orientations = false;
+    const JointSamples s = recordMotion(m, kSamples, 100.0, noise, gen);
+    AxisFitOptions o;
+    o.estimator = HingeEstimator::kLikelihood;
+    HingeFit f;
+    try {
+      f = fitHinge(s, o);
+    } catch (const NotIdentifiable&) {
+      continue;
+    }
+    ++answered;
+    const HingeBound bound = hingeCramerRao(truthOf(m, kSamples, 100.0), 0.1);
+    const double error[2] = {lineErrorDeg(f.axis_main, m.axis_main), lineErrorDeg(f.axis_secondary, m.axisSecondary())};
+    const double sigma[2] = {f.sigma_main_deg, f.sigma_secondary_deg};
+    const double crb[2] = {bound.sigma_main_deg, bound.sigma_secondary_deg};
+    const double constraint[2] = {f.constraint_sigma_main_deg, f.constraint_sigma_secondary_deg};
+    for (int a = 0; a < 2; ++a) {
+      covered[a] += error[a] <= 3.0 * sigma[a];
+      ratio[a] += error[a] * error[a] / (sigma[a] * sigma[a]);
+      efficiency_min = std::min(efficiency_min, sigma[a] / crb[a]);
+      efficiency_max = std::max(efficiency_max, sigma[a] / crb[a]);
+      constraint_excess += constraint[a] / crb[a] / 2.0;
+      EXPECT_NEAR(sigma[a] / crb[a], 1.0, 0.1) << "trial " << trial << " axis " << a;
+    }
+    within_half += std::max(error[0], error[1]) <= 0.5;
+    AxisFitOptions c;
+    const HingeFit plain = fitHinge(s, c);
+    constraint_half += std::max(lineErrorDeg(plain.axis_main, m.axis_main),
+                                lineErrorDeg(plain.axis_secondary, m.axisSecondary())) <= 0.5;
+  }
+  ASSERT_GE(answered, 48);
+  for (int a = 0; a < 2; ++a) {
+    ratio[a] /= answered;
+    EXPECT_GE(covered[a], answered - 2);
+    EXPECT_GT(ratio[a], 0.5);
+    EXPECT_LT(ratio[a], 1.6);
+  }
+  if (!test::kSanitized) EXPECT_GE(within_half, answered * 95 / 100) << within_half << " of " << answered;
+  std::printf("likelihood: %d of %d within 0.5 deg (constraint %d); sigma/bound %.3f..%.3f (constraint %.2f on "
+              "average); mean (error/sigma)^2 %.2f / %.2f\n",
+              within_half, answered, constraint_half, efficiency_min, efficiency_max, constraint_excess / answered,
+              ratio[0], ratio[1]);
+}
+
+/// Exact data: the likelihood fit lands on the axes (to the five-point
+/// difference's truncation) and the relative sign from the joint angle.
+TEST(CalibHingeLikelihood, ExactData) {
+  std::mt19937 gen(4);
+  const HingeMotion m = randomHingeMotion(gen);
+  RecordingNoise noise;
+  noise.orientations = false;
+  const JointSamples s = recordMotion(m, 500, 100.0, noise, gen);
+  AxisFitOptions o;
+  o.estimator = HingeEstimator::kLikelihood;
+  const HingeFit f = fitHinge(s, o);
+  EXPECT_LT(lineErrorDeg(f.axis_main, m.axis_main), 1e-4);
+  EXPECT_LT(lineErrorDeg(f.axis_secondary, m.axisSecondary()), 1e-4);
+  EXPECT_LT(std::abs(test::errorDeg(f.axis_secondary, m.axisSecondary()) - test::errorDeg(f.axis_main, m.axis_main)),
+            1e-3);
+  EXPECT_TRUE(f.summary.converged) << f.summary.message;
+}
+
+TEST(CalibHingeLikelihood, RefusedWithOtherData) {
+  std::mt19937 gen(5);
+  const HingeMotion m = randomHingeMotion(gen);
+  const JointSamples s = recordMotion(m, 200, 100.0, RecordingNoise{0.01, 0.01, true, true}, gen);
+  AxisFitOptions o;
+  o.estimator = HingeEstimator::kLikelihood;
+  o.use = DataUse::kBoth;
+  EXPECT_THROW(fitHinge(s, o), InvalidInput);
+  o.use = DataUse::kAuto;
+  EXPECT_EQ(fitHinge(s, o).summary.data, "gyroscopes");
+  o.fit_gyro_bias = true;
+  EXPECT_THROW(fitHinge(s, o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace calibration
+}  // namespace lieflow
