@@ -5,7 +5,10 @@
 # Raisch 2012; Olsson et al. 2020), and of `lieflow calibrate spring` on
 # `lieflow simulate spring-hinge --noise-angle ...`; analyze.py then writes
 # the tables into README.md and the figures axis_vs_noise.png,
-# axis_vs_samples.png, spring_vs_noise.png, spring_vs_length.png.
+# axis_vs_samples.png, spring_vs_noise.png, spring_vs_length.png; then
+# bench/calibration/study_hinge_estimators (the likelihood estimator against
+# the Cramér–Rao bound, accelerometers, biases) and analyze_estimators.py
+# (its table and estimators.png).
 #
 #   bash papers/hinge-axis-identification/reproduce.sh
 #
@@ -203,3 +206,12 @@ end_seconds=$(date +%s)
 } >"$out/machine.txt"
 
 /usr/bin/python3 "$here/analyze.py" "$out" "$here"
+
+# Estimators, the Cramér–Rao bound, accelerometers and biases: a study program
+# over the library (bench/calibration/study_hinge_estimators.cpp; LIEFLOW_SEEDS
+# trials per point, about 40 s for 50).
+source "$root/papers/build_target.sh" study_hinge_estimators bench/calibration
+estimators_start=$(date +%s)
+"$program" "$out/estimators.tsv" "$seeds"
+echo "estimators: $(($(date +%s) - estimators_start)) s for $seeds trials per point ($program)" >>"$out/machine.txt"
+/usr/bin/python3 "$here/analyze_estimators.py" "$out/estimators.tsv" "$out/machine.txt" "$here"
