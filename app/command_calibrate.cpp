@@ -25,6 +25,7 @@
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/joint_centre.hpp"
+#include "calibration/mechanism_spring_fit.hpp"
 #include "calibration/recording.hpp"
 #include "calibration/unit_axis.hpp"
 #include "calibration/spring_fit.hpp"
@@ -56,7 +57,11 @@ constexpr const char* kUsage =
     "             anchor_main, anchor_secondary [m] from each sensor point and their _sigma\n"
     "  spring     stiffness, damping, rest_angle (and their _sigma) of a revolute or universal\n"
     "             joint coordinate from its recorded angle; the body, its inertia, gravity and\n"
-    "             the joint's geometry come from the scene (one body on the joint to ground)\n"
+    "             the joint's geometry come from the scene (one body on the joint to ground);\n"
+    "             on a scene of several bodies (a tree of revolute/universal joints) every\n"
+    "             sprung or damped coordinate at once: coordinates [{joint, coordinate,\n"
+    "             stiffness, damping, rest_angle, _sigma}], from the joint angles or the\n"
+    "             bodies' gyroscopes, started at the scene's values\n"
     "Always: rms_residual, iterations, converged, message; axis sigmas are 1-sigma RMS angles.\n"
     "With both bodies' accelerometers (B.ax,B.ay,B.az) and gyroscopes, hinge and universal\n"
     "also give the joint centre from each body's sensor point, in its axes: anchor_main,\n"
@@ -101,6 +106,8 @@ constexpr const char* kUsage =
     "  --substeps N              integration steps per sample (default: h*omega <= 0.1)\n"
     "  --max-iterations N, --min-samples N\n"
     "  --max-substeps N          most integration substeps of one pass over the record (default 1e7)\n"
+    "  --data auto|angles|gyroscopes  a mechanism's data (default: the angles J.phi.. if all\n"
+    "                            are recorded, else every body's gyroscopes)\n"
     "all:\n"
     "  --max-input-mb N, --max-rows N  largest recording read (default 1024 MiB, 1e7 rows)\n"
     "  --verbose                 show the solver's (Ceres') own log lines on stderr\n"
@@ -337,6 +344,71 @@ std::string jointBetween(const SceneDescription& scene, const std::string& joint
   return found.front();
 }
 
+/// `calibrate spring` on a scene of several bodies: every sprung or damped
+/// joint coordinate at once (calibration/mechanism_spring_fit.hpp).
+CommandOutcome runMechanismSprings(const Arguments& args, const SceneDescription& scene,
+                                   const std::string& recording_path, const ResourceLimits& limits,
+                                   const std::function<bool()>& interrupted) {
+  for (const char* flag : {"--joint", "--coordinate", "--stiffness-start", "--damping-start", "--rest-angle-start",
+                           "--hold-damping", "--shooting", "--integrator", "--main", "--secondary"})
+    if (args.has(flag))
+      throw UsageError(std::string(flag) + " is an option of the one-joint spring fit; on a mechanism (" +
+                       std::to_string(scene.bodies.size()) +
+                       " bodies) every sprung or damped coordinate is fitted, started at the scene's values");
+  calibration::MechanismSpringOptions o;
+  o.data = calibration::parseMechanismData(args.value("--data", "auto"), "--data");
+  o.fit_rest_angle = args.has("--fit-rest-angle");
+  o.segments = args.has("--segments") ? args.positiveInt("--segments", 1) : 0;
+  o.substeps = args.has("--substeps") ? args.positiveInt("--substeps", 1) : 0;
+  o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
+  o.min_samples = args.positiveInt("--min-samples", o.min_samples);
+  o.max_substeps = limits.max_substeps;
+  o.progress = fitProgressOnStderr("calibrate spring " + recording_path);
+  o.interrupt = interrupted;
+  const calibration::Recording recording = calibration::readRecording(recording_path, limits);
+  const std::string what = "calibrate spring " + recording_path;
+  try {
+    const calibration::MechanismSpringFit fit = calibration::fitMechanismSprings(scene, recording, o);
+    Json j;
+    Json coordinates = Json::array();
+    for (const calibration::CoordinateSpring& c : fit.coordinates) {
+      Json e = {{"joint", c.joint},
+                {"coordinate", c.coordinate},
+                {"stiffness", c.stiffness},
+                {"stiffness_sigma", c.stiffness_sigma},
+                {"damping", c.damping},
+                {"damping_sigma", c.damping_sigma},
+                {"rest_angle", c.rest_angle},
+                {"rest_angle_sigma", c.rest_angle_sigma},
+                {"start_values", {{"stiffness", c.start_stiffness}, {"damping", c.start_damping}}}};
+      Json held = Json::array();
+      if (!c.stiffness_fitted) held.push_back("stiffness (no spring in the scene)");
+      if (!c.damping_fitted) held.push_back("damping (no dashpot in the scene)");
+      if (!held.empty()) e["held_at_zero"] = held;
+      coordinates.push_back(e);
+    }
+    j["coordinates"] = coordinates;
+    j["data"] = fit.data;
+    j["rms_residual"] = fit.rms_residual;
+    j["rms_residual_unit"] = fit.residual_unit;
+    j["iterations"] = fit.iterations;
+    j["converged"] = fit.converged;
+    j["message"] = fit.message;
+    j["samples"] = fit.samples;
+    j["held_fixed"] = fit.held_fixed;
+    j["start"] = "the scene's springs and dashpots";
+    j["segments"] = fit.segments;
+    j["integrator"] = "rk4 in joint coordinates";
+    j["substeps"] = fit.substeps;
+    j["seconds"] = fit.seconds;
+    return finish(j, fit.converged, fit.message, what);
+  } catch (const calibration::NotIdentifiable& e) {
+    return failed(what, e);
+  } catch (const calibration::FitFailed& e) {
+    return failed(what, e);
+  }
+}
+
 CommandOutcome runSpring(const Arguments& args, const std::string& recording_path,
                          const std::function<bool()>& interrupted) {
   if (!args.has("--scene"))
@@ -365,6 +437,8 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   o.interrupt = interrupted;
 
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
+  if (scene.bodies.size() > 1) return runMechanismSprings(args, scene, recording_path, limits, interrupted);
+  if (args.has("--data")) throw UsageError("--data is an option of the mechanism spring fit (a scene of several bodies)");
   const GroundedJointScene joint = groundedJointScene(
       scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
   if (o.coordinate >= joint.coordinates)
@@ -429,7 +503,7 @@ const std::set<std::string>& calibrateValueFlags() {
       "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",      "--joint",
       "--coordinate",    "--stiffness-start", "--damping-start", "--rest-angle-start", "--shooting", "--segments",
       "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows",
-      "--estimator"};
+      "--estimator",     "--data"};
   return flags;
 }
 

@@ -175,9 +175,14 @@ TEST(CalibCli, BadInputAndUsageExitTwo) {
   o = run("calibrate spring " + three + " --scene spring-hinge");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("no column hinge.phi"), std::string::npos) << o.err;
+  // A scene of several bodies is a mechanism: every sprung coordinate is
+  // fitted, --joint is refused, and the built-in double pendulum has none.
   o = run("calibrate spring " + three + " --scene double-pendulum --joint elbow");
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("joins"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("is an option of the one-joint spring fit"), std::string::npos) << o.err;
+  o = run("calibrate spring " + three + " --scene double-pendulum");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("no joint coordinate has a spring or a dashpot"), std::string::npos) << o.err;
   o = run("calibrate spring " + three + " --scene spring-hinge --joint nope");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("no joint 'nope'"), std::string::npos) << o.err;
@@ -308,6 +313,42 @@ TEST(CalibCli, SphericalJointCentre) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("B.ax, B.ay, B.az"), std::string::npos) << o.err;
   EXPECT_EQ(run("calibrate spherical " + rec + " --use gyroscopes").status, 2);
+}
+
+/// A scene of several bodies: calibrate spring fits every sprung coordinate
+/// (calibration/mechanism_spring_fit.hpp) and prints them as "coordinates";
+/// the one-joint options are refused there.
+TEST(CalibCli, SpringsOfAMechanism) {
+  const std::string scene = testStem() + "_mechanism.json";
+  {
+    std::ofstream f(scene);
+    f << R"({"name": "two", "gravity": [0, 0, -9.81],
+      "bodies": [{"name": "upper", "mass": 1.0, "inertia": [0.0833, 0.0833, 0.001], "position": [0, 0, -0.5]},
+                 {"name": "lower", "mass": 0.7, "inertia": [0.05, 0.04, 0.02], "position": [0, 0, -1.5]}],
+      "joints": [{"name": "shoulder", "type": "revolute", "main": "ground", "secondary": "upper",
+                  "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
+                  "initial_angle": 0.4, "spring": {"stiffness": 8.0}, "damper": {"damping": 0.05}},
+                 {"name": "elbow", "type": "revolute", "main": "upper", "secondary": "lower",
+                  "anchor_main": [0, 0, -0.5], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
+                  "initial_angle": -0.3, "spring": {"stiffness": 3.0}}],
+      "integrator": {"name": "rkmk4", "dt": 0.001}, "t_end": 3})";
+  }
+  const std::string recording = testStem() + "_mechanism.csv";
+  ASSERT_EQ(run("simulate " + scene + " --formulation joint --every 10 --noise-angle 0.001 --out " + recording +
+                " --quiet").status, 0);
+  const Outcome o = run("calibrate spring " + recording + " --scene " + scene);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json j = nlohmann::json::parse(o.out);
+  ASSERT_EQ(j["coordinates"].size(), 2u);
+  EXPECT_EQ(j["coordinates"][0]["joint"], "shoulder");
+  EXPECT_NEAR(j["coordinates"][0]["stiffness"].get<double>(), 8.0, 0.05);
+  EXPECT_NEAR(j["coordinates"][1]["stiffness"].get<double>(), 3.0, 0.05);
+  EXPECT_EQ(j["coordinates"][1]["damping"].get<double>(), 0.0);
+  EXPECT_EQ(j["data"], "angles");
+  EXPECT_EQ(run("calibrate spring " + recording + " --scene " + scene + " --joint elbow").status, 2);
+  EXPECT_EQ(run("calibrate spring " + recording + " --scene " + scene + " --data bogus").status, 2);
+  std::remove(scene.c_str());
+  std::remove(recording.c_str());
 }
 
 }  // namespace

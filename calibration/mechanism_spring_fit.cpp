@@ -1,0 +1,459 @@
+#include "calibration/mechanism_spring_fit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include <ceres/ceres.h>
+#include <Eigen/Eigenvalues>
+
+#include "calibration/fit_types.hpp"
+#include "calibration/mechanism_dynamics.hpp"
+#include "calibration/spring_data.hpp"
+#include "joints/articulated_scene.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+/// Samples per multiple-shooting segment, at least.
+constexpr int kMinSegmentSamples = 4;
+/// Relative step of the finite differences that estimate the start's frequencies.
+constexpr double kFrequencyProbe = 1e-6;
+
+std::string format(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+/// The recorded data and what every segment shares.
+struct Shared {
+  const articulated::ArticulatedModel* model = nullptr;
+  std::vector<double> time;
+  bool gyroscopes = false;
+  /// Angles mode: per coordinate, its recorded angles. Gyroscope mode: per
+  /// body (tree order), its recorded rates.
+  std::vector<const std::vector<double>*> angles;
+  std::vector<const std::vector<Eigen::Vector3d>*> rates;
+  std::vector<int> fitted;  ///< coordinate indices of the fitted springs
+  MechanismForces<double> scene_forces;
+  int substeps = 1;
+  int dofs = 0;
+
+  int perSample() const { return gyroscopes ? 3 * static_cast<int>(rates.size()) : dofs; }
+};
+
+/// One shooting segment: (θ, s[, s_next]) ↦ residuals at samples first …
+/// last (the last only in the final segment), then the continuity defects.
+class SegmentCost {
+ public:
+  SegmentCost(const Shared* p, int first, int last, bool final, double w_angle, double w_rate)
+      : p_(p), first_(first), last_(last), final_(final), w_angle_(w_angle), w_rate_(w_rate) {}
+
+  int residualCount() const {
+    return (last_ - first_ + (final_ ? 1 : 0)) * p_->perSample() + (final_ ? 0 : 2 * p_->dofs);
+  }
+
+  template <typename T>
+  bool operator()(T const* const* parameters, T* r) const {
+    using Vec = typename MechanismDynamics<T>::Vec;
+    const T* theta = parameters[0];
+    const T* s = parameters[1];
+    const int n = p_->dofs;
+    MechanismForces<T> forces;
+    for (int j = 0; j < n; ++j) {
+      forces.stiffness.push_back(T(p_->scene_forces.stiffness[j]));
+      forces.damping.push_back(T(p_->scene_forces.damping[j]));
+      forces.rest_angle.push_back(T(p_->scene_forces.rest_angle[j]));
+    }
+    for (std::size_t f = 0; f < p_->fitted.size(); ++f) {
+      const int j = p_->fitted[f];
+      forces.stiffness[j] = theta[3 * f];
+      forces.damping[j] = theta[3 * f + 1];
+      forces.rest_angle[j] = theta[3 * f + 2];
+    }
+    const MechanismDynamics<T> dynamics(*p_->model);
+    Vec q(n), v(n);
+    for (int j = 0; j < n; ++j) {
+      q[j] = s[j];
+      v[j] = s[n + j];
+    }
+    int k = 0;
+    for (int i = first_;; ++i) {
+      if (i < last_ || final_) {
+        if (p_->gyroscopes) {
+          const std::vector<Eigen::Matrix<T, 3, 1>> w = dynamics.bodyRates(q, v);
+          for (std::size_t b = 0; b < w.size(); ++b)
+            for (int c = 0; c < 3; ++c) r[k++] = w[b][c] - T((*p_->rates[b])[static_cast<std::size_t>(i)][c]);
+        } else {
+          for (int j = 0; j < n; ++j) r[k++] = q[j] - T((*p_->angles[static_cast<std::size_t>(j)])[static_cast<std::size_t>(i)]);
+        }
+      }
+      if (i == last_) break;
+      const double t0 = p_->time[static_cast<std::size_t>(i)];
+      const double h = (p_->time[static_cast<std::size_t>(i) + 1] - t0) / p_->substeps;
+      for (int m = 0; m < p_->substeps; ++m) {
+        // Classical RK4 on (q, q̇).
+        const double t = t0 + m * h;
+        const Vec a1 = dynamics.accelerations(t, q, v, forces);
+        const Vec q2 = q + (0.5 * h) * v, v2 = v + (0.5 * h) * a1;
+        const Vec a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, forces);
+        const Vec q3 = q + (0.5 * h) * v2, v3 = v + (0.5 * h) * a2;
+        const Vec a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, forces);
+        const Vec q4 = q + h * v3, v4 = v + h * a3;
+        const Vec a4 = dynamics.accelerations(t + h, q4, v4, forces);
+        q += (h / 6.0) * (v + 2.0 * v2 + 2.0 * v3 + v4);
+        v += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      }
+      for (int j = 0; j < n; ++j)  // a blown-up trial step: Ceres rejects it
+        if (!std::isfinite(scalarValue(q[j])) || !std::isfinite(scalarValue(v[j]))) return false;
+    }
+    if (!final_) {
+      const T* next = parameters[2];
+      for (int j = 0; j < n; ++j) {
+        r[k++] = T(w_angle_) * (q[j] - next[j]);
+        r[k++] = T(w_rate_) * (v[j] - next[n + j]);
+      }
+    }
+    return true;
+  }
+
+ private:
+  static double scalarValue(double x) { return x; }
+  template <typename J>
+  static double scalarValue(const J& x) {
+    return x.a;
+  }
+
+  const Shared* p_;
+  int first_, last_;
+  bool final_;
+  double w_angle_, w_rate_;
+};
+
+ceres::CostFunction* segmentCost(const Shared* p, int first, int last, bool final, double w_angle, double w_rate,
+                                 int theta_size) {
+  auto* functor = new SegmentCost(p, first, last, final, w_angle, w_rate);
+  const int residuals = functor->residualCount();
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<SegmentCost, 4>(functor);
+  cost->AddParameterBlock(theta_size);
+  cost->AddParameterBlock(2 * p->dofs);
+  if (!final) cost->AddParameterBlock(2 * p->dofs);
+  cost->SetNumResiduals(residuals);
+  return cost;
+}
+
+void configure(ceres::Solver::Options* o, const MechanismSpringOptions& options) {
+  o->trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o->max_num_iterations = options.max_iterations;
+  o->function_tolerance = options.function_tolerance;
+  o->gradient_tolerance = options.gradient_tolerance;
+  o->parameter_tolerance = options.parameter_tolerance;
+  o->num_threads = 1;
+  o->logging_type = ceres::SILENT;
+  o->linear_solver_type = ceres::DENSE_QR;
+  if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+    o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    o->sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  }
+}
+
+void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
+  if (summary.termination_type != ceres::FAILURE && summary.IsSolutionUsable() && std::isfinite(summary.final_cost))
+    return;
+  throw FitFailed(std::string("the mechanism spring fit failed in ") + stage +
+                  ": the model could not be integrated from the start values (the scene's springs and dashpots); "
+                  "give the scene values of the recording's order of magnitude (Ceres: " + summary.message + ")");
+}
+
+/// The largest natural frequency of the start model about state (q, 0): the
+/// square root of the largest |eigenvalue| of ∂q̈/∂q (central differences).
+double fastestFrequency(const articulated::ArticulatedModel& model, const MechanismForces<double>& forces,
+                        const Eigen::VectorXd& q) {
+  const MechanismDynamics<double> dynamics(model);
+  const int n = static_cast<int>(q.size());
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd A(n, n);
+  for (int j = 0; j < n; ++j) {
+    Eigen::VectorXd plus = q, minus = q;
+    const double d = kFrequencyProbe * std::max(1.0, std::abs(q[j]));
+    plus[j] += d;
+    minus[j] -= d;
+    A.col(j) = (dynamics.accelerations(0.0, plus, zero, forces) - dynamics.accelerations(0.0, minus, zero, forces)) /
+               (2.0 * d);
+  }
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(A);
+  double largest = 0.0;
+  for (int j = 0; j < n; ++j) largest = std::max(largest, std::abs(eig.eigenvalues()[j]));
+  return std::sqrt(largest);
+}
+
+}  // namespace
+
+const char* mechanismDataName(MechanismData d) {
+  switch (d) {
+    case MechanismData::kAngles: return "angles";
+    case MechanismData::kGyroscopes: return "gyroscopes";
+    case MechanismData::kAuto: break;
+  }
+  return "auto";
+}
+
+MechanismData parseMechanismData(const std::string& text, const std::string& field) {
+  for (MechanismData d : {MechanismData::kAuto, MechanismData::kAngles, MechanismData::kGyroscopes})
+    if (text == mechanismDataName(d)) return d;
+  throw InvalidInput(field, "unknown data '" + text + "' (auto, angles, gyroscopes)");
+}
+
+MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Recording& recording,
+                                       const MechanismSpringOptions& o) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  std::string why;
+  if (!articulatedCovers(scene, &why)) throw InvalidInput("--scene", "the mechanism spring fit: " + why);
+  const std::unique_ptr<ArticulatedScene> tree = assembleArticulated(scene);
+  const articulated::ArticulatedModel& model = tree->system->model();
+  requireMechanismSupported(model, "--scene");
+
+  Shared p;
+  p.model = &model;
+  p.dofs = model.scalar_coordinates;
+  p.time = recording.time;
+  MechanismSpringFit out;
+  std::vector<std::string> column_of(static_cast<std::size_t>(p.dofs));
+  std::vector<CoordinateSpring> fitted;
+  for (int i = 0; i < model.bodyCount(); ++i) {
+    const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+    const std::string& joint = scene.joints[static_cast<std::size_t>(b.scene_joint)].name;
+    for (int k = 0; k < b.coordinates(); ++k) {
+      const multibody::CoordinateDrive& d = model.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+      const int j = b.q_begin + k;
+      p.scene_forces.stiffness.push_back(d.stiffness);
+      p.scene_forces.damping.push_back(d.damping);
+      p.scene_forces.rest_angle.push_back(d.rest_angle);
+      column_of[static_cast<std::size_t>(j)] =
+          joint + (b.kind == articulated::JointKind::kUniversal ? ".phi" + std::to_string(k + 1) : ".phi");
+      if (d.stiffness > 0.0 || d.damping > 0.0) {
+        p.fitted.push_back(j);
+        CoordinateSpring c;
+        c.joint = joint;
+        c.coordinate = k + 1;
+        c.stiffness_fitted = d.stiffness > 0.0;
+        c.damping_fitted = d.damping > 0.0;
+        c.start_stiffness = d.stiffness;
+        c.start_damping = d.damping;
+        c.rest_angle = d.rest_angle;
+        fitted.push_back(c);
+      }
+    }
+  }
+  if (p.fitted.empty())
+    throw InvalidInput("--scene", scene.source + ": no joint coordinate has a spring or a dashpot to fit");
+  // Sort by coordinate index (p.fitted is built in that order already).
+
+  // --- Data -----------------------------------------------------------------
+  std::vector<std::string> missing_angles, missing_rates;
+  for (int j = 0; j < p.dofs; ++j) {
+    const std::vector<double>* c = recording.column(column_of[static_cast<std::size_t>(j)]);
+    p.angles.push_back(c);
+    if (!c) missing_angles.push_back(column_of[static_cast<std::size_t>(j)]);
+  }
+  for (int i = 0; i < model.bodyCount(); ++i) {
+    const std::string& name = model.names[static_cast<std::size_t>(i)];
+    const BodySamples* b = recording.body(name);
+    p.rates.push_back(b && b->hasAngularVelocity() ? &b->angular_velocity : nullptr);
+    if (!p.rates.back()) missing_rates.push_back(name + ".wx," + name + ".wy," + name + ".wz");
+  }
+  const auto list = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+  };
+  MechanismData data = o.data;
+  if (data == MechanismData::kAuto) {
+    if (missing_angles.empty()) data = MechanismData::kAngles;
+    else if (missing_rates.empty()) data = MechanismData::kGyroscopes;
+    else
+      throw InvalidInput(recording.source, "the mechanism spring fit needs every joint angle (missing: " +
+                                               list(missing_angles) + ") or every body's gyroscopes (missing: " +
+                                               list(missing_rates) + ")");
+  }
+  if (data == MechanismData::kAngles && !missing_angles.empty())
+    throw InvalidInput(recording.source, "--data angles: missing columns " + list(missing_angles));
+  if (data == MechanismData::kGyroscopes && !missing_rates.empty())
+    throw InvalidInput(recording.source, "--data gyroscopes: missing columns " + list(missing_rates));
+  p.gyroscopes = data == MechanismData::kGyroscopes;
+  out.data = mechanismDataName(data);
+  out.residual_unit = p.gyroscopes ? "rad/s" : "rad";
+  const int n = static_cast<int>(p.time.size());
+  out.samples = n;
+  int spring_parameters = 0;
+  for (const CoordinateSpring& c : fitted)
+    spring_parameters += c.stiffness_fitted + c.damping_fitted + (o.fit_rest_angle && c.stiffness_fitted);
+  const int free_parameters = spring_parameters + 2 * p.dofs;
+  if (n < std::max(o.min_samples, free_parameters + 2))
+    throw NotIdentifiable(std::to_string(n) + " samples; at least " +
+                          std::to_string(std::max(o.min_samples, free_parameters + 2)) + " are needed");
+
+  // --- Steps and segments ----------------------------------------------------
+  const double omega = fastestFrequency(model, p.scene_forces, tree->y0.q);
+  const double duration = p.time.back() - p.time.front();
+  double max_interval = 0.0;
+  for (int i = 0; i + 1 < n; ++i) max_interval = std::max(max_interval, p.time[i + 1] - p.time[i]);
+  if (o.substeps == 0 && max_interval * omega > kPi)
+    throw InvalidInput(recording.source + ": t", "the largest sample interval " + format(max_interval) +
+                                                     " s is longer than half a period (" + format(kPi / omega) +
+                                                     " s) of the fastest oscillation of the scene's model: the "
+                                                     "recording cannot resolve it; is t in seconds?");
+  const double per_interval =
+      o.substeps > 0 ? o.substeps : std::max(1.0, std::ceil(omega * max_interval / kMechanismStepTimesFrequency));
+  if (!(per_interval * (n - 1) <= static_cast<double>(o.max_substeps)))
+    throw limitExceeded(recording.source + ": t", "integration substeps", per_interval * (n - 1),
+                        static_cast<double>(o.max_substeps), "--max-substeps");
+  p.substeps = static_cast<int>(per_interval);
+  out.substeps = p.substeps;
+  const double period = omega > 0.0 ? 2.0 * kPi / omega : duration;
+  int segments = o.segments > 0 ? o.segments : static_cast<int>(std::lround(duration / (0.25 * period)));
+  segments = std::max(1, std::min(segments, (n - 1) / kMinSegmentSamples));
+  out.segments = segments;
+
+  // --- Starts ----------------------------------------------------------------
+  const int theta_size = 3 * static_cast<int>(p.fitted.size());
+  std::vector<double> theta(static_cast<std::size_t>(theta_size));
+  for (std::size_t f = 0; f < p.fitted.size(); ++f) {
+    theta[3 * f] = fitted[f].start_stiffness;
+    theta[3 * f + 1] = fitted[f].start_damping;
+    theta[3 * f + 2] = fitted[f].rest_angle;
+  }
+  std::vector<int> bound(static_cast<std::size_t>(segments) + 1);
+  for (int s = 0; s <= segments; ++s) bound[s] = static_cast<int>(std::lround(static_cast<double>(s) * (n - 1) / segments));
+  std::vector<Eigen::VectorXd> state(static_cast<std::size_t>(segments), Eigen::VectorXd(2 * p.dofs));
+  if (!p.gyroscopes) {
+    SpringData angles;  // localAngleAndRate reads one coordinate at a time
+    angles.time = p.time;
+    const int half_width = std::max(2, static_cast<int>(std::lround(period / (16.0 * duration / (n - 1)))));
+    for (int j = 0; j < p.dofs; ++j) {
+      angles.angle[0] = *p.angles[static_cast<std::size_t>(j)];
+      for (int s = 0; s < segments; ++s) {
+        const Eigen::Vector2d xv = localAngleAndRate(angles, 0, bound[s], half_width);
+        state[s][j] = xv[0];
+        state[s][p.dofs + j] = xv[1];
+      }
+    }
+  } else {
+    // Only rates recorded: the scene's initial state, advanced by the start
+    // model to each segment's first sample.
+    const MechanismDynamics<double> dynamics(model);
+    Eigen::VectorXd q = tree->y0.q, v = tree->y0.u;
+    int s = 0;
+    for (int i = 0; i < n; ++i) {
+      if (s < segments && i == bound[s]) {
+        state[s] << q, v;
+        ++s;
+      }
+      if (i + 1 == n) break;
+      const double h = (p.time[i + 1] - p.time[i]) / p.substeps;
+      for (int m = 0; m < p.substeps; ++m) {
+        const double t = p.time[i] + m * h;
+        const Eigen::VectorXd a1 = dynamics.accelerations(t, q, v, p.scene_forces);
+        const Eigen::VectorXd q2 = q + 0.5 * h * v, v2 = v + 0.5 * h * a1;
+        const Eigen::VectorXd a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, p.scene_forces);
+        const Eigen::VectorXd q3 = q + 0.5 * h * v2, v3 = v + 0.5 * h * a2;
+        const Eigen::VectorXd a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, p.scene_forces);
+        const Eigen::VectorXd q4 = q + h * v3, v4 = v + h * a3;
+        const Eigen::VectorXd a4 = dynamics.accelerations(t + h, q4, v4, p.scene_forces);
+        q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4);
+        v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      }
+    }
+  }
+
+  const auto addTheta = [&](ceres::Problem* problem) {
+    std::vector<int> held;
+    for (std::size_t f = 0; f < p.fitted.size(); ++f) {
+      if (!fitted[f].stiffness_fitted) held.push_back(static_cast<int>(3 * f));
+      if (!fitted[f].damping_fitted) held.push_back(static_cast<int>(3 * f + 1));
+      if (!o.fit_rest_angle || !fitted[f].stiffness_fitted) held.push_back(static_cast<int>(3 * f + 2));
+    }
+    problem->AddParameterBlock(theta.data(), theta_size,
+                               held.empty() ? nullptr : new ceres::SubsetManifold(theta_size, held));
+    for (std::size_t f = 0; f < p.fitted.size(); ++f) {
+      problem->SetParameterLowerBound(theta.data(), static_cast<int>(3 * f), 0.0);
+      problem->SetParameterLowerBound(theta.data(), static_cast<int>(3 * f + 1), 0.0);
+    }
+  };
+  ceres::Solver::Options so;
+  configure(&so, o);
+  FitProgressCallback progress(o.progress, o.interrupt);
+  so.callbacks.push_back(&progress);
+
+  // --- 1. Multiple shooting ----------------------------------------------------
+  if (segments > 1) {
+    ceres::Problem problem;
+    addTheta(&problem);
+    const double w_rate = o.continuity_weight / std::max(omega, 2.0 * kPi / duration);
+    for (int s = 0; s < segments; ++s) {
+      const bool last = s + 1 == segments;
+      ceres::CostFunction* cost = segmentCost(&p, bound[s], bound[s + 1], last, o.continuity_weight, w_rate, theta_size);
+      std::vector<double*> blocks = {theta.data(), state[s].data()};
+      if (!last) blocks.push_back(state[s + 1].data());
+      problem.AddResidualBlock(cost, nullptr, blocks);
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    requireUsable(summary, "multiple shooting");
+    out.iterations += static_cast<int>(summary.iterations.size()) - 1;
+  }
+
+  // --- 2. Single shooting and the covariance ----------------------------------
+  ceres::Problem problem;
+  addTheta(&problem);
+  problem.AddResidualBlock(segmentCost(&p, 0, n - 1, true, 0.0, 0.0, theta_size), nullptr,
+                           std::vector<double*>{theta.data(), state[0].data()});
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  requireUsable(summary, "single shooting");
+  out.iterations += static_cast<int>(summary.iterations.size()) - 1;
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.message = summary.message;
+  const int m = n * p.perSample();
+  out.rms_residual = std::sqrt(2.0 * summary.final_cost / m);
+  const int p_free = free_parameters;
+  if (m <= p_free) throw NotIdentifiable("as many parameters as recorded values");
+  const double s2 = 2.0 * summary.final_cost / (m - p_free);
+
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.num_threads = 1;
+  ceres::Covariance covariance(co);
+  const std::vector<std::pair<const double*, const double*>> pairs = {{theta.data(), theta.data()}};
+  if (!covariance.Compute(pairs, &problem))
+    throw NotIdentifiable("the springs' covariance is rank deficient: the recorded motion does not separate them");
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(theta_size, theta_size);
+  covariance.GetCovarianceBlock(theta.data(), theta.data(), C.data());
+  out.covariance = s2 * Eigen::MatrixXd(C);
+  for (std::size_t f = 0; f < p.fitted.size(); ++f) {
+    CoordinateSpring& c = fitted[f];
+    c.stiffness = theta[3 * f];
+    c.damping = theta[3 * f + 1];
+    c.rest_angle = theta[3 * f + 2];
+    c.stiffness_sigma = std::sqrt(out.covariance(3 * f, 3 * f));
+    c.damping_sigma = std::sqrt(out.covariance(3 * f + 1, 3 * f + 1));
+    c.rest_angle_sigma = o.fit_rest_angle && c.stiffness_fitted ? std::sqrt(out.covariance(3 * f + 2, 3 * f + 2)) : 0.0;
+    if (!std::isfinite(c.stiffness_sigma) || !std::isfinite(c.damping_sigma) || !std::isfinite(c.rest_angle_sigma))
+      throw NotIdentifiable("the σ of joint '" + c.joint + "' is not finite");
+  }
+  out.coordinates = fitted;
+  out.held_fixed = {"the bodies' masses and inertias", "the joints' geometry", "gravity"};
+  if (!o.fit_rest_angle) out.held_fixed.push_back("the rest angles (the scene's)");
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return out;
+}
+
+}  // namespace calibration
+}  // namespace lieflow
