@@ -106,6 +106,8 @@ constexpr const char* kUsage =
     "  --substeps N              integration steps per sample (default: h*omega <= 0.1)\n"
     "  --max-iterations N, --min-samples N\n"
     "  --max-substeps N          most integration substeps of one pass over the record (default 1e7)\n"
+    "  --fit-axis                fit the axis of every sprung revolute joint too (axis_main,\n"
+    "                            axis_sigma_deg per coordinate; the mechanism fit, any scene)\n"
     "  --data auto|angles|gyroscopes  a mechanism's data (default: the angles J.phi.. if all\n"
     "                            are recorded, else every body's gyroscopes)\n"
     "all:\n"
@@ -354,10 +356,12 @@ CommandOutcome runMechanismSprings(const Arguments& args, const SceneDescription
     if (args.has(flag))
       throw UsageError(std::string(flag) + " is an option of the one-joint spring fit; on a mechanism (" +
                        std::to_string(scene.bodies.size()) +
-                       " bodies) every sprung or damped coordinate is fitted, started at the scene's values");
+                       " bodies, or --fit-axis) every sprung or damped coordinate is fitted, started at the scene's "
+                       "values");
   calibration::MechanismSpringOptions o;
   o.data = calibration::parseMechanismData(args.value("--data", "auto"), "--data");
   o.fit_rest_angle = args.has("--fit-rest-angle");
+  o.fit_axis = args.has("--fit-axis");
   o.segments = args.has("--segments") ? args.positiveInt("--segments", 1) : 0;
   o.substeps = args.has("--substeps") ? args.positiveInt("--substeps", 1) : 0;
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
@@ -385,6 +389,11 @@ CommandOutcome runMechanismSprings(const Arguments& args, const SceneDescription
       if (!c.stiffness_fitted) held.push_back("stiffness (no spring in the scene)");
       if (!c.damping_fitted) held.push_back("damping (no dashpot in the scene)");
       if (!held.empty()) e["held_at_zero"] = held;
+      if (c.axis_fitted) {
+        e["axis_main"] = vector3(c.axis);
+        e["axis_secondary"] = vector3(c.axis_secondary);
+        e["axis_sigma_deg"] = c.axis_sigma_deg;
+      }
       coordinates.push_back(e);
     }
     j["coordinates"] = coordinates;
@@ -437,7 +446,8 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   o.interrupt = interrupted;
 
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
-  if (scene.bodies.size() > 1) return runMechanismSprings(args, scene, recording_path, limits, interrupted);
+  if (scene.bodies.size() > 1 || args.has("--fit-axis"))
+    return runMechanismSprings(args, scene, recording_path, limits, interrupted);
   if (args.has("--data")) throw UsageError("--data is an option of the mechanism spring fit (a scene of several bodies)");
   const GroundedJointScene joint = groundedJointScene(
       scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
@@ -509,7 +519,7 @@ const std::set<std::string>& calibrateValueFlags() {
 
 const std::set<std::string>& calibrateSwitches() {
   static const std::set<std::string> switches = {"--fit-rest-angle", "--hold-damping", "--verbose", "--fit-gyro-bias",
-                                                 "--fit-time-offset"};
+                                                 "--fit-time-offset", "--fit-axis"};
   return switches;
 }
 
@@ -548,7 +558,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   if (kind == "spring") return runSpring(args, pos[1], interrupted);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
-                           "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies"})
+                           "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies", "--fit-axis", "--data"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   AxisFitOptions options = fitOptions(args);
   options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);

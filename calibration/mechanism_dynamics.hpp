@@ -90,7 +90,12 @@ class MechanismDynamics {
     F_.resize(n);
     N_.resize(n);
     u_.resize(n);
+    for (const articulated::ArticulatedBody& b : model.bodies) axis1_.push_back(b.axis1.template cast<T>());
   }
+
+  /// Replaces body i's joint's first axis (a revolute joint's axis a, unit,
+  /// in the joint's main body's frame): the axis as a parameter of a fit.
+  void setAxis(int body, const Vec3& axis) { axis1_[static_cast<std::size_t>(body)] = axis; }
 
   int dofs() const { return m_.scalar_coordinates; }
 
@@ -153,9 +158,7 @@ class MechanismDynamics {
   }
 
  private:
-  static Mat3 rotation(const Eigen::Vector3d& axis, const T& angle) {
-    return SO3<T>::exp(axis.template cast<T>() * angle).matrix();
-  }
+  static Mat3 rotation(const Vec3& axis, const T& angle) { return SO3<T>::exp(axis * angle).matrix(); }
 
   /// Orientations, rates, accelerations and joint points for (q, q̇, q̈);
   /// zeroes F and N.
@@ -174,21 +177,23 @@ class MechanismDynamics {
       const Mat3 Rref = b.R_ref.template cast<T>();
       const bool universal = b.kind == articulated::JointKind::kUniversal;
       const T q1 = q[b.q_begin];
-      const Mat3 M = universal ? Mat3(rotation(b.axis1, q1) * Rref * rotation(b.axis2, q[b.q_begin + 1]))
-                               : Mat3(rotation(b.axis1, q1) * Rref);
+      const Vec3& a1 = axis1_[s];
+      const Vec3 a2 = b.axis2.template cast<T>();
+      const Mat3 M = universal ? Mat3(rotation(a1, q1) * Rref * rotation(a2, q[b.q_begin + 1]))
+                               : Mat3(rotation(a1, q1) * Rref);
       R_[s] = b.parent_is_main ? Mat3(Rp * M) : Mat3(Rp * M.transpose());
       // World axes and whether each turns with the parent (true) or the child.
       Vec3 u[2];
       bool with_parent[2];
       if (b.parent_is_main) {
-        u[0] = Rp * b.axis1.template cast<T>();
+        u[0] = Rp * a1;
         with_parent[0] = true;
-        u[1] = R_[s] * b.axis2.template cast<T>();
+        u[1] = R_[s] * a2;
         with_parent[1] = false;
       } else {
-        u[0] = -(R_[s] * b.axis1.template cast<T>());
+        u[0] = -(R_[s] * a1);
         with_parent[0] = false;
-        u[1] = -(Rp * b.axis2.template cast<T>());
+        u[1] = -(Rp * a2);
         with_parent[1] = true;
       }
       Vec3 w = wp;
@@ -213,7 +218,24 @@ class MechanismDynamics {
   mutable std::vector<Mat3> R_;
   mutable std::vector<Vec3> w_, al_, c_, a_, p_, F_, N_;
   mutable std::vector<std::array<Vec3, 2>> u_;
+  std::vector<Vec3> axis1_;
 };
+
+/// One classical RK4 step of (q, q̇) from t to t + h (on ℝ²ⁿ RKMK4 is RK4).
+template <typename T>
+void rk4Step(const MechanismDynamics<T>& dynamics, const MechanismForces<T>& forces, double t, double h,
+             typename MechanismDynamics<T>::Vec* q, typename MechanismDynamics<T>::Vec* v) {
+  using Vec = typename MechanismDynamics<T>::Vec;
+  const Vec a1 = dynamics.accelerations(t, *q, *v, forces);
+  const Vec q2 = *q + (0.5 * h) * *v, v2 = *v + (0.5 * h) * a1;
+  const Vec a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, forces);
+  const Vec q3 = *q + (0.5 * h) * v2, v3 = *v + (0.5 * h) * a2;
+  const Vec a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, forces);
+  const Vec q4 = *q + h * v3, v4 = *v + h * a3;
+  const Vec a4 = dynamics.accelerations(t + h, q4, v4, forces);
+  *q += (h / 6.0) * (*v + 2.0 * v2 + 2.0 * v3 + v4);
+  *v += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+}
 
 }  // namespace calibration
 }  // namespace lieflow

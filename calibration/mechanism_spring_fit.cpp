@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <array>
 #include <sstream>
 
 #include <ceres/ceres.h>
@@ -11,7 +12,9 @@
 
 #include "calibration/fit_types.hpp"
 #include "calibration/mechanism_dynamics.hpp"
+#include "calibration/mechanism_spring_residuals.hpp"
 #include "calibration/spring_data.hpp"
+#include "calibration/unit_axis.hpp"
 #include "joints/articulated_scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -32,117 +35,13 @@ std::string format(double v) {
   return s.str();
 }
 
-/// The recorded data and what every segment shares.
-struct Shared {
-  const articulated::ArticulatedModel* model = nullptr;
-  std::vector<double> time;
-  bool gyroscopes = false;
-  /// Angles mode: per coordinate, its recorded angles. Gyroscope mode: per
-  /// body (tree order), its recorded rates.
-  std::vector<const std::vector<double>*> angles;
-  std::vector<const std::vector<Eigen::Vector3d>*> rates;
-  std::vector<int> fitted;  ///< coordinate indices of the fitted springs
-  MechanismForces<double> scene_forces;
-  int substeps = 1;
-  int dofs = 0;
-
-  int perSample() const { return gyroscopes ? 3 * static_cast<int>(rates.size()) : dofs; }
-};
-
-/// One shooting segment: (θ, s[, s_next]) ↦ residuals at samples first …
-/// last (the last only in the final segment), then the continuity defects.
-class SegmentCost {
- public:
-  SegmentCost(const Shared* p, int first, int last, bool final, double w_angle, double w_rate)
-      : p_(p), first_(first), last_(last), final_(final), w_angle_(w_angle), w_rate_(w_rate) {}
-
-  int residualCount() const {
-    return (last_ - first_ + (final_ ? 1 : 0)) * p_->perSample() + (final_ ? 0 : 2 * p_->dofs);
-  }
-
-  template <typename T>
-  bool operator()(T const* const* parameters, T* r) const {
-    using Vec = typename MechanismDynamics<T>::Vec;
-    const T* theta = parameters[0];
-    const T* s = parameters[1];
-    const int n = p_->dofs;
-    MechanismForces<T> forces;
-    for (int j = 0; j < n; ++j) {
-      forces.stiffness.push_back(T(p_->scene_forces.stiffness[j]));
-      forces.damping.push_back(T(p_->scene_forces.damping[j]));
-      forces.rest_angle.push_back(T(p_->scene_forces.rest_angle[j]));
-    }
-    for (std::size_t f = 0; f < p_->fitted.size(); ++f) {
-      const int j = p_->fitted[f];
-      forces.stiffness[j] = theta[3 * f];
-      forces.damping[j] = theta[3 * f + 1];
-      forces.rest_angle[j] = theta[3 * f + 2];
-    }
-    const MechanismDynamics<T> dynamics(*p_->model);
-    Vec q(n), v(n);
-    for (int j = 0; j < n; ++j) {
-      q[j] = s[j];
-      v[j] = s[n + j];
-    }
-    int k = 0;
-    for (int i = first_;; ++i) {
-      if (i < last_ || final_) {
-        if (p_->gyroscopes) {
-          const std::vector<Eigen::Matrix<T, 3, 1>> w = dynamics.bodyRates(q, v);
-          for (std::size_t b = 0; b < w.size(); ++b)
-            for (int c = 0; c < 3; ++c) r[k++] = w[b][c] - T((*p_->rates[b])[static_cast<std::size_t>(i)][c]);
-        } else {
-          for (int j = 0; j < n; ++j) r[k++] = q[j] - T((*p_->angles[static_cast<std::size_t>(j)])[static_cast<std::size_t>(i)]);
-        }
-      }
-      if (i == last_) break;
-      const double t0 = p_->time[static_cast<std::size_t>(i)];
-      const double h = (p_->time[static_cast<std::size_t>(i) + 1] - t0) / p_->substeps;
-      for (int m = 0; m < p_->substeps; ++m) {
-        // Classical RK4 on (q, q̇).
-        const double t = t0 + m * h;
-        const Vec a1 = dynamics.accelerations(t, q, v, forces);
-        const Vec q2 = q + (0.5 * h) * v, v2 = v + (0.5 * h) * a1;
-        const Vec a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, forces);
-        const Vec q3 = q + (0.5 * h) * v2, v3 = v + (0.5 * h) * a2;
-        const Vec a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, forces);
-        const Vec q4 = q + h * v3, v4 = v + h * a3;
-        const Vec a4 = dynamics.accelerations(t + h, q4, v4, forces);
-        q += (h / 6.0) * (v + 2.0 * v2 + 2.0 * v3 + v4);
-        v += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
-      }
-      for (int j = 0; j < n; ++j)  // a blown-up trial step: Ceres rejects it
-        if (!std::isfinite(scalarValue(q[j])) || !std::isfinite(scalarValue(v[j]))) return false;
-    }
-    if (!final_) {
-      const T* next = parameters[2];
-      for (int j = 0; j < n; ++j) {
-        r[k++] = T(w_angle_) * (q[j] - next[j]);
-        r[k++] = T(w_rate_) * (v[j] - next[n + j]);
-      }
-    }
-    return true;
-  }
-
- private:
-  static double scalarValue(double x) { return x; }
-  template <typename J>
-  static double scalarValue(const J& x) {
-    return x.a;
-  }
-
-  const Shared* p_;
-  int first_, last_;
-  bool final_;
-  double w_angle_, w_rate_;
-};
-
-ceres::CostFunction* segmentCost(const Shared* p, int first, int last, bool final, double w_angle, double w_rate,
+ceres::CostFunction* segmentCost(const MechanismShared* p, int first, int last, bool final, double w_angle, double w_rate,
                                  int theta_size) {
-  auto* functor = new SegmentCost(p, first, last, final, w_angle, w_rate);
+  auto* functor = new MechanismSegmentCost(p, first, last, final, w_angle, w_rate);
   const int residuals = functor->residualCount();
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<SegmentCost, 4>(functor);
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<MechanismSegmentCost, 4>(functor);
   cost->AddParameterBlock(theta_size);
+  for (std::size_t a = 0; a < p->axis_bodies.size(); ++a) cost->AddParameterBlock(3);
   cost->AddParameterBlock(2 * p->dofs);
   if (!final) cost->AddParameterBlock(2 * p->dofs);
   cost->SetNumResiduals(residuals);
@@ -220,13 +119,14 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   const articulated::ArticulatedModel& model = tree->system->model();
   requireMechanismSupported(model, "--scene");
 
-  Shared p;
+  MechanismShared p;
   p.model = &model;
   p.dofs = model.scalar_coordinates;
   p.time = recording.time;
   MechanismSpringFit out;
   std::vector<std::string> column_of(static_cast<std::size_t>(p.dofs));
   std::vector<CoordinateSpring> fitted;
+  std::vector<std::size_t> axis_of;  ///< per fitted axis: its coordinate in `fitted`
   for (int i = 0; i < model.bodyCount(); ++i) {
     const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
     const std::string& joint = scene.joints[static_cast<std::size_t>(b.scene_joint)].name;
@@ -249,6 +149,10 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
         c.start_damping = d.damping;
         c.rest_angle = d.rest_angle;
         fitted.push_back(c);
+        if (o.fit_axis && b.kind == articulated::JointKind::kRevolute) {
+          p.axis_bodies.push_back(i);
+          axis_of.push_back(fitted.size() - 1);
+        }
       }
     }
   }
@@ -295,7 +199,15 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   int spring_parameters = 0;
   for (const CoordinateSpring& c : fitted)
     spring_parameters += c.stiffness_fitted + c.damping_fitted + (o.fit_rest_angle && c.stiffness_fitted);
-  const int free_parameters = spring_parameters + 2 * p.dofs;
+  const int free_parameters = spring_parameters + 2 * static_cast<int>(p.axis_bodies.size()) + 2 * p.dofs;
+  if (o.fit_axis && p.axis_bodies.empty())
+    throw InvalidInput("--fit-axis", "no sprung or damped revolute joint whose axis could be fitted");
+  // The axes, started at the scene's (unit, on the sphere).
+  std::vector<std::array<double, 3>> axes(p.axis_bodies.size());
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    const Eigen::Vector3d v = model.bodies[static_cast<std::size_t>(p.axis_bodies[a])].axis1.normalized();
+    axes[a] = {v.x(), v.y(), v.z()};
+  }
   if (n < std::max(o.min_samples, free_parameters + 2))
     throw NotIdentifiable(std::to_string(n) + " samples; at least " +
                           std::to_string(std::max(o.min_samples, free_parameters + 2)) + " are needed");
@@ -358,21 +270,20 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
       }
       if (i + 1 == n) break;
       const double h = (p.time[i + 1] - p.time[i]) / p.substeps;
-      for (int m = 0; m < p.substeps; ++m) {
-        const double t = p.time[i] + m * h;
-        const Eigen::VectorXd a1 = dynamics.accelerations(t, q, v, p.scene_forces);
-        const Eigen::VectorXd q2 = q + 0.5 * h * v, v2 = v + 0.5 * h * a1;
-        const Eigen::VectorXd a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, p.scene_forces);
-        const Eigen::VectorXd q3 = q + 0.5 * h * v2, v3 = v + 0.5 * h * a2;
-        const Eigen::VectorXd a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, p.scene_forces);
-        const Eigen::VectorXd q4 = q + h * v3, v4 = v + h * a3;
-        const Eigen::VectorXd a4 = dynamics.accelerations(t + h, q4, v4, p.scene_forces);
-        q += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4);
-        v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
-      }
+      for (int m = 0; m < p.substeps; ++m) rk4Step(dynamics, p.scene_forces, p.time[i] + m * h, h, &q, &v);
     }
   }
 
+  const auto addAxes = [&](ceres::Problem* problem) {
+    for (std::array<double, 3>& a : axes) problem->AddParameterBlock(a.data(), 3, new ceres::SphereManifold<3>());
+  };
+  const auto blocksOf = [&](double* s_block, double* next) {
+    std::vector<double*> blocks = {theta.data()};
+    for (std::array<double, 3>& a : axes) blocks.push_back(a.data());
+    blocks.push_back(s_block);
+    if (next) blocks.push_back(next);
+    return blocks;
+  };
   const auto addTheta = [&](ceres::Problem* problem) {
     std::vector<int> held;
     for (std::size_t f = 0; f < p.fitted.size(); ++f) {
@@ -396,13 +307,12 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   if (segments > 1) {
     ceres::Problem problem;
     addTheta(&problem);
+    addAxes(&problem);
     const double w_rate = o.continuity_weight / std::max(omega, 2.0 * kPi / duration);
     for (int s = 0; s < segments; ++s) {
       const bool last = s + 1 == segments;
       ceres::CostFunction* cost = segmentCost(&p, bound[s], bound[s + 1], last, o.continuity_weight, w_rate, theta_size);
-      std::vector<double*> blocks = {theta.data(), state[s].data()};
-      if (!last) blocks.push_back(state[s + 1].data());
-      problem.AddResidualBlock(cost, nullptr, blocks);
+      problem.AddResidualBlock(cost, nullptr, blocksOf(state[s].data(), last ? nullptr : state[s + 1].data()));
     }
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
@@ -413,8 +323,9 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   // --- 2. Single shooting and the covariance ----------------------------------
   ceres::Problem problem;
   addTheta(&problem);
+  addAxes(&problem);
   problem.AddResidualBlock(segmentCost(&p, 0, n - 1, true, 0.0, 0.0, theta_size), nullptr,
-                           std::vector<double*>{theta.data(), state[0].data()});
+                           blocksOf(state[0].data(), nullptr));
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   requireUsable(summary, "single shooting");
@@ -431,7 +342,8 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   co.algorithm_type = ceres::DENSE_SVD;
   co.num_threads = 1;
   ceres::Covariance covariance(co);
-  const std::vector<std::pair<const double*, const double*>> pairs = {{theta.data(), theta.data()}};
+  std::vector<std::pair<const double*, const double*>> pairs = {{theta.data(), theta.data()}};
+  for (std::array<double, 3>& a : axes) pairs.emplace_back(a.data(), a.data());
   if (!covariance.Compute(pairs, &problem))
     throw NotIdentifiable("the springs' covariance is rank deficient: the recorded motion does not separate them");
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C(theta_size, theta_size);
@@ -447,6 +359,17 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
     c.rest_angle_sigma = o.fit_rest_angle && c.stiffness_fitted ? std::sqrt(out.covariance(3 * f + 2, 3 * f + 2)) : 0.0;
     if (!std::isfinite(c.stiffness_sigma) || !std::isfinite(c.damping_sigma) || !std::isfinite(c.rest_angle_sigma))
       throw NotIdentifiable("the σ of joint '" + c.joint + "' is not finite");
+  }
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Ca;
+    covariance.GetCovarianceBlock(axes[a].data(), axes[a].data(), Ca.data());
+    CoordinateSpring& c = fitted[axis_of[a]];
+    c.axis_fitted = true;
+    c.axis = Eigen::Vector3d(axes[a][0], axes[a][1], axes[a][2]);
+    c.axis_secondary = model.bodies[static_cast<std::size_t>(p.axis_bodies[a])].R_ref.transpose() * c.axis;
+    // Ambient covariance of a unit vector: its trace is the mean squared angle.
+    c.axis_sigma_deg = std::sqrt(s2 * Ca.trace()) * kRadToDeg;
+    if (!std::isfinite(c.axis_sigma_deg)) throw NotIdentifiable("the σ of joint '" + c.joint + "''s axis is not finite");
   }
   out.coordinates = fitted;
   out.held_fixed = {"the bodies' masses and inertias", "the joints' geometry", "gravity"};

@@ -43,6 +43,9 @@ MechanismData parseMechanismData(const std::string& text, const std::string& fie
 struct MechanismSpringOptions {
   MechanismData data = MechanismData::kAuto;
   bool fit_rest_angle = false;
+  /// Fit the axis of every sprung or damped revolute joint too (unit, in the
+  /// joint's main body's frame, started at the scene's).
+  bool fit_axis = false;
   /// Multiple-shooting segments; 0: a quarter of the fastest period each
   /// (1: single shooting only).
   int segments = 0;
@@ -72,6 +75,16 @@ struct CoordinateSpring {
   double stiffness = 0.0, damping = 0.0, rest_angle = 0.0;
   double stiffness_sigma = 0.0, damping_sigma = 0.0, rest_angle_sigma = 0.0;
   double start_stiffness = 0.0, start_damping = 0.0;
+  /// With MechanismSpringOptions::fit_axis on a revolute joint: its axis in
+  /// the main body's frame (`axis_main`) and in the secondary's
+  /// (`axis_secondary` = R_refᵀ axis_main, R_ref the scene's relative
+  /// rotation at zero angle), and the RMS angle of its error [deg]. A
+  /// gyroscope on the secondary body sees the secondary-frame axis; the
+  /// main-frame one rests on the scene's zero-angle orientation.
+  bool axis_fitted = false;
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis_secondary = Eigen::Vector3d::Zero();
+  double axis_sigma_deg = 0.0;
 };
 
 struct MechanismSpringFit {
