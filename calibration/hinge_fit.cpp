@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "calibration/data_selection.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_likelihood.hpp"
+#include "calibration/clock_offset.hpp"
 #include "calibration/hinge_residuals.hpp"
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
@@ -56,47 +58,14 @@ std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std
       "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
 }
 
+/// The profile over whole-sample clock offsets: shifts either side of the
+/// search's, and recentrings of that window, at most.
+constexpr int kOffsetProfile = 4;
+constexpr int kOffsetRefits = 3;
 constexpr const char* kGyroKindName = "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)";
 /// Largest relative spread of the sampling interval for --fit-time-offset
 /// (the clock offset interpolates the secondary's rates on a uniform grid).
 constexpr double kUniformSampling = 1e-3;
-
-/// The whole samples m of the secondary sensor's clock offset: the shift
-/// (|m h| ≤ AxisFitOptions::max_time_offset) whose closed-form gyroscope axes
-/// (hingeAxesFromRates on ω₁,k and ω₂,k−m) leave the least mean squared
-/// Sampson residual. The fit then estimates the rest, a fraction of a sample.
-int wholeSampleOffset(const JointSamples& samples, double max_offset) {
-  const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
-  const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
-  const int n = samples.size();
-  const double h = (samples.time.back() - samples.time.front()) / (n - 1);
-  const int reach = std::min(static_cast<int>(std::floor(max_offset / h)), n / 2);
-  int best = 0;
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<Eigen::Vector3d> a, b;
-  for (int m = -reach; m <= reach; ++m) {
-    a.clear();
-    b.clear();
-    for (int k = std::max(0, m); k < n && k - m < n; ++k) {
-      a.push_back(w1[k]);
-      b.push_back(w2[k - m]);
-    }
-    const AxisPair axes = hingeAxesFromRates(a, b);
-    double cost = 0.0, one = 1.0, r = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      GyroHingeResidual g(a[k], b[k]);
-      g.weight = &one;
-      g(axes.axis1.data(), axes.axis2.data(), &r);
-      cost += r * r;
-    }
-    cost /= static_cast<double>(a.size());
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = m;
-    }
-  }
-  return best;
-}
 
 /// The nuisance coordinates `options` asks for; InvalidInput where the data
 /// cannot carry them (no gyroscopes; a clock offset on non-uniform times).
@@ -157,9 +126,8 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
       std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
 }
 
-}  // namespace
-
-HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+/// The fit with the clock offset's whole samples given (0 without one).
+HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift) {
   const auto start_time = std::chrono::steady_clock::now();
   if (options.estimator == HingeEstimator::kLikelihood) {
     if (options.use != DataUse::kAuto && options.use != DataUse::kAngularVelocities)
@@ -186,7 +154,6 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   }
   requireEnoughSamples(samples.size(), options);
   const NuisanceSelection nuisance = nuisanceOf(samples, data, options);
-  const int shift = options.fit_time_offset ? wholeSampleOffset(samples, options.max_time_offset) : 0;
 
   const std::vector<Eigen::Matrix3d> R12 =
       data.orientations ? relativeOrientations(samples) : std::vector<Eigen::Matrix3d>();
@@ -341,6 +308,55 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     }
   }
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return fit;
+}
+
+}  // namespace
+
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  if (!options.fit_time_offset) return fitHingeAtShift(samples, options, 0);
+  // The profile over whole samples: the fit at every shift within
+  // ±kOffsetProfile of the search's (wholeSampleOffset), recentred while the
+  // best lies on the window's edge; the least residual wins, and every fit
+  // that ends at an offset more than 1.5 samples away must fit worse by
+  // Δχ² ≥ kOffsetAmbiguity
+  // (on 3 s recordings with biases the search alone, or the fit from its
+  // shift, stayed two samples off with σ a tenth of that).
+  const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+  const int reach = std::min(static_cast<int>(std::floor(options.max_time_offset / h)), samples.size() / 2);
+  std::map<int, HingeFit> fits;
+  const auto meanSquare = [](const HingeFit& f) { return std::pow(f.summary.residuals.front().rms, 2); };
+  int best = wholeSampleOffset(samples, options.max_time_offset);
+  for (int round = 0; round < kOffsetRefits; ++round) {
+    for (int m = std::max(-reach, best - kOffsetProfile); m <= std::min(reach, best + kOffsetProfile); ++m) {
+      if (fits.count(m)) continue;
+      try {
+        fits.emplace(m, fitHingeAtShift(samples, options, m));
+      } catch (const NotIdentifiable&) {
+      }
+    }
+    if (fits.empty()) break;
+    const int previous = best;
+    best = std::min_element(fits.begin(), fits.end(), [&](const auto& x, const auto& y) {
+             return meanSquare(x.second) < meanSquare(y.second);
+           })->first;
+    if (std::abs(best - previous) < kOffsetProfile) break;
+  }
+  if (fits.empty()) return fitHingeAtShift(samples, options, best);  // throws why
+  const HingeFit& fit = fits.at(best);
+  const double noise = std::pow(fit.summary.residuals.front().independent_noise, 2);
+  for (const auto& entry : fits) {
+    // Fits from neighbouring shifts reach the same offset through their
+    // fraction: a rival is an offset more than 1.5 samples away.
+    const HingeFit& other = entry.second;
+    if (std::abs(other.time_offset - fit.time_offset) <= 1.5 * h || noise <= 0.0) continue;
+    const double delta = fit.summary.samples * (meanSquare(other) - meanSquare(fit)) / noise;
+    if (delta < kOffsetAmbiguity)
+      throw NotIdentifiable("clock offsets of " + std::to_string(fit.time_offset) + " s and " +
+                            std::to_string(other.time_offset) + " s fit the gyroscopes about as well (Δχ² = " +
+                            std::to_string(delta) + ", below " + std::to_string(kOffsetAmbiguity) +
+                            "): a longer or more varied recording is needed to find the offset");
+  }
   return fit;
 }
 

@@ -185,6 +185,19 @@ UniversalMotion randomUniversalMotion(std::mt19937& gen) {
   return m;
 }
 
+HingeTruthSamples hingeTruth(const HingeMotion& motion, int n, double rate_hz) {
+  HingeTruthSamples t;
+  for (int k = 0; k < n; ++k) {
+    const double time = k / rate_hz;
+    t.time.push_back(time);
+    t.main_rate.push_back(motion.main.bodyRate(time));
+    t.angle.push_back(motion.angle.value(time));
+  }
+  t.axis_main = motion.axis_main;
+  t.mount = motion.mount;
+  return t;
+}
+
 JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, const RecordingNoise& noise,
                           std::mt19937& gen) {
   std::normal_distribution<double> normal;

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "calibration/hinge_likelihood.hpp"
 #include "calibration/joint_samples.hpp"
 #include "liegroup/so3.hpp"
 
@@ -132,6 +133,10 @@ struct RecordingNoise {
   /// records the secondary body at t_k + δ.
   double secondary_clock_offset = 0.0;
 };
+
+/// The true main-body rates and joint angles of n samples at `rate_hz` from
+/// t = 0, with the axis and mount: what hingeCramerRao needs.
+HingeTruthSamples hingeTruth(const HingeMotion& motion, int n, double rate_hz);
 
 /// n samples at `rate_hz` from t = 0, bodies named "main" and "secondary".
 JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, const RecordingNoise& noise,

@@ -88,6 +88,20 @@ int iterationsOf(const ceres::Solver::Summary& s) {
   return std::max(0, s.num_successful_steps) + std::max(0, s.num_unsuccessful_steps);
 }
 
+/// The solution's covariances and σ from a covariance of the axes' tangent
+/// coordinates (SphereManifold's, the unit of `tangent`).
+void setTangentCovariance(AxisProblem& p, const Eigen::Matrix4d& tangent, TwoAxisSolution* out) {
+  const double to_angle = 1.0 / (kSphereTangentPerRadian * kSphereTangentPerRadian);
+  out->covariance = to_angle * tangent;
+  out->sigma1_rad = std::sqrt(out->covariance.topLeftCorner<2, 2>().trace());
+  out->sigma2_rad = std::sqrt(out->covariance.bottomRightCorner<2, 2>().trace());
+  Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
+  p.plusJacobian(p.axis1(), J1.data());
+  p.plusJacobian(p.axis2(), J2.data());
+  out->covariance1 = J1 * tangent.topLeftCorner<2, 2>() * J1.transpose();
+  out->covariance2 = J2 * tangent.bottomRightCorner<2, 2>() * J2.transpose();
+}
+
 }  // namespace
 
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
@@ -342,14 +356,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
     }
     if (flatter) {
       const Eigen::Matrix4d secant = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
-      out.covariance = to_angle * secant;
-      out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
-      out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
-      Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
-      p.plusJacobian(p.axis1(), J1.data());
-      p.plusJacobian(p.axis2(), J2.data());
-      out.covariance1 = J1 * secant.topLeftCorner<2, 2>() * J1.transpose();
-      out.covariance2 = J2 * secant.bottomRightCorner<2, 2>() * J2.transpose();
+      setTangentCovariance(p, secant, &out);
     }
   }
 
@@ -361,14 +368,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
     out.summary.sigma_method = "Gauss-Newton (larger than the sandwich from " + std::to_string(batches) + " batches)";
   }
   if (batches > 0 && to_angle * sandwich.trace() > out.covariance.trace()) {
-    out.covariance = to_angle * sandwich;
-    out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
-    out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
-    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
-    p.plusJacobian(p.axis1(), J1.data());
-    p.plusJacobian(p.axis2(), J2.data());
-    out.covariance1 = J1 * sandwich.topLeftCorner<2, 2>() * J1.transpose();
-    out.covariance2 = J2 * sandwich.bottomRightCorner<2, 2>() * J2.transpose();
+    setTangentCovariance(p, sandwich, &out);
     out.summary.sigma_method = "sandwich (batch means, " + std::to_string(batches) + " batches; larger than Gauss-Newton)";
   }
   return out;

@@ -42,18 +42,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kRateHz = 100.0;
 
-HingeTruthSamples truthOf(const HingeMotion& m, int n) {
-  HingeTruthSamples t;
-  for (int k = 0; k < n; ++k) {
-    const double time = k / kRateHz;
-    t.time.push_back(time);
-    t.main_rate.push_back(m.main.bodyRate(time));
-    t.angle.push_back(m.angle.value(time));
-  }
-  t.axis_main = m.axis_main;
-  t.mount = m.mount;
-  return t;
-}
 
 class Writer {
  public:
@@ -98,7 +86,7 @@ void estimators(Writer& w, const std::string& c, double parameter, int trial, st
                 int samples) {
   const HingeMotion m = randomHingeMotion(gen);
   const JointSamples s = recordMotion(m, samples, kRateHz, gyroscopes(sigma), gen);
-  const HingeBound bound = hingeCramerRao(truthOf(m, samples), sigma);
+  const HingeBound bound = hingeCramerRao(hingeTruth(m, samples, kRateHz), sigma);
   w.row(c, "constraint", parameter, trial, m, bound, [&] { return fitHinge(s); });
   AxisFitOptions o;
   o.estimator = HingeEstimator::kLikelihood;

@@ -23,7 +23,13 @@ namespace {
 
 using test::lineErrorDeg;
 
-constexpr int kSamples = test::kSanitized ? 300 : 1000;
+/// 10 s at 100 Hz in every build: on 3 s recordings the clock offset's σ is
+/// small by up to 1.5 (mean (error/σ)² 1.6–2.3, calibration/README.md). Under
+/// the sanitizers 12 trials per case instead of 50, with bounds for 12.
+constexpr int kSamples = 1000;
+constexpr int kTrials = test::kSanitized ? 12 : 50;
+/// Mean (error/σ)² bound: 1.6 for 50 trials; 12 trials scatter it more.
+constexpr double kRatioBound = test::kSanitized ? 2.5 : 1.6;
 constexpr double kRateHz = 100.0;
 
 RecordingNoise gyroscopes(double sigma) {
@@ -85,7 +91,7 @@ struct Tally {
 
 /// kTrials recordings with random biases N(0, bias²) per axis and clock
 /// offsets uniform in ±offset (s), fitted with the given nuisance.
-Tally run(unsigned seed, double bias, double offset, bool fit_bias, bool fit_offset, int trials = 50) {
+Tally run(unsigned seed, double bias, double offset, bool fit_bias, bool fit_offset, int trials = kTrials) {
   std::mt19937 gen(seed);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -124,61 +130,61 @@ Tally run(unsigned seed, double bias, double offset, bool fit_bias, bool fit_off
 /// come out with honest σ (mean (error/σ)² 1.47 / 1.12).
 TEST(CalibGyroNuisance, BiasesFitted) {
   const Tally plain = run(1, 0.05, 0.0, false, false);
-  EXPECT_LT(plain.covered[0] + plain.covered[1], 60);
+  EXPECT_LT(plain.covered[0] + plain.covered[1], 6 * kTrials / 5);
   const Tally t = run(1, 0.05, 0.0, true, false);
   EXPECT_EQ(t.refused, 0);
   for (int a = 0; a < 2; ++a) {
     EXPECT_GE(t.covered[a], t.answered - 2);
-    EXPECT_GT(t.axis_ratio[a], 0.5);
-    EXPECT_LT(t.axis_ratio[a], 1.6);
-    EXPECT_GT(t.bias_ratio[a], 0.5);
+    EXPECT_GT(t.axis_ratio[a], test::kSanitized ? 0.3 : 0.5);
+    EXPECT_LT(t.axis_ratio[a], kRatioBound);
+    EXPECT_GT(t.bias_ratio[a], test::kSanitized ? 0.3 : 0.5);
     EXPECT_LT(t.bias_ratio[a], 2.0);
   }
 }
 
 /// A clock offset of up to ±50 ms (±5 samples) between the sensors: plain,
 /// 21 and 11 of 50 axes within 3σ (mean (error/σ)² 24 / 46); fitted (whole
-/// samples by search, the fraction by the fit), 50 and 50 (0.83 / 1.07) and
-/// the offset's mean (error/σ)² 0.68.
+/// samples by search and a profile of fits, the fraction by the fit), 50 and
+/// 50 (1.16 / 1.23) and the offset's mean (error/σ)² 0.78.
 TEST(CalibGyroNuisance, ClockOffsetFitted) {
   const Tally plain = run(2, 0.0, 0.05, false, false);
-  EXPECT_LT(plain.covered[0] + plain.covered[1], 60);
+  EXPECT_LT(plain.covered[0] + plain.covered[1], 6 * kTrials / 5);
   const Tally t = run(2, 0.0, 0.05, false, true);
   EXPECT_EQ(t.refused, 0);
   for (int a = 0; a < 2; ++a) {
     EXPECT_GE(t.covered[a], t.answered - 2);
-    EXPECT_GT(t.axis_ratio[a], 0.5);
-    EXPECT_LT(t.axis_ratio[a], 1.6);
+    EXPECT_GT(t.axis_ratio[a], test::kSanitized ? 0.3 : 0.5);
+    EXPECT_LT(t.axis_ratio[a], kRatioBound);
   }
-  EXPECT_GT(t.offset_ratio, 0.4);
-  EXPECT_LT(t.offset_ratio, 1.6);
+  EXPECT_GT(t.offset_ratio, test::kSanitized ? 0.2 : 0.4);
+  EXPECT_LT(t.offset_ratio, kRatioBound);
 }
 
 /// Both at once (biases 0.05 rad/s per axis, offsets ±50 ms): measured axes
-/// 50 and 49 within 3σ, mean (error/σ)² 1.24 / 1.30, biases 1.03 / 1.39, the
-/// offset 1.79 (its σ somewhat small when the biases are estimated too).
+/// 50 and 49 within 3σ, mean (error/σ)² 1.30 / 1.32, biases 1.26 / 1.34, the
+/// offset 0.67.
 TEST(CalibGyroNuisance, BiasesAndClockOffsetTogether) {
   const Tally t = run(3, 0.05, 0.05, true, true);
   EXPECT_LE(t.refused, 2);
   for (int a = 0; a < 2; ++a) {
     EXPECT_GE(t.covered[a], t.answered - 2);
-    EXPECT_LT(t.axis_ratio[a], 1.6);
+    EXPECT_LT(t.axis_ratio[a], kRatioBound);
     EXPECT_LT(t.bias_ratio[a], 2.0);
   }
-  EXPECT_LT(t.offset_ratio, 2.2);
+  EXPECT_LT(t.offset_ratio, kRatioBound);
 }
 
-/// Fitting nuisance that is not there costs nothing in honesty (measured 0.85 /
-/// 0.69 for the axes, 0.88 / 0.99 for the biases, 1.03 for the offset).
+/// Fitting nuisance that is not there costs nothing in honesty (measured 1.41 /
+/// 0.89 for the axes, 1.17 / 1.09 for the biases, 1.24 for the offset).
 TEST(CalibGyroNuisance, AbsentNuisanceFittedStaysHonest) {
   const Tally t = run(4, 0.0, 0.0, true, true);
   for (int a = 0; a < 2; ++a) {
     EXPECT_GE(t.covered[a], t.answered - 2);
-    EXPECT_GT(t.axis_ratio[a], 0.5);
-    EXPECT_LT(t.axis_ratio[a], 1.6);
-    EXPECT_LT(t.bias_ratio[a], 1.6);
+    EXPECT_GT(t.axis_ratio[a], test::kSanitized ? 0.3 : 0.5);
+    EXPECT_LT(t.axis_ratio[a], kRatioBound);
+    EXPECT_LT(t.bias_ratio[a], kRatioBound);
   }
-  EXPECT_LT(t.offset_ratio, 1.6);
+  EXPECT_LT(t.offset_ratio, kRatioBound);
 }
 
 /// Exact data with a bias and an offset: both recovered, to the error of

@@ -22,18 +22,6 @@ namespace {
 
 using test::lineErrorDeg;
 
-HingeTruthSamples truthOf(const HingeMotion& m, int n, double rate_hz) {
-  HingeTruthSamples t;
-  for (int k = 0; k < n; ++k) {
-    const double time = k / rate_hz;
-    t.time.push_back(time);
-    t.main_rate.push_back(m.main.bodyRate(time));
-    t.angle.push_back(m.angle.value(time));
-  }
-  t.axis_main = m.axis_main;
-  t.mount = m.mount;
-  return t;
-}
 
 constexpr int kSamples = test::kSanitized ? 300 : 1000;
 
@@ -62,7 +50,7 @@ TEST(CalibHingeLikelihood, AtTheCramerRaoBoundAndHonest) {
       continue;
     }
     ++answered;
-    const HingeBound bound = hingeCramerRao(truthOf(m, kSamples, 100.0), 0.1);
+    const HingeBound bound = hingeCramerRao(hingeTruth(m, kSamples, 100.0), 0.1);
     const double error[2] = {lineErrorDeg(f.axis_main, m.axis_main), lineErrorDeg(f.axis_secondary, m.axisSecondary())};
     const double sigma[2] = {f.sigma_main_deg, f.sigma_secondary_deg};
     const double crb[2] = {bound.sigma_main_deg, bound.sigma_secondary_deg};
