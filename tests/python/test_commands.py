@@ -183,6 +183,34 @@ def test_calibrate_hinge_gyro_bias_and_clock_offset(tmp_path, run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_spring_of_a_mechanism_equals_the_command(tmp_path, run_command):
+    scene = {"name": "two", "gravity": [0, 0, -9.81], "t_end": 2,
+             "integrator": {"name": "rkmk4", "dt": 0.001},
+             "bodies": [{"name": "upper", "mass": 1.0, "inertia": [0.0833, 0.0833, 0.001], "position": [0, 0, -0.5]},
+                        {"name": "lower", "mass": 0.7, "inertia": [0.05, 0.04, 0.02], "position": [0, 0, -1.5]}],
+             "joints": [{"name": "shoulder", "type": "revolute", "main": "ground", "secondary": "upper",
+                         "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
+                         "initial_angle": 0.4, "spring": {"stiffness": 8.0}, "damper": {"damping": 0.05}},
+                        {"name": "elbow", "type": "revolute", "main": "upper", "secondary": "lower",
+                         "anchor_main": [0, 0, -0.5], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
+                         "initial_angle": -0.3, "spring": {"stiffness": 3.0}}]}
+    path = tmp_path / "two.json"
+    path.write_text(json.dumps(scene))
+    status, _, err = run_command("simulate", path, "--formulation", "joint", "--every", "10", "--noise-gyro", "0.01",
+                                 "--out", tmp_path / "rec.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "spring", tmp_path / "rec.csv", "--scene", path, "--data",
+                                   "gyroscopes")
+    assert status == 0, err
+    command = json.loads(out)
+    fit = lieflow.calibrate_spring(str(tmp_path / "rec.csv"), scene=str(path), data="gyroscopes")
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+    assert [c["joint"] for c in fit["coordinates"]] == ["shoulder", "elbow"]
+    assert abs(fit["coordinates"][0]["stiffness"] - 8.0) < 5 * fit["coordinates"][0]["stiffness_sigma"] + 0.01
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_spherical_equals_the_command(tmp_path, run_command):
     scene = {"name": "ball", "gravity": [0, 0, -9.81], "t_end": 5, "integrator": {"name": "rkmk4", "dt": 0.001},
              "bodies": [{"name": "upper", "mass": 1.0, "inertia": [0.02, 0.05, 0.065], "rotation_only": True,
