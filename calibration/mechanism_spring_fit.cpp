@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/solver_options.hpp"
 #include "calibration/mechanism_dynamics.hpp"
 #include "calibration/mechanism_spring_residuals.hpp"
 #include "calibration/spring_data.hpp"
@@ -48,20 +49,6 @@ ceres::CostFunction* segmentCost(const MechanismShared* p, int first, int last, 
   return cost;
 }
 
-void configure(ceres::Solver::Options* o, const MechanismSpringOptions& options) {
-  o->trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  o->max_num_iterations = options.max_iterations;
-  o->function_tolerance = options.function_tolerance;
-  o->gradient_tolerance = options.gradient_tolerance;
-  o->parameter_tolerance = options.parameter_tolerance;
-  o->num_threads = 1;
-  o->logging_type = ceres::SILENT;
-  o->linear_solver_type = ceres::DENSE_QR;
-  if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
-    o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    o->sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  }
-}
 
 void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
   if (summary.termination_type != ceres::FAILURE && summary.IsSolutionUsable() && std::isfinite(summary.final_cost))
@@ -299,7 +286,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
     }
   };
   ceres::Solver::Options so;
-  configure(&so, o);
+  configureLevenbergMarquardt(&so, o, true);
   FitProgressCallback progress(o.progress, o.interrupt);
   so.callbacks.push_back(&progress);
 

@@ -11,6 +11,7 @@
 #include <ceres/ceres.h>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/solver_options.hpp"
 #include "calibration/spring_residuals.hpp"
 #include "calibration/spring_start.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -55,27 +56,6 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage, con
                   "or none (Ceres: " + summary.message + ")");
 }
 
-void configure(ceres::Solver::Options* o, const SpringFitOptions& options, bool sparse) {
-  o->minimizer_type = ceres::TRUST_REGION;
-  o->trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  o->max_num_iterations = options.max_iterations;
-  o->function_tolerance = options.function_tolerance;
-  o->gradient_tolerance = options.gradient_tolerance;
-  o->parameter_tolerance = options.parameter_tolerance;
-  o->num_threads = 1;
-  o->logging_type = ceres::SILENT;
-  o->minimizer_progress_to_stdout = false;
-  o->linear_solver_type = ceres::DENSE_QR;
-  if (sparse) {
-    if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
-      o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-      o->sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-    } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE)) {
-      o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-      o->sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-    }
-  }
-}
 
 /// θ = (k, c, φ₀): k, c ≥ 0; c held if asked, φ₀ held unless fitted.
 void addTheta(ceres::Problem* problem, double* theta, const SpringFitOptions& o) {
@@ -240,7 +220,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
         problem.AddResidualBlock(cost, nullptr, theta, state[s].data(), state[s + 1].data());
     }
     ceres::Solver::Options so;
-    configure(&so, o, true);
+    configureLevenbergMarquardt(&so, o, true);
     FitProgressCallback progress(o.progress, o.interrupt);
     so.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
@@ -265,7 +245,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   addTheta(&problem, theta, o);
   problem.AddResidualBlock(segmentCost<N>(&p, 0, n - 1, true, 0.0, 0.0), nullptr, theta, s0.data());
   ceres::Solver::Options so;
-  configure(&so, o, false);
+  configureLevenbergMarquardt(&so, o, false);
   FitProgressCallback progress(o.progress, o.interrupt);
   so.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
