@@ -7,6 +7,7 @@
 
 #include "calibration/fit_progress.hpp"
 
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -167,6 +168,14 @@ struct AxisFitSummary {
   double gauss_newton_sigma_rad = 0.0;
   double seconds = 0.0;     ///< wall time of the whole fit
 };
+
+/// v to 6 significant digits, for the fits' messages.
+inline std::string formatNumber(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
 
 /// A fit that could not be carried out (the model could not be evaluated
 /// from the start, the solver stopped on a failure): exit status 1, and

@@ -29,13 +29,6 @@ constexpr int kMinSegmentSamples = 4;
 /// Relative step of the finite differences that estimate the start's frequencies.
 constexpr double kFrequencyProbe = 1e-6;
 
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 ceres::CostFunction* segmentCost(const MechanismShared* p, int first, int last, bool final, double w_angle, double w_rate,
                                  int theta_size) {
   auto* functor = new MechanismSegmentCost(p, first, last, final, w_angle, w_rate);
@@ -205,8 +198,8 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   double max_interval = 0.0;
   for (int i = 0; i + 1 < n; ++i) max_interval = std::max(max_interval, p.time[i + 1] - p.time[i]);
   if (o.substeps == 0 && max_interval * omega > kPi)
-    throw InvalidInput(recording.source + ": t", "the largest sample interval " + format(max_interval) +
-                                                     " s is longer than half a period (" + format(kPi / omega) +
+    throw InvalidInput(recording.source + ": t", "the largest sample interval " + formatNumber(max_interval) +
+                                                     " s is longer than half a period (" + formatNumber(kPi / omega) +
                                                      " s) of the fastest oscillation of the scene's model: the "
                                                      "recording cannot resolve it; is t in seconds?");
   const double per_interval =

@@ -24,13 +24,6 @@ constexpr double kPi = 3.141592653589793;
 /// Samples per multiple-shooting segment, at least.
 constexpr int kMinSegmentSamples = 4;
 
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 ButcherTableau tableauNamed(const std::string& name) {
   if (name == "rkmk-euler") return ButcherTableau::euler();
   if (name == "rkmk-heun") return ButcherTableau::heun();
@@ -50,8 +43,8 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage, con
                       std::isfinite(theta[2]);
   if (summary.termination_type != ceres::FAILURE && summary.IsSolutionUsable() && finite) return;
   throw FitFailed(std::string("the fit failed in ") + stage +
-                  ": the model could not be integrated from the start values (stiffness " + format(theta[0]) +
-                  ", damping " + format(theta[1]) + ", rest angle " + format(theta[2]) +
+                  ": the model could not be integrated from the start values (stiffness " + formatNumber(theta[0]) +
+                  ", damping " + formatNumber(theta[1]) + ", rest angle " + formatNumber(theta[2]) +
                   "); give starts of the recording's order of magnitude (--stiffness-start, --damping-start) "
                   "or none (Ceres: " + summary.message + ")");
 }
@@ -141,7 +134,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   if (!given.empty()) out.start = "given (" + given + ")";
   if (!from_data.empty())
     out.start += std::string(out.start.empty() ? "" : "; ") + "from the recorded angle (" + from_data +
-                 ": lagged AR(2) recurrence, period " + format(est.period) + " s)";
+                 ": lagged AR(2) recurrence, period " + formatNumber(est.period) + " s)";
   if (!from_scene.empty()) out.start += std::string(out.start.empty() ? "" : "; ") + "the scene's (" + from_scene + ")";
   if (out.start.empty()) out.start = "given";
 
@@ -165,9 +158,9 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   // a time column in milliseconds shows up here first.
   if (o.substeps == 0 && max_interval * omega_max > kPi)
     throw InvalidInput(data.source + ": t",
-                       "the largest sample interval " + format(max_interval) + " s is longer than half a period (" +
-                           format(kPi / omega_max) + " s) of the fastest oscillation the scene and the starts give (" +
-                           format(omega_max) + " rad/s): the recording cannot resolve it; is t in seconds?");
+                       "the largest sample interval " + formatNumber(max_interval) + " s is longer than half a period (" +
+                           formatNumber(kPi / omega_max) + " s) of the fastest oscillation the scene and the starts give (" +
+                           formatNumber(omega_max) + " rad/s): the recording cannot resolve it; is t in seconds?");
   // Substeps per interval in double first: an absurd start (k = 1e100) or a
   // time column in milliseconds would overflow any integer type.
   const double per_interval = o.substeps > 0 ? o.substeps
@@ -176,8 +169,8 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   const double total_substeps = per_interval * (n - 1);
   if (!(total_substeps <= static_cast<double>(o.max_substeps)))
     throw limitExceeded(data.source + ": t", "integration substeps (the largest sample interval " +
-                                                 format(max_interval) + " s at the start's frequency " +
-                                                 format(omega_max) + " rad/s; is t in seconds, are the starts sane?)",
+                                                 formatNumber(max_interval) + " s at the start's frequency " +
+                                                 formatNumber(omega_max) + " rad/s; is t in seconds, are the starts sane?)",
                         total_substeps, static_cast<double>(o.max_substeps), "--max-substeps");
   out.substeps = static_cast<int>(per_interval);
   p.substeps = out.substeps;
@@ -268,8 +261,8 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   for (int j = 0; j < n; ++j) motion += std::pow(data.angle[ic][j] - mean_angle[ic], 2);
   motion = std::sqrt(motion / n);
   if (motion < o.min_motion_to_noise * out.rms_residual)
-    throw NotIdentifiable("the joint angle barely moves: RMS " + format(motion) + " rad about its mean against " +
-                          format(out.rms_residual) + " rad of residual");
+    throw NotIdentifiable("the joint angle barely moves: RMS " + formatNumber(motion) + " rad about its mean against " +
+                          formatNumber(out.rms_residual) + " rad of residual");
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
   co.num_threads = 1;
@@ -294,9 +287,9 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   const double k_gravity = joint.gravityStiffness(ic, mean_angle);
   const double k_scale = std::max(out.stiffness, out.stiffness + k_gravity);
   if (!(out.stiffness_sigma <= o.max_relative_sigma * k_scale))
-    throw NotIdentifiable("the recording does not determine the stiffness: k = " + format(out.stiffness) + " ± " +
-                          format(out.stiffness_sigma) + " N m/rad (1 sigma) against a restoring stiffness of " +
-                          format(k_scale) + " N m/rad");
+    throw NotIdentifiable("the recording does not determine the stiffness: k = " + formatNumber(out.stiffness) + " ± " +
+                          formatNumber(out.stiffness_sigma) + " N m/rad (1 sigma) against a restoring stiffness of " +
+                          formatNumber(k_scale) + " N m/rad");
 
   // --- What the numbers mean ---------------------------------------------
   out.inertia = joint.inertiaAbout(ic, mean_angle);
@@ -304,21 +297,21 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   out.natural_frequency = std::sqrt(std::max(k_eff, 0.0) / out.inertia);
   out.damping_ratio = out.natural_frequency > 0.0 ? out.damping / (2.0 * out.inertia * out.natural_frequency) : 0.0;
   out.held_fixed.push_back("inertia of body '" + joint.body_name + "' (scene mass, inertia and anchor): " +
-                           format(out.inertia) + " kg m^2 about the coordinate at its mean angle; the data determine " +
+                           formatNumber(out.inertia) + " kg m^2 about the coordinate at its mean angle; the data determine " +
                            "k/I and c/I");
   if (model.mass > 0.0 && model.gravity.squaredNorm() > 0.0)
     out.held_fixed.push_back("gravity moment (scene gravity, mass and centre of mass): stiffness " +
-                             format(k_gravity) + " N m/rad at the mean angle");
+                             formatNumber(k_gravity) + " N m/rad at the mean angle");
   if (o.hold_damping)
-    out.held_fixed.push_back("damping " + format(out.damping) + " N m s/rad (" +
+    out.held_fixed.push_back("damping " + formatNumber(out.damping) + " N m s/rad (" +
                              (o.damping_start ? "--damping-start" : "scene") + ")");
   if (!o.fit_rest_angle)
-    out.held_fixed.push_back("rest_angle " + format(out.rest_angle) + " rad (" +
+    out.held_fixed.push_back("rest_angle " + formatNumber(out.rest_angle) + " rad (" +
                              (o.rest_angle_start ? "--rest-angle-start" : "scene") + ")");
   for (int i = 0; i < N; ++i) {
     if (i != ic && (joint.drives[i].stiffness != 0.0 || joint.drives[i].damping != 0.0))
-      out.held_fixed.push_back("coordinate " + std::to_string(i + 1) + " spring " + format(joint.drives[i].stiffness) +
-                               " N m/rad and dashpot " + format(joint.drives[i].damping) + " N m s/rad (scene)");
+      out.held_fixed.push_back("coordinate " + std::to_string(i + 1) + " spring " + formatNumber(joint.drives[i].stiffness) +
+                               " N m/rad and dashpot " + formatNumber(joint.drives[i].damping) + " N m s/rad (scene)");
     if (joint.drives[i].moment)
       out.held_fixed.push_back("applied moment on coordinate " + std::to_string(i + 1) + " (scene)");
   }

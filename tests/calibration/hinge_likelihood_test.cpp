@@ -76,7 +76,9 @@ TEST(CalibHingeLikelihood, AtTheCramerRaoBoundAndHonest) {
     EXPECT_GT(ratio[a], 0.5);
     EXPECT_LT(ratio[a], 1.6);
   }
-  if (!test::kSanitized) EXPECT_GE(within_half, answered * 95 / 100) << within_half << " of " << answered;
+  if (!test::kSanitized) {
+    EXPECT_GE(within_half, answered * 95 / 100) << within_half << " of " << answered;
+  }
   std::printf("likelihood: %d of %d within 0.5 deg (constraint %d); sigma/bound %.3f..%.3f (constraint %.2f on "
               "average); mean (error/sigma)^2 %.2f / %.2f\n",
               within_half, answered, constraint_half, efficiency_min, efficiency_max, constraint_excess / answered,
