@@ -208,6 +208,7 @@ void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSample
   j["start"] = s.start;
   j["reweightings"] = s.reweightings;
   j["sigma_method"] = s.sigma_method;
+  if (s.bias_check_delta_chi_square >= 0.0) j["bias_check_delta_chi_square"] = s.bias_check_delta_chi_square;
   if (s.gauss_newton_sigma_rad > 0.0) j["gauss_newton_sigma_deg"] = s.gauss_newton_sigma_rad * calibration::kRadToDeg;
   j["seconds"] = s.seconds;
 }

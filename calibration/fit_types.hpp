@@ -74,6 +74,11 @@ struct AxisFitOptions {
   /// as nuisance parameters (hinge_fit.hpp; the axes' σ is marginal over them).
   bool fit_gyro_bias = false;
   bool fit_time_offset = false;
+  /// Without fit_gyro_bias, refit with the biases and compare: a gyroscope
+  /// residual lower by more than Δχ² = 30 marks the fit converged = false
+  /// and says to rerun with biases (hinge fits without a robust loss;
+  /// AxisFitSummary::bias_check_delta_chi_square).
+  bool check_gyro_bias = true;
   /// The clock offsets searched in whole samples before the fit refines the
   /// fraction [s] (hinge_fit.cpp wholeSampleOffset).
   double max_time_offset = 0.5;
@@ -158,6 +163,9 @@ struct AxisFitSummary {
   double quadratic_ratio_min = 0.0;
   double quadratic_ratio_max = 0.0;
   int reweightings = 0;     ///< re-solves after re-estimating the noise scales
+  /// Hinge fits without biases: Δχ² by which fitting gyroscope biases
+  /// lowers the gyroscope residual (−1: not checked).
+  double bias_check_delta_chi_square = -1.0;
   /// How σ was computed: "Gauss-Newton" (JᵀJ scaled by the reduced
   /// chi-square, widened where the cost is flatter) or, under a robust loss,
   /// the larger of it and the sandwich from B batch means (two_axis_solver.hpp

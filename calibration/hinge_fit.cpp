@@ -58,6 +58,10 @@ std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std
       "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
 }
 
+/// Δχ² (4 parameters) by which fitting gyroscope biases must lower the
+/// gyroscope residual for the plain fit to be called biased: χ²₄ exceeds it
+/// with probability 5e-6 on unbiased data.
+constexpr double kBiasChiSquare = 30.0;
 /// The profile over whole-sample clock offsets: shifts either side of the
 /// search's, and recentrings of that window, at most.
 constexpr int kOffsetProfile = 4;
@@ -313,8 +317,48 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
 
 }  // namespace
 
+/// Without --fit-gyro-bias: refit with the biases and compare the
+/// gyroscope residual (file comment of hinge_fit.hpp).
+void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& options, HingeFit* fit) {
+  // (Under a robust loss outliers would read as a bias: not checked.)
+  if (options.fit_gyro_bias || !options.check_gyro_bias || options.loss != RobustLoss::kNone) return;
+  const auto gyroscopes = [](const HingeFit& f) -> const ResidualStats* {
+    for (const ResidualStats& r : f.summary.residuals)
+      if (r.kind.rfind("gyroscope hinge constraint", 0) == 0) return &r;
+    return nullptr;
+  };
+  const ResidualStats* plain = gyroscopes(*fit);
+  if (!plain || !(plain->independent_noise > 0.0)) return;
+  AxisFitOptions with_bias = options;
+  with_bias.fit_gyro_bias = true;
+  with_bias.estimator = HingeEstimator::kConstraint;
+  with_bias.progress = nullptr;
+  HingeFit biased;
+  try {
+    biased = fitHingeAtShift(samples, with_bias, 0);
+  } catch (const NotIdentifiable&) {
+    return;
+  }
+  const ResidualStats* other = gyroscopes(biased);
+  if (!other) return;
+  const double delta = plain->samples * (plain->rms * plain->rms - other->rms * other->rms) /
+                       (plain->independent_noise * plain->independent_noise);
+  fit->summary.bias_check_delta_chi_square = delta;
+  if (delta <= kBiasChiSquare) return;
+  const double bias = std::max(biased.gyro_bias_main.norm(), biased.gyro_bias_secondary.norm());
+  fit->summary.converged = false;
+  fit->summary.message = "the gyroscopes carry a constant bias: fitting one (--fit-gyro-bias) lowers the gyroscope "
+                         "residual by delta chi-square " + formatNumber(delta) + " (above " +
+                         formatNumber(kBiasChiSquare) + "; biases up to " + formatNumber(bias) +
+                         " rad/s), and axes fitted without it can be many sigma off; rerun with --fit-gyro-bias";
+}
+
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
-  if (!options.fit_time_offset) return fitHingeAtShift(samples, options, 0);
+  if (!options.fit_time_offset) {
+    HingeFit fit = fitHingeAtShift(samples, options, 0);
+    checkForGyroscopeBias(samples, options, &fit);
+    return fit;
+  }
   // The profile over whole samples: the fit at every shift within
   // ±kOffsetProfile of the search's (wholeSampleOffset), recentred while the
   // best lies on the window's edge; the least residual wins, and every fit

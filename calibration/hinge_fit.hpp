@@ -20,6 +20,11 @@
 /// differences (whiteNoiseFromDifferences, RMS of both bodies') and the fitted
 /// residual is checked against it (AxisFitOptions::max_residual_to_noise).
 ///
+/// Without AxisFitOptions::fit_gyro_bias the fit is repeated with the
+/// biases (AxisFitOptions::check_gyro_bias): a gyroscope residual lower by
+/// Δχ² > 30 marks it converged = false with a message to rerun with them (an
+/// uncorrected 0.05 rad/s bias had left the axes many σ off unnoticed).
+///
 /// With AxisFitOptions::estimator = kLikelihood (gyroscopes only), the
 /// constraint fit (its refusals included) starts the maximum-likelihood fit
 /// over the joint angle (hinge_likelihood.hpp), whose axes and σ are reported.
