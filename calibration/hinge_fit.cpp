@@ -126,7 +126,7 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
     r.floor_sq = GyroHingeResidual(w1[k], w2[k2]).floor_sq;
     blocks.push_back(r);
   }
-  return std::make_unique<NuisanceResidualKind<GyroHingeNuisanceResidual, 1>>(
+  return std::make_unique<SampleResidualKind<GyroHingeNuisanceResidual, 1, true>>(
       std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
 }
 

@@ -80,9 +80,11 @@ inline double blockCost(const double* r, int n, const ceres::LossFunction* loss)
 
 /// The residual kind of a functor with members `const double* weight` and
 /// `template <class T> bool operator()(const T* axis1, const T* axis2, T* r)`
-/// returning kResiduals residuals; one functor per sample, differentiated by
+/// returning kResiduals residuals — or, with kUsesNuisance,
+/// `operator()(const T* axis1, const T* axis2, const T* nuisance, T* r)` on
+/// the nuisance block too; one functor per sample, differentiated by
 /// ceres::AutoDiffCostFunction.
-template <typename Functor, int kResiduals>
+template <typename Functor, int kResiduals, bool kUsesNuisance = false>
 class SampleResidualKind final : public ResidualKind {
  public:
   SampleResidualKind(std::string name, std::string unit, int noise_dof, std::vector<Functor> samples)
@@ -92,50 +94,7 @@ class SampleResidualKind final : public ResidualKind {
   const std::string& unit() const override { return unit_; }
   int noiseDof() const override { return noise_dof_; }
   int blockCount() const override { return static_cast<int>(samples_.size()); }
-
-  double cost(const double* axis1, const double* axis2, const double* /*nuisance*/, const double* weight,
-              const ceres::LossFunction* loss) const override {
-    double total = 0.0, r[kResiduals];
-    for (const Functor& sample : samples_) {
-      Functor f(sample);
-      f.weight = weight;
-      f(axis1, axis2, r);
-      total += blockCost(r, kResiduals, loss);
-    }
-    return total;
-  }
-
-  void addBlocks(ceres::Problem* problem, ceres::LossFunction* loss, const double* weight, double* axis1,
-                 double* axis2, double* /*nuisance*/, std::vector<ceres::ResidualBlockId>* ids) const override {
-    ids->reserve(ids->size() + samples_.size());
-    for (const Functor& sample : samples_) {
-      auto* functor = new Functor(sample);
-      functor->weight = weight;
-      ids->push_back(problem->AddResidualBlock(
-          new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3>(functor), loss, axis1, axis2));
-    }
-  }
-
- private:
-  std::string name_;
-  std::string unit_;
-  int noise_dof_;
-  std::vector<Functor> samples_;
-};
-
-/// The same for a functor that also takes the nuisance block:
-/// `template <class T> bool operator()(const T* axis1, const T* axis2, const T* nuisance, T* r)`.
-template <typename Functor, int kResiduals>
-class NuisanceResidualKind final : public ResidualKind {
- public:
-  NuisanceResidualKind(std::string name, std::string unit, int noise_dof, std::vector<Functor> samples)
-      : name_(std::move(name)), unit_(std::move(unit)), noise_dof_(noise_dof), samples_(std::move(samples)) {}
-
-  const std::string& name() const override { return name_; }
-  const std::string& unit() const override { return unit_; }
-  int noiseDof() const override { return noise_dof_; }
-  int blockCount() const override { return static_cast<int>(samples_.size()); }
-  bool usesNuisance() const override { return true; }
+  bool usesNuisance() const override { return kUsesNuisance; }
 
   double cost(const double* axis1, const double* axis2, const double* nuisance, const double* weight,
               const ceres::LossFunction* loss) const override {
@@ -143,7 +102,10 @@ class NuisanceResidualKind final : public ResidualKind {
     for (const Functor& sample : samples_) {
       Functor f(sample);
       f.weight = weight;
-      f(axis1, axis2, nuisance, r);
+      if constexpr (kUsesNuisance)
+        f(axis1, axis2, nuisance, r);
+      else
+        f(axis1, axis2, r);
       total += blockCost(r, kResiduals, loss);
     }
     return total;
@@ -155,9 +117,13 @@ class NuisanceResidualKind final : public ResidualKind {
     for (const Functor& sample : samples_) {
       auto* functor = new Functor(sample);
       functor->weight = weight;
-      ids->push_back(problem->AddResidualBlock(
-          new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3, kNuisanceSize>(functor), loss, axis1, axis2,
-          nuisance));
+      if constexpr (kUsesNuisance)
+        ids->push_back(problem->AddResidualBlock(
+            new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3, kNuisanceSize>(functor), loss, axis1, axis2,
+            nuisance));
+      else
+        ids->push_back(problem->AddResidualBlock(
+            new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3>(functor), loss, axis1, axis2));
     }
   }
 
