@@ -2,11 +2,13 @@
 
 #include <cerrno>
 #include <cmath>
+#include <iostream>
 #include <cstdlib>
 #include <limits>
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "joints/import/model_import.hpp"
 
 namespace lieflow {
 namespace app {
@@ -95,8 +97,17 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
 }
 
 const std::set<std::string>& runLimitFlags() {
-  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies"};
+  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--ignore"};
   return flags;
+}
+
+SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
+  const ModelImportOptions import = parseIgnoreList(args.value("--ignore", ""));
+  if (!import.ignore.empty() && !isModelFile(scene))
+    throw UsageError("--ignore: '" + scene + "' is not a model file (.xml, .urdf); only models have parts to ignore");
+  SceneDescription s = loadScene(scene, resourceLimitsFrom(args), import);
+  for (const std::string& note : s.import_notes) std::cerr << "lieflow: " << scene << ": ignored " << note << "\n";
+  return s;
 }
 
 ResourceLimits resourceLimitsFrom(const Arguments& args) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "joints/resource_limits.hpp"
+#include "joints/scene.hpp"
 
 namespace lieflow {
 namespace app {
@@ -50,8 +51,14 @@ double parsePositiveNumber(const std::string& what, const std::string& text);
 /// where `args` has them.
 ResourceLimits resourceLimitsFrom(const Arguments& args);
 /// The limit flags of the commands that run scenes (simulate, study,
-/// stability): --max-steps, --max-input-mb, --max-bodies.
+/// stability): --max-steps, --max-input-mb, --max-bodies, and --ignore
+/// (what a model file may leave out).
 const std::set<std::string>& runLimitFlags();
+
+/// SCENE (a built-in name, a JSON file or a model file) with the limits and
+/// the --ignore list of `args`; what a model import left out is printed to
+/// stderr, one line each ("lieflow: MODEL: ignored contacts: geom 'floor' (line 12)").
+SceneDescription sceneFrom(const Arguments& args, const std::string& scene);
 
 }  // namespace app
 }  // namespace lieflow

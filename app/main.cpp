@@ -24,6 +24,8 @@ constexpr const char* kUsage =
     "  stability [SCENE...]  largest bounded h*omega per integrator (stiff spring, fast top)\n"
     "  integrators      list the integrators with their order and properties\n"
     "  scenes           list the built-in scenes\n"
+    "  import MODEL     a MuJoCo MJCF (.xml) or URDF (.urdf) model as a scene file; simulate,\n"
+    "                   study and stability also take model files as SCENE\n"
     "  liegroup         precision and speed tables of the SO(3)/SE(3) library\n"
     "  calibrate hinge|universal RECORDING.csv  fit joint axes to a recording (needs Ceres)\n"
     "  calibrate spring RECORDING.csv --scene SCENE  fit a joint's stiffness, damping\n"
@@ -49,6 +51,7 @@ int dispatch(int argc, char** argv) {
   if (command == "integrators") return runIntegrators(rest_argc, rest_argv);
   if (command == "scenes") return runScenes(rest_argc, rest_argv);
   if (command == "liegroup") return runLiegroup(rest_argc, rest_argv);
+  if (command == "import") return runImport(rest_argc, rest_argv);
 #ifdef LIEFLOW_HAVE_CERES
   if (command == "calibrate") return runCalibrate(rest_argc, rest_argv);
 #else

@@ -39,7 +39,7 @@ std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<
   }
   if (args.positional().size() != 1)
     throw UsageError(command + " needs exactly one SCENE (see lieflow " + command + " --help)");
-  return std::make_unique<Simulation>(loadScene(args.positional()[0], resourceLimitsFrom(args)));
+  return std::make_unique<Simulation>(sceneFrom(args, args.positional()[0]));
 }
 
 const std::set<std::string>& simulateValueFlags() {

@@ -72,8 +72,14 @@ double characteristicFrequency(const SceneDescription& scene) {
   }
   // Joint springs: √(k / I_a), I_a the secondary body's moment of inertia
   // about the joint axis through the anchor at t = 0 (parallel axes; the main
-  // body held), the frequency of that joint alone.
+  // body held), the frequency of that joint alone; a prismatic spring
+  // √(k / m) with the secondary body's mass.
   for (const JointDescription& j : scene.joints) {
+    if (j.type == "prismatic" && j.coordinates[0].stiffness > 0.0) {
+      const int bi = scene.bodyIndex(j.secondary);
+      if (bi >= 0) omega = std::max(omega, std::sqrt(j.coordinates[0].stiffness / scene.bodies[bi].mass));
+      continue;
+    }
     if (j.type != "revolute" && j.type != "universal") continue;
     const int bi = scene.bodyIndex(j.secondary);
     const int ai = scene.bodyIndex(j.main);

@@ -70,7 +70,7 @@ StabilityRequest stabilityRequestFrom(const Arguments& args, std::vector<SceneDe
   }
   std::vector<std::string> names = args.positional();
   if (names.empty()) names = {"stiff-spring", "fast-top"};
-  for (const std::string& name : names) request.simulations.emplace_back(loadScene(name, limits));
+  for (const std::string& name : names) request.simulations.emplace_back(sceneFrom(args, name));
   return request;
 }
 

@@ -39,6 +39,11 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
              ": it couples coordinates of other joints, which needs multipliers";
       return false;
     }
+    if (j.type == "prismatic" || j.type == "fixed") {
+      *why = label(scene, k) + " is a " + j.type +
+             " joint: the joint-coordinate formulation has revolute, universal and spherical joints only";
+      return false;
+    }
     const int a = body(j.main), b = body(j.secondary);
     at[a < 0 ? nb : a].push_back(static_cast<int>(k));
     at[b < 0 ? nb : b].push_back(static_cast<int>(k));

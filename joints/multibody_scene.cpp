@@ -63,9 +63,10 @@ void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
       if (scene.joints[j].name == name) k = static_cast<int>(j);
     if (k < 0) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
     const std::string& type = scene.joints[k].type;
-    if (type != "revolute" && type != "universal")
+    if (type != "revolute" && type != "universal" && type != "prismatic")
       throw InvalidInput("moments", "joint '" + name + "' is " + type +
-                                        ": a moment acts on the coordinate of a revolute or universal joint");
+                                        ": a moment (or a prismatic joint's force) acts on the coordinate of a "
+                                        "revolute, universal or prismatic joint");
   }
 }
 
@@ -126,6 +127,15 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     multibody::JointConstraint c;
     if (j.type == "spherical") {
       c = constraints::makeSphericalJoint<double>(j.anchor_main, j.anchor_secondary, prefix);
+    } else if (j.type == "prismatic") {
+      for (const auto& [side, i] : {std::pair<const char*, int>{"main", a}, {"secondary", b}})
+        if (i != kGround && scene.bodies[i].rotation_only)
+          throw InvalidInput(prefix + "." + side, "'" + scene.bodies[i].name +
+                                                     "' is rotation_only: a prismatic joint's bodies need "
+                                                     "translational coordinates");
+      c = constraints::assemblePrismaticJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, prefix);
+    } else if (j.type == "fixed") {
+      c = constraints::assembleFixedJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, prefix);
     } else if (j.type == "revolute") {
       const Eigen::Vector3d axis_b =
           j.has_axis_secondary ? j.axis_secondary
@@ -137,10 +147,18 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
                                                       j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
                                                       prefix);
     }
-    // The anchors must coincide at t = 0.
+    // The anchors must coincide at t = 0 (a prismatic joint's lie on its axis).
     const Eigen::Vector3d xa = pa.toWorld(j.anchor_main), xb = pb.toWorld(j.anchor_secondary);
     const double length = std::max({1.0, j.anchor_main.norm(), j.anchor_secondary.norm()});
-    if ((xa - xb).norm() > kAssemblyTolerance * length)
+    if (j.type == "prismatic") {
+      const Eigen::Vector3d axis = pa.R * j.axis_main.normalized();
+      const Eigen::Vector3d off_axis = (xb - xa) - (xb - xa).dot(axis) * axis;
+      if (off_axis.norm() > kAssemblyTolerance * std::max(length, (xb - xa).norm()))
+        throw InvalidInput(prefix + ".anchor_secondary",
+                           "the anchors are not on the slide axis at t = 0: anchor_secondary at " + fmt(xb) +
+                               " is " + fmt(off_axis) + " off the line through anchor_main at " + fmt(xa) +
+                               " along axis_main " + fmt(axis) + " (world)");
+    } else if ((xa - xb).norm() > kAssemblyTolerance * length)
       throw InvalidInput(prefix + ".anchor_secondary",
                          "the anchors do not coincide at t = 0: anchor_main is at " + fmt(xa) +
                              " and anchor_secondary at " + fmt(xb) +
@@ -158,7 +176,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
       d[i].damping = cd.damping;
       d[i].moment = cd.moment;
       d[i].prescribed = cd.prescribed;
-      const int coordinates = j.type == "universal" ? 2 : j.type == "revolute" ? 1 : 0;
+      const int coordinates = j.type == "universal" ? 2 : (j.type == "revolute" || j.type == "prismatic") ? 1 : 0;
       if (user_moment != scene.user_loads.joint_moments.end() && i < coordinates) {
         const UserLoads::JointMoment f = user_moment->second;
         d[i].user_moment = [f, i](double t, double phi, double phidot) { return f(t, i, phi, phidot); };
@@ -171,9 +189,10 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
   const multibody::MultibodySystem& sys = *out->system;
   multibody::MultibodyGroupState y = sys.makeState(s);
   // The joint angles at t = 0 are the given initial angles (the principal
-  // values could differ by 2π).
+  // values could differ by 2π; a prismatic joint's x is a length).
   for (std::size_t k = 0; k < sys.model().joints.size(); ++k)
     for (int i = 0; i < sys.coordinateCount(static_cast<int>(k)); ++i)
+      if (multibody::jointKind(sys.model().joints[k].constraint) != multibody::JointKind::kPrismatic)
       y.angles[2 * k + i] = constraints::unwrapAngle(y.angles[2 * k + i],
                                                      scene.joints[out->scene_joint[k]].initial_angles[i]);
   std::string why;

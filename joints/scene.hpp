@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "joints/import/import_options.hpp"
 #include "joints/multibody/time_function.hpp"
 #include "joints/resource_limits.hpp"
 
@@ -46,11 +47,13 @@ struct BodyDescription {
 };
 
 /// Force elements and drive of one joint coordinate (revolute φ, universal
-/// φ₁ or φ₂): `spring` {stiffness, rest_angle}, `damper` {damping},
-/// `moment` and `prescribed` (time functions).
+/// φ₁ or φ₂, prismatic x): `spring` {stiffness, rest_angle} (prismatic:
+/// rest_position), `damper` {damping}, `moment` (prismatic: `force`) and
+/// `prescribed` (time functions). A prismatic coordinate's values are
+/// lengths [m], its stiffness N/m, its damping N s/m.
 struct CoordinateDescription {
   double stiffness = 0.0;
-  double rest_angle = 0.0;
+  double rest_angle = 0.0;  ///< rest angle [rad] or, prismatic, rest position [m]
   double damping = 0.0;
   std::optional<multibody::TimeFunction> moment;
   std::optional<multibody::TimeFunction> prescribed;
@@ -138,6 +141,9 @@ struct SceneDescription {
   std::string description;
   /// Loads given as functions by a program (none from a scene file).
   UserLoads user_loads;
+  /// What a model importer left out because the user allowed it (--ignore),
+  /// one line per element; the commands print them to stderr.
+  std::vector<std::string> import_notes;
 
   /// Index of the body with this name, or -1 (a linear search; code that
   /// looks up every joint's bodies builds bodyIndices() once instead).
@@ -154,11 +160,14 @@ struct SceneDescription {
 SceneDescription parseScene(const std::string& json_text, const std::string& source,
                             long max_bodies = kMaxBodies);
 
-/// Reads SCENE: a JSON file if such a file exists, else a built-in scene of
-/// that name. Throws InvalidInput naming the file (or name) and the reason.
-/// Reads at most limits.max_input_bytes (an endless stream such as /dev/zero
-/// is refused once past it) and accepts at most limits.max_bodies bodies.
-SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits = ResourceLimits());
+/// Reads SCENE: a model file (a path ending in .xml or .urdf: MJCF or URDF,
+/// joints/import/model_import.hpp, leaving out what `import` allows), a JSON
+/// file if such a file exists, else a built-in scene of that name. Throws
+/// InvalidInput naming the file (or name) and the reason. Reads at most
+/// limits.max_input_bytes (an endless stream such as /dev/zero is refused
+/// once past it) and accepts at most limits.max_bodies bodies.
+SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits = ResourceLimits(),
+                           const ModelImportOptions& import = ModelImportOptions());
 
 /// The built-in scenes: name, one-line description and JSON text.
 struct BuiltinScene {

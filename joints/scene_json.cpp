@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "joints/import/model_import.hpp"
 #include "joints/input_file.hpp"
 #include "joints/scene.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -262,13 +263,16 @@ multibody::TimeFunction readTimeFunction(ObjectReader& parent, const std::string
   return f;
 }
 
-/// The coordinate fields of a revolute (suffix "") or universal ("1", "2") joint.
-void readCoordinate(ObjectReader& r, const std::string& suffix, CoordinateDescription* c) {
+/// The coordinate fields of a revolute (suffix "") or universal ("1", "2")
+/// joint, or of a prismatic joint (`sliding`: the spring's `rest_position`
+/// and an applied `force` instead of `rest_angle` and `moment`).
+void readCoordinate(ObjectReader& r, const std::string& suffix, CoordinateDescription* c, bool sliding = false) {
   if (r.has("spring" + suffix)) {
     ObjectReader s(r.get("spring" + suffix), r.fieldPath("spring" + suffix), r.source());
     c->stiffness = s.number("stiffness");
     if (c->stiffness < 0.0) s.fail("stiffness", "must be >= 0");
-    if (s.has("rest_angle")) c->rest_angle = s.number("rest_angle");
+    const char* rest = sliding ? "rest_position" : "rest_angle";
+    if (s.has(rest)) c->rest_angle = s.number(rest);
     s.finish();
   }
   if (r.has("damper" + suffix)) {
@@ -277,7 +281,8 @@ void readCoordinate(ObjectReader& r, const std::string& suffix, CoordinateDescri
     if (c->damping < 0.0) d.fail("damping", "must be >= 0");
     d.finish();
   }
-  if (r.has("moment" + suffix)) c->moment = readTimeFunction(r, "moment" + suffix);
+  const std::string load = (sliding ? "force" : "moment") + suffix;
+  if (r.has(load)) c->moment = readTimeFunction(r, load);
   if (r.has("prescribed" + suffix)) c->prescribed = readTimeFunction(r, "prescribed" + suffix);
 }
 
@@ -299,19 +304,20 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
   JointDescription j;
   j.name = r.string("name");
   j.type = r.string("type");
-  static const std::set<std::string> kTypes = {"spherical", "revolute", "universal",
-                                               "gear",      "rack_pinion", "differential"};
+  static const std::set<std::string> kTypes = {"spherical", "revolute",    "universal",   "prismatic",
+                                               "fixed",     "gear",        "rack_pinion", "differential"};
   if (!kTypes.count(j.type))
     r.fail("type", "unknown joint type '" + j.type +
-                       "' (known: spherical, revolute, universal, gear, rack_pinion, differential)");
+                       "' (known: spherical, revolute, universal, prismatic, fixed, gear, rack_pinion, differential)");
   j.main = r.string("main");
   j.secondary = r.string("secondary");
-  if (j.type == "spherical")
-    for (const char* key : {"spring", "damper", "moment", "prescribed"})
+  if (j.type == "spherical" || j.type == "fixed")
+    for (const char* key : {"spring", "damper", "moment", "force", "prescribed"})
       if (r.has(key))
-        r.fail(key, "a spherical joint has no joint coordinate to carry a spring, damper, moment or prescribed "
-                    "motion (use a revolute or universal joint)");
-  if (j.type == "spherical" || j.type == "revolute" || j.type == "universal") {
+        r.fail(key, "a " + j.type +
+                        " joint has no joint coordinate to carry a spring, damper, moment, force or prescribed "
+                        "motion (use a revolute, universal or prismatic joint)");
+  if (!j.isGear()) {
     j.anchor_main = r.vector3("anchor_main");
     j.anchor_secondary = r.vector3("anchor_secondary");
   }
@@ -323,6 +329,9 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     }
     if (r.has("initial_angle")) j.initial_angles[0] = r.number("initial_angle");
     readCoordinate(r, "", &j.coordinates[0]);
+  } else if (j.type == "prismatic") {
+    j.axis_main = r.vector3("axis_main");
+    readCoordinate(r, "", &j.coordinates[0], true);
   } else if (j.type == "universal") {
     j.axis_main = r.vector3("axis1_main");
     j.axis_secondary = r.vector3("axis2_secondary");
@@ -333,7 +342,7 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     }
     readCoordinate(r, "1", &j.coordinates[0]);
     readCoordinate(r, "2", &j.coordinates[1]);
-  } else if (j.type != "spherical") {
+  } else if (j.isGear()) {
     j.ratio = r.number("ratio");
     if (j.ratio == 0.0) r.fail("ratio", "gear ratio is 0 (a non-zero ratio is required)");
     if (r.has("carrier")) j.carrier = r.string("carrier");
@@ -505,7 +514,9 @@ SceneDescription parseScene(const std::string& text, const std::string& source, 
   return scene;
 }
 
-SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits) {
+SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits& limits,
+                           const ModelImportOptions& import) {
+  if (isModelFile(file_or_name)) return importModel(file_or_name, import, limits);
   std::string text;
   if (readInputFile(file_or_name, limits.max_input_bytes, &text)) {
     return parseScene(text, file_or_name, limits.max_bodies);

@@ -234,7 +234,12 @@ std::vector<std::string> Simulation::columns(bool imu) const {
     for (std::size_t k = 0; k < sys.model().joints.size(); ++k) {
       const std::string& j = sys.model().joints[k].name;
       const int nc = sys.coordinateCount(static_cast<int>(k));
-      if (nc == 1)
+      const multibody::JointKind kind = multibody::jointKind(sys.model().joints[k].constraint);
+      if (kind == multibody::JointKind::kPrismatic)
+        for (const char* c : {"x", "xdot", "force"}) cols.push_back(j + "." + c);
+      else if (kind == multibody::JointKind::kFixed)
+        for (const char* c : {"fx", "fy", "fz", "mx", "my", "mz"}) cols.push_back(j + "." + c);
+      else if (nc == 1)
         for (const char* c : {"phi", "phidot", "moment"}) cols.push_back(j + "." + c);
       if (nc == 2)
         for (const char* c : {"phi1", "phi2", "phi1dot", "phi2dot", "moment1", "moment2"}) cols.push_back(j + "." + c);

@@ -25,7 +25,9 @@
 #include "app/run_setup.hpp"
 #include "app/simulate_request.hpp"
 #include "app/study_request.hpp"
+#include "joints/import/model_import.hpp"
 #include "joints/scene.hpp"
+#include "joints/scene_writer.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "python/module_parts.hpp"
 #ifdef LIEFLOW_HAVE_CERES
@@ -155,7 +157,7 @@ py::dict simulate(std::vector<std::string> tokens, const std::optional<std::stri
     } else {
       if (probe_args.positional().size() != 1)
         throw app::UsageError("simulate needs exactly one SCENE (see lieflow simulate --help)");
-      scene = loadScene(tokens.front(), app::resourceLimitsFrom(probe_args));
+      scene = app::sceneFrom(probe_args, tokens.front());
       tokens.erase(tokens.begin());
     }
     scene->user_loads = userLoadsFrom(torques, moments);
@@ -300,6 +302,15 @@ void defineCommands(py::module_& m) {
 #else
   m.attr("have_calibration") = false;
 #endif
+  m.def(
+      "import_model",
+      [](const std::string& path, const std::string& ignore) {
+        const SceneDescription s = importModel(path, parseIgnoreList(ignore));
+        return py::make_tuple(sceneToJson(s), s.import_notes);
+      },
+      py::arg("path"), py::arg("ignore") = "");
+  m.attr("reads_mjcf") = canReadMjcf();
+  m.attr("reads_urdf") = canReadUrdf();
   m.def("scenes", [] {
     py::list names;
     for (const BuiltinScene& s : builtinScenes()) names.append(py::make_tuple(s.name, s.description));

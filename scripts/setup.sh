@@ -15,6 +15,8 @@ packages=(
   python3-matplotlib                            # plots of studies and papers/
   pybind11-dev python3-dev python3-numpy        # the Python module (python/)
   python3-pytest python3-distributed            # its tests; sweeps on Dask (lieflow.sweep)
+  libmujoco-dev libmujoco-samples               # MJCF models (joints/import/) and the MuJoCo peer of bench/
+  liburdfdom-dev libtinyxml2-dev                # URDF models; element lines for both importers
 )
 
 missing=()

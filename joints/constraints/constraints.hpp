@@ -9,6 +9,10 @@
 ///   angle_wrap.hpp       principal and unwrapped angles
 ///   spherical.hpp        spherical joint (3 rows)
 ///   dot_row.hpp          dot-1 row of two body-fixed directions
+///   dot_two_row.hpp      dot-2 row: a body-fixed direction against the anchors' separation
+///   align.hpp            three dot-1 rows holding the relative rotation
+///   prismatic.hpp        prismatic joint (5 rows) and its coordinate x
+///   fixed.hpp            fixed joint: a prismatic joint with its slide held
 ///   revolute.hpp         revolute joint (5 rows)
 ///   revolute_angle.hpp   φ_J, its rate, Jacobian and convective term
 ///   universal.hpp        universal joint (4 rows)
@@ -19,9 +23,13 @@
 
 #include "joints/constraints/angle_wrap.hpp"
 #include "joints/constraints/body_pose.hpp"
+#include "joints/constraints/align.hpp"
 #include "joints/constraints/dot_row.hpp"
+#include "joints/constraints/dot_two_row.hpp"
+#include "joints/constraints/fixed.hpp"
 #include "joints/constraints/gear.hpp"
 #include "joints/constraints/gear_terms.hpp"
+#include "joints/constraints/prismatic.hpp"
 #include "joints/constraints/revolute.hpp"
 #include "joints/constraints/revolute_angle.hpp"
 #include "joints/constraints/spherical.hpp"

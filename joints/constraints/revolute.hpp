@@ -46,6 +46,7 @@ Vector3<T> perpendicularUnit(const Vector3<T>& a) {
 template <typename T>
 struct RevoluteJoint {
   static constexpr int kRows = 5;
+  static constexpr int kPointRows = 3;  ///< the leading spherical rows
   using Residual = Eigen::Matrix<T, 5, 1>;
   using Blocks = ConstraintBlocks<T, 5, 2>;
 

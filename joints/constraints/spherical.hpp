@@ -29,6 +29,7 @@ namespace constraints {
 template <typename T>
 struct SphericalJoint {
   static constexpr int kRows = 3;
+  static constexpr int kPointRows = 3;  ///< all its rows are the point rows
   using Residual = Eigen::Matrix<T, 3, 1>;
   using Blocks = ConstraintBlocks<T, 3, 2>;
 

@@ -33,6 +33,7 @@ namespace constraints {
 template <typename T>
 struct UniversalJoint {
   static constexpr int kRows = 4;
+  static constexpr int kPointRows = 3;  ///< the leading spherical rows
   using Residual = Eigen::Matrix<T, 4, 1>;
   using Blocks = ConstraintBlocks<T, 4, 2>;
 

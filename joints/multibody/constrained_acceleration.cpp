@@ -19,17 +19,6 @@ JointPoses jointPoses(const Joint& j, const MultibodyState& s) {
   return p;
 }
 
-const constraints::SphericalJoint<double>& hingePoint(const JointConstraint& c) {
-  return std::visit(
-      [](const auto& con) -> const constraints::SphericalJoint<double>& {
-        if constexpr (std::is_same_v<std::decay_t<decltype(con)>, constraints::SphericalJoint<double>>)
-          return con;
-        else
-          return con.point;
-      },
-      c);
-}
-
 }  // namespace
 
 ConstrainedAccelerationSolver::ConstrainedAccelerationSolver(const MultibodyModel& model) {
@@ -195,7 +184,7 @@ bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const Mul
     const Joint& jt = model.joints[k];
     const auto lk = out.lambda.segment(schur_.rowBegin(k), schur_.groupRows(k));
     const JointPoses P = jointPoses(jt, state);
-    const Eigen::Vector3d anchor_world = P.a.toWorld(hingePoint(jt.constraint).anchor_main);
+    const Eigen::Vector3d anchor_world = P.a.toWorld(jointAnchors(jt.constraint).first);
     auto react = [&](const GroupBlock& B, const BodyPose<double>& pose) {
       const Eigen::Matrix<double, 6, 1> g = -(B.transpose() * lk);
       BodyReaction r;

@@ -217,6 +217,7 @@ void KktAssembly::advanceInto(const State& y, const Eigen::VectorXd& dq, const E
     const Joint& j = joints[k];
     const int nc = s.coordinateCount(static_cast<int>(k));
     if (nc == 0) continue;
+    if (jointKind(j.constraint) == JointKind::kPrismatic) continue;  // x is set from the poses below
     const Eigen::Vector3d da = rotation(j.main), db = rotation(j.secondary);
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
       const auto J = constraints::revoluteAngleJacobians(*rev, pose(j.main), pose(j.secondary));
@@ -343,20 +344,23 @@ const Eigen::SparseMatrix<double>& KktAssembly::matrix(const State& y, const Eig
     addBlock(body_block_[b], (body.inertia + damping_factor * C).eval(), r0, r0);
     Jr_[b] = SO3d::Jr(dq.segment<3>(s.dofBegin(b) + r0));
   }
-  // Springs k J_φᵀ J_φ T and dashpots c J_φᵀ J_φ (rotation columns of the
-  // joint's bodies; J_φ has no translation columns, as in forces()).
+  // Springs k J_φᵀ J_φ T and dashpots c J_φᵀ J_φ, T = diag(I, Jr) (J_φ has
+  // translation columns for a prismatic joint only; a rotation-only body
+  // takes the rotation columns).
   s.coordinateElementsInto(y, &elements_);
   for (const CoordinateElement& e : elements_) {
     const std::array<int, 2> body{{e.main, e.secondary}};
-    const std::array<Eigen::RowVector3d, 2> j{{e.J_main.tail<3>(), e.J_secondary.tail<3>()}};
+    const std::array<Eigen::Matrix<double, 1, 6>, 2> j{{e.J_main, e.J_secondary}};
     for (int p = 0; p < 2; ++p) {
       if (body[p] == kGround) continue;
       for (int q = 0; q < 2; ++q) {
         if (body[q] == kGround) continue;
-        const Eigen::RowVector3d row =
-            damping_factor * e.damping * j[q] + stiffness_factor * e.stiffness * (j[q] * Jr_[body[q]]);
-        addBlock(pair_block_[e.joint][p][q], (j[p].transpose() * row).eval(), rotationBegin(body[p]),
-                 rotationBegin(body[q]));
+        Eigen::Matrix<double, 1, 6> jT = j[q];
+        jT.tail<3>() = j[q].tail<3>() * Jr_[body[q]];
+        const Eigen::Matrix<double, 1, 6> row = damping_factor * e.damping * j[q] + stiffness_factor * e.stiffness * jT;
+        const Eigen::Matrix<double, 6, 6> K = j[p].transpose() * row;
+        const int cp = rot_[body[p]] ? 3 : 0, cq = rot_[body[q]] ? 3 : 0;
+        addBlock(pair_block_[e.joint][p][q], K.block(cp, cq, 6 - cp, 6 - cq));
       }
     }
   }
@@ -437,7 +441,7 @@ void KktAssembly::geometricStiffness(const State& y, const Eigen::VectorXd& lamb
     for (int sl = 0; sl < kMaxGroupBodies; ++sl) base_[g][sl] = S.block(g, sl);
   State& yp = perturbed_;
   yp = y;
-  const int j0 = s.hasGears() ? 0 : 3;  // gear rows may depend on positions
+  const int j0 = s.jacobiansDependOnPositions() ? 0 : 3;
   Eigen::Matrix<double, 1, 6> trow;
   for (int k = 0; k < colours_; ++k)
     for (int j = j0; j < 6; ++j) {

@@ -35,14 +35,11 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
       if (!d.hasForce()) continue;
       Row6 Ja, Jb;
       const double phi = coordinate(y, static_cast<int>(k), i, &Ja, &Jb);
-      double phidot = 0.0;
-      if (j.main != kGround) phidot += Ja.tail<3>().dot(y.bodies.velocities[j.main].omega);
-      if (j.secondary != kGround) phidot += Jb.tail<3>().dot(y.bodies.velocities[j.secondary].omega);
+      const double phidot = coordinateRate(y, j.main, j.secondary, Ja, Jb);
+      // Generalized force J_φᵀ M (the moment, or a prismatic joint's force).
       const double M = d.momentAt(t, phi, phidot);
-      // Generalized force J_φᵀ M (φ's Jacobian has no translation columns).
-      if (j.main != kGround) F->segment<3>(off_[j.main] + (rot_[j.main] ? 0 : 3)) += Ja.tail<3>().transpose() * M;
-      if (j.secondary != kGround)
-        F->segment<3>(off_[j.secondary] + (rot_[j.secondary] ? 0 : 3)) += Jb.tail<3>().transpose() * M;
+      addCoordinateForce(j.main, Ja, M, F);
+      addCoordinateForce(j.secondary, Jb, M, F);
     }
   }
 }

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -44,20 +45,52 @@ struct RigidBody {
 };
 
 /// The constraint types the acceleration solve handles.
+/// The index of each type is its JointKind.
 using JointConstraint = std::variant<constraints::SphericalJoint<double>,
                                      constraints::RevoluteJoint<double>,
-                                     constraints::UniversalJoint<double>>;
+                                     constraints::UniversalJoint<double>,
+                                     constraints::PrismaticJoint<double>,
+                                     constraints::FixedJoint<double>>;
+
+/// The kind of a joint: the index of its constraint in JointConstraint.
+enum class JointKind { kSpherical = 0, kRevolute = 1, kUniversal = 2, kPrismatic = 3, kFixed = 4 };
+
+inline JointKind jointKind(const JointConstraint& c) { return static_cast<JointKind>(c.index()); }
 
 inline int constraintRows(const JointConstraint& c) {
   return std::visit([](const auto& j) { return std::decay_t<decltype(j)>::kRows; }, c);
 }
 
+/// The number of leading rows that are a spherical joint's at the anchors
+/// (3, or 0 for the prismatic and fixed joints, whose rows are a slot's).
+inline int pointRows(const JointConstraint& c) {
+  return std::visit([](const auto& j) { return std::decay_t<decltype(j)>::kPointRows; }, c);
+}
+
+/// The joint's anchors s_a (main frame) and s_b (secondary frame).
+inline std::pair<Eigen::Vector3d, Eigen::Vector3d> jointAnchors(const JointConstraint& c) {
+  return std::visit(
+      [](const auto& j) -> std::pair<Eigen::Vector3d, Eigen::Vector3d> {
+        using C = std::decay_t<decltype(j)>;
+        if constexpr (std::is_same_v<C, constraints::SphericalJoint<double>>)
+          return {j.anchor_main, j.anchor_secondary};
+        else if constexpr (std::is_base_of_v<constraints::PrismaticJoint<double>, C>)  // prismatic, fixed
+          return {j.anchor_main, j.anchor_secondary};
+        else
+          return {j.point.anchor_main, j.point.anchor_secondary};
+      },
+      c);
+}
+
 inline const char* constraintTypeName(const JointConstraint& c) {
-  switch (c.index()) {
-    case 0: return "spherical";
-    case 1: return "revolute";
-    default: return "universal";
+  switch (jointKind(c)) {
+    case JointKind::kSpherical: return "spherical";
+    case JointKind::kRevolute: return "revolute";
+    case JointKind::kUniversal: return "universal";
+    case JointKind::kPrismatic: return "prismatic";
+    case JointKind::kFixed: return "fixed";
   }
+  return "joint";
 }
 
 /// A joint between bodies `main` and `secondary` (body indices, kGround = −1

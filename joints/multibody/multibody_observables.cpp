@@ -74,8 +74,9 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
   std::vector<JointOutput> out(nj);
   bool any = false;
   for (int k = 0; k < nj; ++k) {
+    out[k].kind = jointKind(model_.joints[k].constraint);
     out[k].coordinates = coordinateCount(k);
-    any = any || out[k].coordinates > 0;
+    any = any || out[k].coordinates > 0 || out[k].kind == JointKind::kFixed;
   }
   if (!any) return out;
   Eigen::VectorXd udot, lambda;
@@ -93,11 +94,31 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
   };
   for (int k = 0; k < nj; ++k) {
     JointOutput& o = out[k];
-    if (o.coordinates == 0) continue;
     const Joint& j = model_.joints[k];
     BodyPose<double> pa, pb;
     BodyVelocity<double> va, vb;
     poses(y, j.main, j.secondary, &pa, &pb, &va, &vb);
+    if (o.kind == JointKind::kFixed) {
+      // The reaction on the secondary body (or minus that on the main body
+      // when the secondary is ground): −J_sᵀ λ, a force (world) and a moment
+      // (body frame, about its centre of mass), moved to the anchor and
+      // turned into the main body's frame.
+      if (!solved) continue;
+      const bool on_secondary = j.secondary != kGround;
+      const BodyPose<double>& P = on_secondary ? pb : pa;
+      Eigen::Matrix<double, 6, 1> g =
+          -S.block(k, on_secondary ? 1 : 0).transpose() * lambda.segment(S.rowBegin(k), S.groupRows(k));
+      // The held slide's row (constraints/fixed.hpp), as a prescribed one.
+      Row6 Ja, Jb;
+      coordinate(y, k, 0, &Ja, &Jb);
+      g -= (on_secondary ? Jb : Ja).transpose() * lambda[prescribedRow(k, 0)];
+      const Eigen::Vector3d anchor = pa.toWorld(jointAnchors(j.constraint).first);
+      const Eigen::Vector3d moment = P.R * g.tail<3>() - (anchor - P.p).cross(g.head<3>());
+      const double sign = on_secondary ? 1.0 : -1.0;
+      o.reaction << sign * (pa.R.inverse() * g.head<3>()), sign * (pa.R.inverse() * moment);
+      continue;
+    }
+    if (o.coordinates == 0) continue;
     // Generalized force (f world, τ body) of the joint on the main body (or on
     // the secondary when main is ground, negated at the end).
     const bool use_main = j.main != kGround;
@@ -109,6 +130,9 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
       axes[0] = pa.R * rev->axis_main;
       anchor = pa.toWorld(rev->point.anchor_main);
+    } else if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint)) {
+      axes[0] = pa.R * pri->axis_main;
+      anchor = pa.toWorld(pri->anchor_main);
     } else {
       const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
       axes[0] = pa.R * uni.axis1_main;
@@ -119,7 +143,7 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
     for (int i = 0; i < o.coordinates; ++i) {
       Row6 Ja, Jb;
       o.phi[i] = coordinate(y, k, i, &Ja, &Jb);
-      o.phidot[i] = Ja.tail<3>().dot(va.omega) + Jb.tail<3>().dot(vb.omega);
+      o.phidot[i] = coordinateRate(y, j.main, j.secondary, Ja, Jb);
       const Row6& Jside = use_main ? Ja : Jb;
       const CoordinateDrive& d = drives_[k][i];
       double M = 0.0;
@@ -128,8 +152,13 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
       if (solved && pr >= 0) M -= lambda[pr];
       g += Jside.transpose() * M;
     }
+    const double sign = use_main ? 1.0 : -1.0;
+    if (o.kind == JointKind::kPrismatic) {
+      o.moment[0] = sign * g.head<3>().dot(axes[0]);  // the force along the axis
+      continue;
+    }
     const Eigen::Vector3d moment = P.R * g.tail<3>() - (anchor - P.p).cross(g.head<3>());
-    for (int i = 0; i < o.coordinates; ++i) o.moment[i] = (use_main ? 1.0 : -1.0) * moment.dot(axes[i]);
+    for (int i = 0; i < o.coordinates; ++i) o.moment[i] = sign * moment.dot(axes[i]);
   }
   return out;
 }

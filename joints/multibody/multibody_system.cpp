@@ -34,15 +34,9 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
   };
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const Joint& j = model_.joints[k];
-    const auto& point = std::visit(
-        [](const auto& con) -> const constraints::SphericalJoint<double>& {
-          if constexpr (std::is_same_v<std::decay_t<decltype(con)>, constraints::SphericalJoint<double>>)
-            return con;
-          else
-            return con.point;
-        },
-        j.constraint);
-    const bool trivial = fixedPoint(j.main, point.anchor_main) && fixedPoint(j.secondary, point.anchor_secondary);
+    const auto anchors = jointAnchors(j.constraint);
+    const bool trivial = pointRows(j.constraint) == 3 && fixedPoint(j.main, anchors.first) &&
+                         fixedPoint(j.secondary, anchors.second);
     skip_rows_.push_back(trivial ? 3 : 0);
     RowGroup g;
     g.bodies = {{j.main, j.secondary, kGround, kGround}};
@@ -89,8 +83,13 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
     }
     gear_rows_.push_back(rows);
   }
+  // A fixed joint's slide x is held at 0 (constraints/fixed.hpp): a
+  // prescribed row of its own, as its sixth constraint.
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i)
+    if (jointKind(model_.joints[k].constraint) == JointKind::kFixed)
+      drives_[k][0].prescribed = TimeFunction::constant(0.0);
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < std::max(1, coordinateCount(static_cast<int>(k))); ++i)
       if (drives_[k][i].prescribed) {
         prescribed_.push_back({static_cast<int>(k), i});
         RowGroup g;
@@ -110,10 +109,11 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<Co
 }
 
 int MultibodySystem::coordinateCount(int k) const {
-  switch (model_.joints[k].constraint.index()) {
-    case 1: return 1;  // revolute
-    case 2: return 2;  // universal
-    default: return 0;
+  switch (jointKind(model_.joints[k].constraint)) {
+    case JointKind::kRevolute:
+    case JointKind::kPrismatic: return 1;
+    case JointKind::kUniversal: return 2;
+    default: return 0;  // spherical; fixed (its held slide is a prescribed row, not an output)
   }
 }
 
@@ -152,9 +152,10 @@ void MultibodySystem::validate() const {
       const CoordinateDrive& d = drives_[k][i];
       const bool used = d.hasForce() || d.prescribed.has_value() || d.rest_angle != 0.0;
       if (i >= nc && used)
-        throw InvalidInput(label, nc == 0 ? "a spherical joint has no joint coordinate to carry a spring, "
-                                            "damper, moment or prescribed motion"
-                                          : "a revolute joint has one joint coordinate");
+        throw InvalidInput(label, std::string("a ") + constraintTypeName(model_.joints[k].constraint) +
+                                      (nc == 0 ? " joint has no joint coordinate to carry a spring, damper, "
+                                                 "moment, force or prescribed motion"
+                                               : " joint has one joint coordinate"));
       if (!(std::isfinite(d.stiffness) && d.stiffness >= 0.0))
         throw InvalidInput(label + ".spring.stiffness", "must be finite and >= 0");
       if (!std::isfinite(d.rest_angle)) throw InvalidInput(label + ".spring.rest_angle", "must be finite");
@@ -212,6 +213,17 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
     }
     return constraints::revoluteAngle(*rev, a, b, y.angles[2 * k]);
   }
+  const constraints::PrismaticJoint<double>* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint);
+  if (!pri) pri = std::get_if<constraints::FixedJoint<double>>(&j.constraint);  // its held slide
+  if (pri) {
+    const auto x = pri->position();
+    if (Ja) {
+      const auto J = x.jacobians(a, b);
+      *Ja = J[0];
+      *Jb = J[1];
+    }
+    return x.value(a, b);
+  }
   const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
   if (Ja) {
     const auto J = constraints::universalAngleJacobians(uni, a, b);
@@ -222,6 +234,25 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
   return i == 0 ? ang.phi1 : ang.phi2;
 }
 
+double MultibodySystem::coordinateRate(const State& y, int main, int secondary, const Row6& Ja,
+                                       const Row6& Jb) const {
+  // A rotation-only body's δp columns have no coordinates (its v is 0).
+  auto part = [&](int body, const Row6& J) {
+    if (body == kGround) return 0.0;
+    const BodyVelocity<double>& u = y.bodies.velocities[body];
+    return J.tail<3>().dot(u.omega) + (rot_[body] ? 0.0 : J.head<3>().dot(u.v));
+  };
+  return part(main, Ja) + part(secondary, Jb);
+}
+
+void MultibodySystem::addCoordinateForce(int body, const Row6& J, double M, Eigen::VectorXd* F) const {
+  if (body == kGround) return;
+  if (rot_[body])
+    F->segment<3>(off_[body]) += J.tail<3>().transpose() * M;
+  else
+    F->segment<6>(off_[body]) += J.transpose() * M;
+}
+
 double MultibodySystem::coordinateConvective(const State& y, int k, int i) const {
   const Joint& j = model_.joints[k];
   BodyPose<double> a, b;
@@ -229,6 +260,10 @@ double MultibodySystem::coordinateConvective(const State& y, int k, int i) const
   poses(y, j.main, j.secondary, &a, &b, &va, &vb);
   if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint))
     return constraints::revoluteAngleConvective(*rev, a, b, va, vb);
+  if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint))
+    return pri->position().convective(a, b, va, vb);
+  if (const auto* fix = std::get_if<constraints::FixedJoint<double>>(&j.constraint))
+    return fix->position().convective(a, b, va, vb);
   const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
   return constraints::universalAngleConvective(uni, a, b, va, vb)[i];
 }
@@ -240,7 +275,9 @@ void MultibodySystem::rebaseAngles(State* y) const {
     const Joint& j = model_.joints[k];
     BodyPose<double> a, b;
     poses(*y, j.main, j.secondary, &a, &b, nullptr, nullptr);
-    if (nc == 1) {
+    if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint)) {
+      y->angles[2 * k] = pri->position().value(a, b);  // a length: nothing to unwrap
+    } else if (nc == 1) {
       y->angles[2 * k] = constraints::revoluteAngle(std::get<constraints::RevoluteJoint<double>>(j.constraint), a,
                                                     b, y->angles[2 * k]);
     } else {

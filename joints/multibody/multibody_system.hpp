@@ -140,8 +140,14 @@ struct CoordinateElement {
 
 /// Joint outputs for the trajectory CSV (README "Trajectory and recording CSV").
 struct JointOutput {
-  int coordinates = 0;               ///< 0 (spherical), 1 (revolute), 2 (universal)
+  JointKind kind = JointKind::kSpherical;
+  int coordinates = 0;               ///< 0 (spherical, fixed), 1 (revolute, prismatic), 2 (universal)
+  /// Per coordinate: φ, φ̇ and the moment on the main body about the axis
+  /// (prismatic: x, ẋ and the force on the main body along the axis).
   std::array<double, 2> phi{}, phidot{}, moment{};
+  /// Fixed joint: the reaction on the secondary body, force (fx, fy, fz) and
+  /// moment about the anchor (mx, my, mz), in the main body's frame.
+  Eigen::Matrix<double, 6, 1> reaction = Eigen::Matrix<double, 6, 1>::Zero();
   double condition = 1.0;            ///< universal: κ = 1/min|cos φᵢ| (universal_angles.hpp)
 };
 
@@ -190,6 +196,15 @@ class MultibodySystem {
   int coordinateCount(int k) const;
   bool hasConstraints() const { return all_groups_.size() > 0; }
   bool hasGears() const { return !gears_.empty(); }
+  /// Whether some constraint block changes with the bodies' positions p (the
+  /// gear rows and the prismatic joint's dot-2 rows; the other joints' blocks
+  /// depend on the rotations only).
+  bool jacobiansDependOnPositions() const {
+    if (hasGears()) return true;
+    for (const Joint& j : model_.joints)
+      if (jointKind(j.constraint) == JointKind::kPrismatic || jointKind(j.constraint) == JointKind::kFixed) return true;
+    return false;
+  }
   int positionRowCount() const;
 
   /// The state for body poses/velocities (angles set to principal values).
@@ -288,6 +303,13 @@ class MultibodySystem {
   double coordinate(const State& y, int k, int i, Eigen::Matrix<double, 1, 6>* Ja,
                     Eigen::Matrix<double, 1, 6>* Jb) const;
   double coordinateConvective(const State& y, int k, int i) const;
+  /// φ̇ = J_a u_a + J_b u_b from a coordinate's Jacobian rows (bodies main,
+  /// secondary; kGround contributes nothing).
+  double coordinateRate(const State& y, int main, int secondary, const Eigen::Matrix<double, 1, 6>& Ja,
+                        const Eigen::Matrix<double, 1, 6>& Jb) const;
+  /// F += Jᵀ M on `body`'s coordinates (only the δθ columns of a
+  /// rotation-only body; nothing for kGround).
+  void addCoordinateForce(int body, const Eigen::Matrix<double, 1, 6>& J, double M, Eigen::VectorXd* F) const;
   /// The poses and velocities of gear constraint C's nodes at y (the
   /// ground's for a ground node); with `as_multiplied`, a rotation-only
   /// body's v is zeroed, as multiplyJ sees it (no δp columns).

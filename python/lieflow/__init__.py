@@ -34,6 +34,7 @@ from .commands import (  # noqa: E402
     calibrate_spherical,
     calibrate_spring,
     calibrate_universal,
+    import_model,
     scenes,
     simulate,
     stability,
@@ -52,5 +53,5 @@ def __getattr__(name):
 
 __all__ = [
     "ComputationError", "InputError", "SE3", "SO3", "SimulationResult", "__version__", "calibrate_hinge",
-    "calibrate_spring", "calibrate_universal", "scenes", "simulate", "stability", "study", "sweep",
+    "calibrate_spring", "calibrate_universal", "import_model", "scenes", "simulate", "stability", "study", "sweep",
 ]

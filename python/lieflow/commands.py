@@ -13,6 +13,7 @@ import numbers
 import os
 import shutil
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -104,7 +105,7 @@ def _flags(spec, values):
 
 
 _LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input-mb", _integer),
-           "max_bodies": ("--max-bodies", _integer)}
+           "max_bodies": ("--max-bodies", _integer), "ignore": ("--ignore", _names)}
 
 
 def _scene(scene, what="scene"):
@@ -115,6 +116,21 @@ def _scene(scene, what="scene"):
     if isinstance(scene, (str, os.PathLike)):
         return [os.fspath(scene)], None
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
+
+
+def import_model(model, ignore=None):
+    """A MuJoCo MJCF (.xml) or URDF (.urdf) model as the scene it becomes, as
+    ``lieflow import MODEL``: a dict in the scene schema (welded links merged;
+    pass it to simulate, study or stability, or edit it first). ignore: what
+    the model may leave out (e.g. ["contacts", "limits"], or ["all"]); what was
+    left out is reported with warnings.warn. Raises InputError naming the file,
+    element and line for what lieflow cannot represent."""
+    if not isinstance(model, (str, os.PathLike)):
+        raise InputError(f"model: expected a path to a .xml or .urdf file, got {type(model).__name__}")
+    text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "")
+    if notes:
+        warnings.warn(f"lieflow: {os.fspath(model)}: ignored " + "; ".join(notes), stacklevel=2)
+    return json.loads(text)
 
 
 def scenes():
@@ -135,11 +151,13 @@ def _callables(name, loads):
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
              moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
-             imu=False):
+             imu=False, ignore=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
-    scene:      a scene file, a built-in name (``lieflow.scenes()``) or a dict
-                in the scene schema;
+    scene:      a scene file, a model file (MJCF .xml, URDF .urdf), a built-in
+                name (``lieflow.scenes()``) or a dict in the scene schema;
+    ignore:     what a model file may leave out (--ignore), e.g.
+                ["contacts", "limits"]; what was left out is printed to stderr;
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
                 (None: the scene's own);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
@@ -175,7 +193,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
             "acc": ("--noise-acc", _number), "bias_gyro": ("--bias-gyro", _number),
             "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
-                                            formulation=formulation, imu=imu,
+                                            formulation=formulation, imu=imu, ignore=ignore,
                                             max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
@@ -233,7 +251,7 @@ class _OutputDirectory:
 
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
-          max_steps=None, max_input_mb=None, max_bodies=None, formulation=None):
+          max_steps=None, max_input_mb=None, max_bodies=None, formulation=None, ignore=None):
     """Work-precision study, as ``lieflow study SCENE``.
 
     Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
@@ -250,7 +268,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, dt=dt, t_end=t_end, min_time=min_time,
                                                 options=options, max_steps=max_steps, max_input_mb=max_input_mb,
-                                                max_bodies=max_bodies, formulation=formulation))
+                                                max_bodies=max_bodies, formulation=formulation, ignore=ignore))
         tokens += ["--out", directory.path]
         if not plots:
             tokens.append("--no-plots")
@@ -265,7 +283,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
 
 
 def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
-              max_input_mb=None, max_bodies=None, formulation=None):
+              max_input_mb=None, max_bodies=None, formulation=None, ignore=None):
     """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
     and scene the largest bounded h*omega_c. scenes: a list of files, built-in
     names or dicts (default stiff-spring and fast-top). Returns a dict:
@@ -287,7 +305,7 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
                                                 max_input_mb=max_input_mb, max_bodies=max_bodies,
-                                                formulation=formulation))
+                                                formulation=formulation, ignore=ignore))
         tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
         raw = _lieflow.stability(tokens, jsons)
         result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),

@@ -1,0 +1,46 @@
+/// \file
+/// `lieflow import MODEL [--out SCENE.json] [--ignore LIST]`: a MuJoCo MJCF
+/// or URDF model as the lieflow scene it becomes (joints/import/), written so
+/// that it can be read and edited, then run like any scene file.
+#include <iostream>
+
+#include "app/arguments.hpp"
+#include "app/cli.hpp"
+#include "app/commands.hpp"
+#include "app/output_files.hpp"
+#include "joints/import/model_import.hpp"
+#include "joints/scene_writer.hpp"
+
+namespace lieflow {
+namespace app {
+
+int runImport(int argc, char** argv) {
+  const Arguments args(argc, argv, {"--out", "--ignore", "--max-input-mb", "--max-bodies"}, {});
+  if (args.help()) {
+    std::cout << "usage: lieflow import MODEL.xml|MODEL.urdf [--out SCENE.json] [--ignore LIST]\n\n"
+                 "Writes the lieflow scene a model file becomes (to stdout without --out). MJCF is read by\n"
+                 "MuJoCo's compiler (libmujoco-dev: " << (canReadMjcf() ? "present" : "absent in this build")
+              << "), URDF by urdfdom (liburdfdom-dev: " << (canReadUrdf() ? "present" : "absent in this build")
+              << ").\nWelded links are merged into one body; a URDF's root link is the ground. What lieflow\n"
+                 "cannot represent is refused with the list of elements, unless --ignore names its category:\n";
+    for (const auto& [name, what] : ignorableFeatures()) std::cout << "  " << name << ": " << what << "\n";
+    std::cout << "  all: every category above\nWhat was ignored is printed to stderr. The same --ignore works on "
+                 "simulate, study and stability,\nwhich take model files wherever they take a SCENE.\n";
+    return kSuccess;
+  }
+  if (args.positional().size() != 1) throw UsageError("import needs exactly one MODEL (see lieflow import --help)");
+  const std::string& model = args.positional()[0];
+  if (!isModelFile(model)) throw UsageError("import: '" + model + "' is not a model file (.xml for MJCF, .urdf)");
+  const std::string text = sceneToJson(sceneFrom(args, model));
+  if (!args.has("--out")) {
+    std::cout << text;
+    return kSuccess;
+  }
+  AtomicOutputFile out(args.value("--out", ""), "--out");
+  out.stream() << text;
+  out.commit();
+  return kSuccess;
+}
+
+}  // namespace app
+}  // namespace lieflow

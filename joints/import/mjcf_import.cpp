@@ -1,0 +1,266 @@
+// MuJoCo MJCF models through MuJoCo's own compiler (Debian libmujoco-dev):
+// model_readers.hpp. Defaults, classes, frames, angle units, Euler sequences
+// and inertias from geoms are as MuJoCo reads them, because it is MuJoCo
+// that reads them; this file maps the compiled mjModel at qpos0.
+#include "joints/import/model_readers.hpp"
+
+#include "liegroup/invalid_input.hpp"
+
+#ifdef LIEFLOW_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "joints/import/model_to_scene.hpp"
+#include "joints/import/xml_lines.hpp"
+#endif
+
+namespace lieflow {
+
+#ifndef LIEFLOW_HAVE_MUJOCO
+
+bool canReadMjcf() { return false; }
+
+namespace model_import {
+ModelDescription readMjcf(const std::string&, const std::string& path, const ModelImportOptions&) {
+  throw InvalidInput(path, "reading MuJoCo MJCF needs MuJoCo's compiler, which this lieflow was built without "
+                           "(apt-get install libmujoco-dev libtinyxml2-dev, then rebuild lieflow)");
+}
+}  // namespace model_import
+
+#else
+
+bool canReadMjcf() { return true; }
+
+namespace model_import {
+
+namespace {
+
+/// Two hinges make a universal joint when they pass through one point to
+/// this distance (m) and their axes are orthogonal to this |cos|.
+constexpr double kSamePoint = 1e-12;
+constexpr double kOrthogonal = 1e-9;
+
+/// MuJoCo's warnings while it compiles, kept instead of printed.
+std::string* g_warnings = nullptr;
+void keepWarning(const char* text) {
+  if (g_warnings) *g_warnings += (g_warnings->empty() ? "" : "; ") + std::string(text);
+}
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+Eigen::Vector3d vec3(const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
+Eigen::Matrix3d mat3(const mjtNum* x) {
+  Eigen::Matrix3d R;
+  R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];  // row-major
+  return R;
+}
+
+std::string nameOf(const mjModel* m, int type, int id, const char* kind) {
+  const char* n = mj_id2name(m, type, id);
+  if (n && *n) return n;
+  return std::string(kind) + " " + std::to_string(id);
+}
+
+}  // namespace
+
+ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options) {
+  const XmlLines xml(text, path);
+  if (xml.rootTag() != "mujoco")
+    throw InvalidInput(path, "an MJCF file's root element is <mujoco>, not <" + xml.rootTag() + ">");
+  std::string warnings;
+  char error[1024] = "";
+  g_warnings = &warnings;
+  void (*previous_warning)(const char*) = mju_user_warning;
+  mju_user_warning = keepWarning;
+  std::unique_ptr<mjModel, ModelDeleter> m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+  mju_user_warning = previous_warning;
+  g_warnings = nullptr;
+  if (!m) throw InvalidInput(path, std::string("MuJoCo's compiler refuses it: ") + (*error ? error : warnings.c_str()));
+  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m.get()));
+  mj_kinematics(m.get(), d.get());  // poses at qpos0
+
+  ModelDescription model;
+  model.source = path;
+  model.name = nameOf(m.get(), mjOBJ_BODY, 0, "model");
+  if (const char* n = mj_id2name(m.get(), mjOBJ_BODY, 0); !n || std::string(n) == "world") {
+    const std::string file = path.substr(path.find_last_of('/') + 1);
+    model.name = file.substr(0, file.find_last_of('.'));
+  }
+  model.gravity = vec3(m->opt.gravity);
+  model.timestep = m->opt.timestep;
+  auto line = [&](const char* tag, int type, int id) {
+    const char* n = mj_id2name(m.get(), type, id);
+    return n ? xml.line(tag, n) : 0;
+  };
+  auto label = [&](const char* tag, int type, int id) {
+    return elementLabel(tag, nameOf(m.get(), type, id, tag), line(tag, type, id));
+  };
+
+  // What lieflow does not represent.
+  UnsupportedFeatures unsupported;
+  if (!(m->opt.disableflags & mjDSBL_CONTACT))
+    for (int g = 0; g < m->ngeom; ++g)
+      if (m->geom_contype[g] || m->geom_conaffinity[g]) unsupported.add("contacts", label("geom", mjOBJ_GEOM, g));
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_limited[j]) unsupported.add("limits", label("joint", mjOBJ_JOINT, j));
+    const int dof = m->jnt_dofadr[j];
+    const int ndof = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    bool armature = false, friction = false;
+    for (int k = dof; k < dof + ndof; ++k) {
+      armature = armature || m->dof_armature[k] != 0.0;
+      friction = friction || m->dof_frictionloss[k] != 0.0;
+    }
+    if (armature) unsupported.add("armature", label("joint", mjOBJ_JOINT, j));
+    if (friction) unsupported.add("friction", label("joint", mjOBJ_JOINT, j));
+  }
+  for (int u = 0; u < m->nu; ++u) unsupported.add("actuators", label("actuator", mjOBJ_ACTUATOR, u));
+  for (int t = 0; t < m->ntendon; ++t) unsupported.add("tendons", label("tendon", mjOBJ_TENDON, t));
+  for (int e = 0; e < m->neq; ++e) {
+    const int type = m->eq_type[e];
+    const mjtNum* c = m->eq_data + e * mjNEQDATA;
+    const bool linear_coupling = type == mjEQ_JOINT && m->eq_obj2id[e] >= 0 && c[2] == 0 && c[3] == 0 && c[4] == 0;
+    if (type != mjEQ_CONNECT && type != mjEQ_WELD && !linear_coupling)
+      unsupported.add("equalities", label("equality", mjOBJ_EQUALITY, e));
+  }
+  unsupported.resolve(options, &model);
+
+  // Links: every body but the world (body 0), at qpos0.
+  for (int b = 1; b < m->nbody; ++b) {
+    ModelLink l;
+    l.name = nameOf(m.get(), mjOBJ_BODY, b, "body");
+    l.line = line("body", mjOBJ_BODY, b);
+    if (l.name == "ground")
+      throw InvalidInput(path + ": " + elementLabel("body", l.name, l.line),
+                         "'ground' is lieflow's name for the world: rename the body");
+    if (m->body_mocapid[b] >= 0)
+      throw InvalidInput(path + ": " + elementLabel("body", l.name, l.line),
+                         "is a mocap body (moved by the user, not by dynamics): lieflow cannot simulate it");
+    l.mass = m->body_mass[b];
+    l.com_world = vec3(d->xipos + 3 * b);
+    const Eigen::Matrix3d Ri = mat3(d->ximat + 9 * b);
+    l.inertia_world = Ri * vec3(m->body_inertia + 3 * b).asDiagonal() * Ri.transpose();
+    l.orientation = Eigen::Quaterniond(d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2], d->xquat[4 * b + 3]);
+    model.links.push_back(l);
+  }
+  auto link = [](int body) { return body - 1; };  // the world is −1
+
+  // Joints: a body's joints to its parent (none: welded).
+  std::map<int, int> scene_joint_of_mj;  // MuJoCo joint → model joint (hinges, slides)
+  for (int b = 1; b < m->nbody; ++b) {
+    const int first = m->body_jntadr[b], count = m->body_jntnum[b];
+    ModelJoint mj;
+    mj.parent = link(m->body_parentid[b]);
+    mj.child = link(b);
+    const std::string body_label = elementLabel("body", model.links[link(b)].name, model.links[link(b)].line);
+    if (count == 0) {
+      mj.type = ModelJointType::kFixed;
+      mj.name = model.links[link(b)].name + "-weld";
+      mj.line = model.links[link(b)].line;
+      model.joints.push_back(mj);
+      continue;
+    }
+    const int j0 = first;
+    mj.name = nameOf(m.get(), mjOBJ_JOINT, j0, "joint");
+    mj.line = line("joint", mjOBJ_JOINT, j0);
+    mj.anchor_world = vec3(d->xanchor + 3 * j0);
+    mj.axis_world = vec3(d->xaxis + 3 * j0);
+    auto coordinate = [&](int j, int i) {
+      const int q = m->jnt_qposadr[j];
+      mj.initial[i] = m->qpos0[q];
+      mj.stiffness[i] = m->jnt_stiffness[j];
+      mj.rest[i] = m->qpos_spring[q];
+      mj.damping[i] = m->dof_damping[m->jnt_dofadr[j]];
+    };
+    const int type = m->jnt_type[j0];
+    if (count == 1) {
+      if (type == mjJNT_FREE) {
+        if (mj.parent != -1)
+          throw InvalidInput(path + ": " + elementLabel("joint", mj.name, mj.line), "a free joint must be on a top-level body");
+        mj.type = ModelJointType::kFree;
+      } else if (type == mjJNT_BALL) {
+        mj.type = ModelJointType::kSpherical;
+        if (m->jnt_stiffness[j0] != 0.0 || m->dof_damping[m->jnt_dofadr[j0]] != 0.0)
+          throw InvalidInput(path + ": " + elementLabel("joint", mj.name, mj.line),
+                             "a ball joint with stiffness or damping: lieflow's spherical joint has no coordinate "
+                             "to carry them");
+      } else {
+        mj.type = type == mjJNT_SLIDE ? ModelJointType::kPrismatic : ModelJointType::kRevolute;
+        coordinate(j0, 0);
+        scene_joint_of_mj[j0] = static_cast<int>(model.joints.size());
+      }
+      model.joints.push_back(mj);
+      continue;
+    }
+    // Two hinges through one point with orthogonal axes: a universal joint.
+    const int j1 = first + 1;
+    const bool universal = count == 2 && type == mjJNT_HINGE && m->jnt_type[j1] == mjJNT_HINGE &&
+                           (vec3(d->xanchor + 3 * j1) - mj.anchor_world).norm() <= kSamePoint &&
+                           std::abs(vec3(d->xaxis + 3 * j1).dot(mj.axis_world)) <= kOrthogonal;
+    if (!universal) {
+      std::string names;
+      for (int j = first; j < first + count; ++j) names += (names.empty() ? "" : ", ") + nameOf(m.get(), mjOBJ_JOINT, j, "joint");
+      throw InvalidInput(path + ": " + body_label,
+                         "has " + std::to_string(count) + " joints (" + names +
+                             "): lieflow joins two bodies by one joint; two hinges through one point with "
+                             "orthogonal axes make a universal joint, other combinations are not represented");
+    }
+    mj.type = ModelJointType::kUniversal;
+    mj.name = mj.name + "+" + nameOf(m.get(), mjOBJ_JOINT, j1, "joint");
+    mj.axis2_world = vec3(d->xaxis + 3 * j1);
+    coordinate(j0, 0);
+    coordinate(j1, 1);
+    model.joints.push_back(mj);
+  }
+
+  // Equality constraints: connect → spherical, weld → fixed, joint → coupling.
+  for (int e = 0; e < m->neq; ++e) {
+    if (!m->eq_active[e]) continue;
+    const int type = m->eq_type[e];
+    const mjtNum* c = m->eq_data + e * mjNEQDATA;
+    const std::string name = nameOf(m.get(), mjOBJ_EQUALITY, e, "equality");
+    const int eline = line("equality", mjOBJ_EQUALITY, e);
+    if (type == mjEQ_CONNECT || type == mjEQ_WELD) {
+      ModelClosure cl;
+      cl.name = name;
+      cl.line = eline;
+      cl.type = type == mjEQ_CONNECT ? ModelJointType::kSpherical : ModelJointType::kFixed;
+      const int b1 = m->eq_obj1id[e], b2 = m->eq_obj2id[e];
+      cl.link1 = link(b1);
+      cl.link2 = link(b2);
+      // connect: the anchor in body 1's frame; weld: body 2's origin.
+      cl.anchor_world = type == mjEQ_CONNECT ? Eigen::Vector3d(vec3(d->xpos + 3 * b1) + mat3(d->xmat + 9 * b1) * vec3(c))
+                                             : vec3(d->xpos + 3 * b2);
+      model.closures.push_back(cl);
+    } else if (type == mjEQ_JOINT && m->eq_obj2id[e] >= 0) {
+      const int follower = m->eq_obj1id[e], leader = m->eq_obj2id[e];
+      if (!scene_joint_of_mj.count(follower) || !scene_joint_of_mj.count(leader))
+        throw InvalidInput(path + ": " + elementLabel("equality", name, eline),
+                           "couples joints lieflow cannot couple (a gear row joins two single hinges of one parent)");
+      ModelCoupling g;
+      g.name = name;
+      g.line = eline;
+      g.leader = model.joints[scene_joint_of_mj[leader]].name;
+      g.follower = model.joints[scene_joint_of_mj[follower]].name;
+      g.multiplier = c[1];
+      // MuJoCo: q₁ − q₁⁰ = a₀ + a₁ (q₂ − q₂⁰); here q_f = a₁ q_l + offset.
+      g.offset = c[0] + m->qpos0[m->jnt_qposadr[follower]] - c[1] * m->qpos0[m->jnt_qposadr[leader]];
+      model.couplings.push_back(g);
+    }
+  }
+  return model;
+}
+
+}  // namespace model_import
+
+#endif
+
+}  // namespace lieflow

@@ -1,0 +1,242 @@
+#include "joints/import/model_to_scene.hpp"
+
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "joints/constraints/revolute.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace model_import {
+
+namespace {
+
+/// Below this (kg) a group of links has no mass to move.
+constexpr double kMassFloor = 1e-12;
+/// A merged body's inertia must have λ_min > this × λ_max.
+constexpr double kInertiaConditionFloor = 1e-12;
+
+constexpr int kGroundGroup = -1;
+
+/// Union of welded links: each link's group root (the link nearest the
+/// model's root), or kGroundGroup when welded to the world.
+class WeldGroups {
+ public:
+  explicit WeldGroups(int n) : up_(n) { std::iota(up_.begin(), up_.end(), 0); }
+  int find(int i) const {
+    while (i != kGroundGroup && up_[i] != i) i = up_[i];
+    return i;
+  }
+  /// Welds child's group into parent's (parent −1: the ground).
+  void weld(int parent, int child) {
+    const int a = parent < 0 ? kGroundGroup : find(parent), b = find(child);
+    if (a == b || b == kGroundGroup) return;
+    up_[b] = a;
+  }
+
+ private:
+  std::vector<int> up_;
+};
+
+std::string jointTypeName(ModelJointType t) {
+  switch (t) {
+    case ModelJointType::kRevolute: return "revolute";
+    case ModelJointType::kPrismatic: return "prismatic";
+    case ModelJointType::kSpherical: return "spherical";
+    case ModelJointType::kUniversal: return "universal";
+    case ModelJointType::kFixed: return "fixed";
+    case ModelJointType::kFree: return "free";
+  }
+  return "joint";
+}
+
+}  // namespace
+
+std::string elementLabel(const std::string& kind, const std::string& name, int line) {
+  std::string s = kind + " '" + name + "'";
+  if (line > 0) s += " (line " + std::to_string(line) + ")";
+  return s;
+}
+
+SceneDescription sceneFromModel(const ModelDescription& model) {
+  const int nl = static_cast<int>(model.links.size());
+  auto fail = [&](const std::string& element, const std::string& reason) -> InvalidInput {
+    return InvalidInput(model.source + ": " + element, reason);
+  };
+  WeldGroups groups(nl);
+  for (const ModelJoint& j : model.joints)
+    if (j.type == ModelJointType::kFixed) groups.weld(j.parent, j.child);
+
+  // Bodies: one per group with mass, named after its root link.
+  SceneDescription scene;
+  scene.name = model.name;
+  scene.source = model.source;
+  scene.gravity = model.gravity;
+  std::map<int, int> body_of_group;  // group root → scene body
+  for (int root = 0; root < nl; ++root) {
+    if (groups.find(root) != root) continue;
+    double m = 0.0;
+    Eigen::Vector3d mc = Eigen::Vector3d::Zero();
+    std::vector<int> members;
+    for (int i = 0; i < nl; ++i)
+      if (groups.find(i) == root) {
+        members.push_back(i);
+        m += model.links[i].mass;
+        mc += model.links[i].mass * model.links[i].com_world;
+      }
+    const ModelLink& r = model.links[root];
+    std::string names;
+    for (int i : members) names += (names.empty() ? "" : ", ") + model.links[i].name;
+    if (!(m > kMassFloor))
+      throw fail(elementLabel("link", r.name, r.line),
+                 "has no mass (welded links: " + names + ") but moves on a joint: give it an <inertial> mass");
+    const Eigen::Vector3d c = mc / m;
+    Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+    for (int i : members) {
+      const ModelLink& l = model.links[i];
+      const Eigen::Vector3d d = l.com_world - c;
+      I += l.inertia_world + l.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+    }
+    I = 0.5 * (I + I.transpose()).eval();
+    const Eigen::Matrix3d R = r.orientation.toRotationMatrix();
+    Eigen::Matrix3d I_body = R.transpose() * I * R;
+    I_body = 0.5 * (I_body + I_body.transpose()).eval();
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I_body).eigenvalues();
+    if (!(ev.minCoeff() > kInertiaConditionFloor * ev.maxCoeff()) || !(ev.maxCoeff() > 0.0)) {
+      std::ostringstream why;
+      why << "has a singular inertia (principal moments " << ev.transpose() << " kg m² about its centre of mass"
+          << (members.size() > 1 ? ", welded links: " + names : std::string()) << "): give it an <inertia>";
+      throw fail(elementLabel("link", r.name, r.line), why.str());
+    }
+    BodyDescription b;
+    b.name = r.name;
+    b.mass = m;
+    b.inertia = I_body;
+    b.orientation = r.orientation.normalized();
+    b.position = c;
+    b.has_position = true;
+    b.angular_velocity = R.transpose() * r.angular_velocity_world;
+    // The centre's velocity: v_root + ω × (c − c_root), a rigid group.
+    b.velocity = r.velocity_world + r.angular_velocity_world.cross(c - r.com_world);
+    b.has_velocity = true;
+    body_of_group[root] = static_cast<int>(scene.bodies.size());
+    scene.bodies.push_back(b);
+  }
+  auto bodyOf = [&](int link) { return link < 0 ? -1 : body_of_group.count(groups.find(link)) ? body_of_group[groups.find(link)] : -1; };
+  auto bodyName = [&](int body) { return body < 0 ? std::string("ground") : scene.bodies[body].name; };
+  auto rotation = [&](int body) {
+    return body < 0 ? Eigen::Matrix3d::Identity() : scene.bodies[body].orientation.toRotationMatrix();
+  };
+  auto local = [&](int body, const Eigen::Vector3d& x_world) -> Eigen::Vector3d {
+    if (body < 0) return x_world;
+    return rotation(body).transpose() * (x_world - scene.bodies[body].position);
+  };
+
+  std::map<std::string, int> scene_joint_of;  // model joint name → scene joint
+  for (const ModelJoint& j : model.joints) {
+    if (j.type == ModelJointType::kFixed || j.type == ModelJointType::kFree) continue;
+    const int a = bodyOf(j.parent), b = bodyOf(j.child);
+    const std::string label = elementLabel("joint", j.name, j.line);
+    if (a == b)
+      throw fail(label, "joins links that are welded together (into body '" + bodyName(a) + "')");
+    JointDescription d;
+    d.name = j.name;
+    d.type = jointTypeName(j.type);
+    d.main = bodyName(a);
+    d.secondary = bodyName(b);
+    d.anchor_main = local(a, j.anchor_world);
+    d.anchor_secondary = local(b, j.anchor_world);
+    const Eigen::Vector3d axis = j.axis_world.normalized();
+    switch (j.type) {
+      case ModelJointType::kRevolute:
+        d.axis_main = rotation(a).transpose() * axis;
+        d.axis_secondary = rotation(b).transpose() * axis;
+        d.has_axis_secondary = true;
+        d.initial_angles[0] = j.initial[0];
+        break;
+      case ModelJointType::kPrismatic:
+        // x = 0 where the anchors coincide: the main anchor sits `initial`
+        // back along the axis.
+        d.axis_main = rotation(a).transpose() * axis;
+        d.anchor_main = local(a, j.anchor_world - j.initial[0] * axis);
+        break;
+      case ModelJointType::kUniversal:
+        d.axis_main = rotation(a).transpose() * axis;
+        d.axis_secondary = rotation(b).transpose() * j.axis2_world.normalized();
+        d.has_axis_secondary = true;
+        d.initial_angles = j.initial;
+        break;
+      default: break;
+    }
+    for (int i = 0; i < 2; ++i) {
+      d.coordinates[i].stiffness = j.stiffness[i];
+      d.coordinates[i].rest_angle = j.rest[i];
+      d.coordinates[i].damping = j.damping[i];
+    }
+    scene_joint_of[j.name] = static_cast<int>(scene.joints.size());
+    scene.joints.push_back(d);
+  }
+  for (const ModelClosure& c : model.closures) {
+    const int a = bodyOf(c.link1), b = bodyOf(c.link2);
+    const std::string label = elementLabel("equality", c.name, c.line);
+    if (a == b) throw fail(label, "joins links that are welded together (into body '" + bodyName(a) + "')");
+    JointDescription d;
+    d.name = c.name;
+    d.type = jointTypeName(c.type);
+    d.main = bodyName(a);
+    d.secondary = bodyName(b);
+    d.anchor_main = local(a, c.anchor_world);
+    d.anchor_secondary = local(b, c.anchor_world);
+    scene.joints.push_back(d);
+  }
+  for (const ModelCoupling& g : model.couplings) {
+    const std::string label = elementLabel("coupling", g.name, g.line);
+    const auto lead = scene_joint_of.find(g.leader), follow = scene_joint_of.find(g.follower);
+    if (lead == scene_joint_of.end() || follow == scene_joint_of.end())
+      throw fail(label, "couples '" + g.follower + "' to '" + g.leader + "': both must be revolute joints of the model");
+    const JointDescription& jl = scene.joints[lead->second];
+    const JointDescription& jf = scene.joints[follow->second];
+    if (jl.type != "revolute" || jf.type != "revolute" || jl.main != jf.main)
+      throw fail(label, "couples '" + g.follower + "' to '" + g.leader +
+                            "': lieflow couples two revolute joints on one parent body (a gear row); these are " +
+                            jf.type + " on '" + jf.main + "' and " + jl.type + " on '" + jl.main + "'");
+    if (std::abs(jf.initial_angles[0] - (g.multiplier * jl.initial_angles[0] + g.offset)) > 1e-9)
+      throw fail(label, "the reference configuration does not satisfy the coupling (q_follower ≠ multiplier q_leader + offset)");
+    JointDescription d;
+    d.name = g.name;
+    d.type = "gear";
+    d.carrier = jl.main;
+    d.main = jl.secondary;
+    d.secondary = jf.secondary;
+    d.ratio = -g.multiplier;
+    if (d.ratio == 0.0) throw fail(label, "multiplier 0: the follower is held, not coupled");
+    auto axes = [](const Eigen::Vector3d& r) {
+      NodeAxesDescription n;
+      n.r = r.normalized();
+      n.s = constraints::perpendicularUnit<double>(n.r);
+      return n;
+    };
+    d.axes_main = axes(jl.axis_secondary);
+    d.axes_secondary = axes(jf.axis_secondary);
+    scene.joints.push_back(d);
+  }
+  if (model.timestep > 0.0) {
+    scene.has_integrator = true;
+    scene.integrator.name = "rkmk4";
+    scene.integrator.dt = model.timestep;
+  }
+  std::ostringstream text;
+  text << "imported from " << model.source;
+  if (!model.ignored.empty()) text << " (ignored: " << model.ignored.size() << " elements)";
+  scene.description = text.str();
+  scene.import_notes = model.ignored;
+  return scene;
+}
+
+}  // namespace model_import
+}  // namespace lieflow

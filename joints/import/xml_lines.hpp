@@ -1,0 +1,44 @@
+/// \file
+/// Where elements of a model file are (tinyxml2's line numbers), so that the
+/// importers' messages can say "joint 'knee' (line 42)": the model libraries
+/// (MuJoCo's compiler, urdfdom) do not report lines. Also the first error of
+/// a broken file, with its line.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace tinyxml2 {
+class XMLElement;
+}
+
+namespace lieflow {
+namespace model_import {
+
+class XmlLines {
+ public:
+  /// Parses `text` (throws InvalidInput naming `path`, the line and
+  /// tinyxml2's reason when it is not well-formed XML).
+  XmlLines(const std::string& text, const std::string& path);
+  ~XmlLines();
+  XmlLines(const XmlLines&) = delete;
+  XmlLines& operator=(const XmlLines&) = delete;
+
+  /// The line of the first element <tag name="NAME">, or 0.
+  int line(const std::string& tag, const std::string& name) const;
+
+  /// Every element (depth first, document order); see tinyxml2::XMLElement.
+  const std::vector<const tinyxml2::XMLElement*>& elements() const { return elements_; }
+  /// The root element's tag ("robot", "mujoco").
+  std::string rootTag() const;
+
+ private:
+  struct Document;
+  Document* doc_;
+  std::vector<const tinyxml2::XMLElement*> elements_;
+  std::map<std::string, int> lines_;  ///< "tag\nname" → line
+};
+
+}  // namespace model_import
+}  // namespace lieflow

@@ -1,0 +1,68 @@
+/// \file
+/// Model files on the command line: `lieflow import MODEL [--out]`, model
+/// files as SCENE in simulate, `--ignore` and its report on stderr, and the
+/// prismatic and fixed joints' CSV columns.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "joints/import/model_import.hpp"
+#include "tests/command_runner.hpp"
+
+namespace {
+
+using Outcome = lieflow::testing_support::CommandOutcome;
+using lieflow::testing_support::runLieflow;
+using lieflow::testing_support::slurp;
+using lieflow::testing_support::testFile;
+
+std::string model(const std::string& file) { return std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/models/" + file; }
+
+TEST(ModelCli, ImportWritesASceneThatRunsLikeTheModel) {
+  if (!lieflow::canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const std::string scene = testFile(".json"), a = testFile("_a.csv"), b = testFile("_b.csv");
+  Outcome o = runLieflow("import " + model("arm6.urdf") + " --out " + scene);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(slurp(scene).find("\"name\": \"j6\""), std::string::npos);
+  o = runLieflow("simulate " + scene + " --integrator rkmk4 --dt 0.01 --t-end 0.3 --out " + a);
+  ASSERT_EQ(o.status, 0) << o.err;
+  o = runLieflow("simulate " + model("arm6.urdf") + " --integrator rkmk4 --dt 0.01 --t-end 0.3 --out " + b);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(slurp(a), slurp(b));
+  EXPECT_NE(slurp(a).find("j1.phi,j1.phidot,j1.moment"), std::string::npos);
+}
+
+TEST(ModelCli, UnrepresentedFeaturesExitTwoOrAreReportedWhenIgnored) {
+  if (!lieflow::canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const std::string path = testFile(".urdf");
+  std::ofstream(path) << R"(<robot name="r"><link name="base"/>
+<joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+<link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>)";
+  Outcome o = runLieflow("simulate " + path + " --integrator rkmk4 --dt 0.01 --t-end 0.1");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("limit of joint 'hinge' (line 3)"), std::string::npos) << o.err;
+  o = runLieflow("simulate " + path + " --ignore limits --integrator rkmk4 --dt 0.01 --t-end 0.1 --stats");
+  EXPECT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.err.find("ignored limits: limit of joint 'hinge' (line 3)"), std::string::npos) << o.err;
+  o = runLieflow("simulate pendulum --ignore limits");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("not a model file"), std::string::npos) << o.err;
+  o = runLieflow("import " + path + " --ignore frobs");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("unknown feature 'frobs'"), std::string::npos) << o.err;
+}
+
+TEST(ModelCli, SliderCrankWritesThePrismaticAndFixedColumns) {
+  const std::string csv = testFile(".csv");
+  const Outcome o = runLieflow("simulate slider-crank --t-end 0.05 --out " + csv);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string header = slurp(csv).substr(0, slurp(csv).find('\n'));
+  EXPECT_NE(header.find("weld.fx,weld.fy,weld.fz,weld.mx,weld.my,weld.mz"), std::string::npos) << header;
+  EXPECT_NE(header.find("guide.x,guide.xdot,guide.force"), std::string::npos) << header;
+  EXPECT_NE(header.find("wrist.phi1,wrist.phi2"), std::string::npos) << header;
+}
+
+}  // namespace

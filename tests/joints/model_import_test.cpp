@@ -1,0 +1,265 @@
+/// \file
+/// Model files as scenes (joints/import/), against references that do not
+/// come from the importer:
+///  * the same six-joint arm as URDF (urdfdom) and as MJCF (MuJoCo's
+///    compiler) gives the same scene and the same trajectory (1e-10);
+///  * every MJCF joint lieflow maps (free, ball, two hinges as a universal
+///    joint with springs about springref and dashpots, a sprung slide) against
+///    MuJoCo's own RK4 on the same model;
+///  * welded links merged: the arm's tool and base (parallel-axis theorem by hand);
+///  * `lieflow import` writes a scene file that reads back to the same text;
+///  * what lieflow cannot represent is refused naming the elements and lines,
+///    and with --ignore the run lists them; broken files name file, line and reason.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "joints/import/model_import.hpp"
+#include "joints/scene.hpp"
+#include "joints/scene_writer.hpp"
+#include "joints/simulation.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "tests/joints/scene_trajectory.hpp"
+
+#ifdef LIEFLOW_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#endif
+
+namespace lieflow {
+namespace {
+
+using namespace scene_testing;  // NOLINT: Trajectory, simulate (scene_trajectory.hpp)
+
+std::string model(const std::string& file) { return std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/models/" + file; }
+
+/// A model file written for one test (removed at the end of the test).
+class TempModel {
+ public:
+  TempModel(const std::string& name, const std::string& text)
+      : path_(std::string(LIEFLOW_BINARY_DIR) + "/model_import_test_" + name) {
+    std::ofstream(path_) << text;
+  }
+  ~TempModel() { std::remove(path_.c_str()); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+/// InvalidInput's message for importing `path` (fails the test if accepted).
+std::string refusal(const std::string& path, const ModelImportOptions& options = ModelImportOptions()) {
+  try {
+    importModel(path, options);
+    ADD_FAILURE() << "accepted: " << path;
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectContains(const std::string& text, std::initializer_list<const char*> parts) {
+  for (const char* p : parts) EXPECT_NE(text.find(p), std::string::npos) << "'" << p << "' not in: " << text;
+}
+
+bool haveBothReaders() { return canReadUrdf() && canReadMjcf(); }
+
+TEST(ModelImport, ArmFromUrdfAndFromMjcfIsTheSameScene) {
+  if (!haveBothReaders()) GTEST_SKIP() << "this build reads " << (canReadUrdf() ? "URDF" : "no URDF") << " and "
+                                       << (canReadMjcf() ? "MJCF" : "no MJCF");
+  const SceneDescription u = importModel(model("arm6.urdf"), {});
+  const SceneDescription x = importModel(model("arm6.xml"), {});
+  // The base is welded to the world (ground), the tool merged into link6.
+  ASSERT_EQ(u.bodies.size(), 6u);
+  ASSERT_EQ(x.bodies.size(), 6u);
+  ASSERT_EQ(u.joints.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(u.bodies[i].name, x.bodies[i].name);
+    EXPECT_NEAR(u.bodies[i].mass, x.bodies[i].mass, 1e-15);
+    EXPECT_LE((u.bodies[i].inertia - x.bodies[i].inertia).norm(), 1e-15);
+    EXPECT_LE((u.bodies[i].position - x.bodies[i].position).norm(), 1e-15);
+    EXPECT_EQ(u.joints[i].name, x.joints[i].name);
+    EXPECT_LE((u.joints[i].axis_main - x.joints[i].axis_main).norm(), 1e-15);
+    EXPECT_NEAR(u.joints[i].coordinates[0].damping, x.joints[i].coordinates[0].damping, 0.0);
+  }
+  EXPECT_EQ(u.joints[0].main, "ground");
+  // link6 + tool by hand: m = 0.3, c = (0.2·c6 + 0.1·ct)/0.3 along the arm.
+  const BodyDescription& l6 = u.bodies[5];
+  EXPECT_EQ(l6.name, "link6");
+  EXPECT_NEAR(l6.mass, 0.3, 1e-15);
+  const Eigen::Vector3d j6(0.3 + 0.25 + 0.06 + 0.05, 0.0, 0.1 + 0.2);  // joint j6 at the zero configuration
+  const Eigen::Vector3d c6 = j6 + Eigen::Vector3d(0.02, 0, 0), ct = j6 + Eigen::Vector3d(0.07, 0.02, 0);
+  EXPECT_LE((l6.position - (0.2 * c6 + 0.1 * ct) / 0.3).norm(), 1e-15);
+  Eigen::Matrix3d I = Eigen::Vector3d(0.0001, 0.00015, 0.00015).asDiagonal();
+  I += Eigen::Matrix3d(Eigen::Vector3d(0.00002, 0.00003, 0.00003).asDiagonal());
+  for (const auto& [m, c] : {std::pair<double, Eigen::Vector3d>{0.2, c6}, {0.1, ct}}) {
+    const Eigen::Vector3d d = c - l6.position;
+    I += m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  EXPECT_LE((l6.inertia - I).norm(), 1e-15);
+
+  // The same trajectory from both files: the arm falls from horizontal.
+  const Trajectory a = simulate(u, "rkmk4", 1e-3, 1.0, 50);
+  const Trajectory b = simulate(x, "rkmk4", 1e-3, 1.0, 50);
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  double worst = 0.0;
+  for (std::size_t r = 0; r < a.rows.size(); ++r)
+    for (std::size_t c = 0; c < a.rows[r].size(); ++c) worst = std::max(worst, std::abs(a.rows[r][c] - b.rows[r][c]));
+  std::cout << "[ measured ] arm6 URDF vs MJCF: max |difference| over every column and row = " << worst << "\n";
+  EXPECT_LE(worst, 1e-10);
+  EXPECT_GT(std::abs(a.at(a.rows.size() - 1, "j2.phi")), 0.5);  // it fell
+}
+
+TEST(ModelImport, UrdfInertiaKeepsItsProductsOfInertiaAndFrames) {
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  // One link, its joint frame turned 90° about z, its inertial frame turned
+  // by rpy (0, 0, π/2) more: body axes are the link frame, so the scene's
+  // inertia is R_z(π/2) I R_z(π/2)ᵀ of the tensor as written.
+  const TempModel urdf("products.urdf", R"(<robot name="r"><link name="base"/>
+<joint name="j" type="continuous"><parent link="base"/><child link="a"/><origin xyz="0 0 1" rpy="0 0 1.5707963267948966"/></joint>
+<link name="a"><inertial><origin xyz="0.1 0 0" rpy="0 0 1.5707963267948966"/><mass value="2"/>
+<inertia ixx="0.4" iyy="0.5" izz="0.6" ixy="0.01" ixz="-0.02" iyz="0.03"/></inertial></link></robot>)");
+  const SceneDescription s = importModel(urdf.path(), {});
+  Eigen::Matrix3d I;
+  I << 0.4, 0.01, -0.02, 0.01, 0.5, 0.03, -0.02, 0.03, 0.6;
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LE((s.bodies[0].inertia - Rz * I * Rz.transpose()).norm(), 1e-15);
+  // The centre: 0.1 m along the link's x, which is the world's y.
+  EXPECT_LE((s.bodies[0].position - Eigen::Vector3d(0, 0.1, 1)).norm(), 1e-15);
+  EXPECT_LE(s.bodies[0].orientation.angularDistance(Eigen::Quaterniond(Rz)), 1e-15);
+}
+
+TEST(ModelImport, WrittenSceneReadsBackToTheSameText) {
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const std::string text = sceneToJson(importModel(model("arm6.urdf"), {}));
+  const std::string again = sceneToJson(parseScene(text, "arm6.json"));
+  EXPECT_EQ(text, again);
+  expectContains(text, {"\"name\": \"arm6\"", "\"type\": \"revolute\"", "\"damper\""});
+}
+
+#ifdef LIEFLOW_HAVE_MUJOCO
+/// MuJoCo's RK4 on `path` for t_end at step h, returning the bodies' centres
+/// of mass (xipos) at the end, bodies 1 … n.
+std::vector<Eigen::Vector3d> mujocoCentres(const std::string& path, double h, double t_end) {
+  char error[512] = "";
+  std::unique_ptr<mjModel, void (*)(mjModel*)> m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)), mj_deleteModel);
+  EXPECT_TRUE(m) << error;
+  if (!m) return {};
+  m->opt.integrator = mjINT_RK4;
+  m->opt.timestep = h;
+  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m.get()), mj_deleteData);
+  const long steps = std::lround(t_end / h);
+  for (long k = 0; k < steps; ++k) mj_step(m.get(), d.get());
+  mj_forward(m.get(), d.get());
+  std::vector<Eigen::Vector3d> out;
+  for (int b = 1; b < m->nbody; ++b) out.emplace_back(d->xipos[3 * b], d->xipos[3 * b + 1], d->xipos[3 * b + 2]);
+  return out;
+}
+
+TEST(ModelImport, EveryMappedMjcfJointAgreesWithMuJoCo) {
+  // Both fourth order at h = 1e-4 for 0.5 s: what remains is the mapping.
+  const double h = 1e-4, t_end = 0.5;
+  for (const char* file : {"mechanism.xml", "arm6.xml"}) {
+    SCOPED_TRACE(file);
+    const SceneDescription scene = importModel(model(file), {});
+    const Trajectory tr = simulate(scene, "rkmk4", h, t_end, 1000);
+    const std::vector<Eigen::Vector3d> ref = mujocoCentres(model(file), h, t_end);
+    double worst = 0.0, travel = 0.0;
+    std::size_t compared = 0;
+    const std::size_t last = tr.rows.size() - 1;
+    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+      const std::string& n = scene.bodies[b].name;
+      // Scene bodies are the MJCF bodies that move, in model order (arm6:
+      // the base is welded to the world and the tool to link6).
+      const Eigen::Vector3d p(tr.at(last, n + ".x"), tr.at(last, n + ".y"), tr.at(last, n + ".z"));
+      int mj_index = -1;
+      {
+        char error[512] = "";
+        std::unique_ptr<mjModel, void (*)(mjModel*)> m(mj_loadXML(model(file).c_str(), nullptr, error, sizeof(error)),
+                                                       mj_deleteModel);
+        mj_index = mj_name2id(m.get(), mjOBJ_BODY, n.c_str()) - 1;
+      }
+      ASSERT_GE(mj_index, 0) << n;
+      if (std::string(file) == "arm6.xml" && n == "link6") continue;  // merged with the tool: another centre
+      worst = std::max(worst, (p - ref[mj_index]).norm());
+      travel = std::max(travel, (p - scene.bodies[b].position).norm());
+      ++compared;
+    }
+    std::cout << "[ measured ] " << file << ": lieflow rkmk4 vs MuJoCo RK4, h = 1e-4, t = 0.5 s: max centre distance "
+              << worst << " m over " << compared << " bodies (largest travel " << travel << " m)\n";
+    EXPECT_LE(worst, 1e-8);
+    EXPECT_GT(travel, 0.05);
+  }
+}
+#endif
+
+TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const TempModel urdf("limits.urdf", R"(<?xml version="1.0"?>
+<robot name="r">
+  <link name="base"/>
+  <joint name="hinge" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="2"/>
+  </joint>
+  <link name="arm">
+    <inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.02 0.02"/></geometry></collision>
+  </link>
+</robot>
+)");
+  expectContains(refusal(urdf.path()),
+                 {"limits.urdf", "limit of joint 'hinge' (line 6)", "collision of link 'arm' (line 10)",
+                  "--ignore contacts,limits"});
+  ModelImportOptions ignore = parseIgnoreList("contacts,limits");
+  const SceneDescription s = importModel(urdf.path(), ignore);
+  ASSERT_EQ(s.import_notes.size(), 2u);
+  expectContains(s.import_notes[0] + "\n" + s.import_notes[1], {"contacts: collision of link 'arm'", "limits: limit of joint 'hinge'"});
+  EXPECT_EQ(s.joints[0].type, "revolute");
+}
+
+TEST(ModelImport, BadModelsNameTheFileElementAndReason) {
+  if (!haveBothReaders()) GTEST_SKIP() << "this build lacks a model reader";
+  const TempModel broken("broken.urdf", "<robot name=\"r\">\n  <link name=\"a\">\n</robot>\n");
+  expectContains(refusal(broken.path()), {"broken.urdf: line", "broken XML"});
+  const TempModel massless("massless.urdf", R"(<robot name="r"><link name="base"/>
+<joint name="j" type="continuous"><parent link="base"/><child link="ghost"/></joint>
+<link name="ghost"/></robot>)");
+  expectContains(refusal(massless.path()), {"massless.urdf", "link 'ghost' (line 3)", "no mass"});
+  const TempModel unknown("unknown.urdf", R"(<robot name="r"><link name="base"/>
+<joint name="j" type="twisty"><parent link="base"/><child link="a"/></joint>
+<link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)");
+  expectContains(refusal(unknown.path()), {"unknown.urdf", "urdfdom"});
+  const TempModel planar("planar.urdf", R"(<robot name="r"><link name="base"/>
+<joint name="p" type="planar"><parent link="base"/><child link="a"/></joint>
+<link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)");
+  expectContains(refusal(planar.path()), {"planar.urdf", "joint 'p' (line 2)", "planar"});
+  const TempModel three("three.xml", R"(<mujoco><worldbody><body name="b">
+  <joint name="a" type="hinge" axis="1 0 0"/><joint name="c" type="hinge" axis="0 1 0"/><joint name="d" type="hinge" axis="0 0 1"/>
+  <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/></body></worldbody></mujoco>)");
+  expectContains(refusal(three.path()), {"three.xml", "body 'b' (line 1)", "3 joints (a, c, d)"});
+  const TempModel notmodel("nomodel.xml", "<robot name=\"r\"/>");
+  expectContains(refusal(notmodel.path()), {"nomodel.xml", "<mujoco>"});
+  expectContains(refusal(model("does-not-exist.urdf")), {"does-not-exist.urdf", "cannot open"});
+  try {
+    parseIgnoreList("contacts,gravity");
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidInput& e) {
+    expectContains(e.what(), {"--ignore", "gravity", "contacts"});
+  }
+}
+
+TEST(ModelImport, MuJoCosHumanoidIsRefusedWithWhatItLacks) {
+  const std::string humanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";
+  if (!canReadMjcf() || !std::ifstream(humanoid)) GTEST_SKIP() << "needs MJCF and libmujoco-samples";
+  expectContains(refusal(humanoid), {"humanoid.xml", "contacts", "limits", "armature", "actuators"});
+  // With those ignored, the bodies with joints lieflow does not represent remain.
+  expectContains(refusal(humanoid, parseIgnoreList("all")), {"humanoid.xml", "joints", "universal joint"});
+}
+
+}  // namespace
+}  // namespace lieflow

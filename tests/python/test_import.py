@@ -1,0 +1,67 @@
+"""Model files from Python: lieflow.import_model is `lieflow import`, and
+simulate takes a model file (with ignore=) as the command does."""
+import json
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+import lieflow
+from lieflow import _lieflow
+
+MODELS = os.path.join(os.path.dirname(__file__), "..", "data", "models")
+needs_urdf = pytest.mark.skipif(not _lieflow.reads_urdf, reason="this build has no URDF reader (liburdfdom-dev)")
+
+LIMITED = """<?xml version="1.0"?>
+<robot name="r">
+  <link name="base"/>
+  <joint name="hinge" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="2"/>
+  </joint>
+  <link name="arm">
+    <inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+</robot>
+"""
+
+
+@needs_urdf
+def test_import_model_equals_the_command(run_command, tmp_path):
+    model = os.path.join(MODELS, "arm6.urdf")
+    status, out, err = run_command("import", model)
+    assert status == 0, err
+    assert lieflow.import_model(model) == json.loads(out)
+    status, _, err = run_command("import", model, "--out", tmp_path / "arm6.json")
+    assert status == 0, err
+    with open(tmp_path / "arm6.json") as f:
+        assert json.load(f) == json.loads(out)
+
+
+@needs_urdf
+def test_a_model_file_simulates_like_its_imported_scene(tmp_path):
+    model = os.path.join(MODELS, "arm6.urdf")
+    direct = lieflow.simulate(model, integrator="rkmk4", dt=0.01, t_end=0.2)
+    scene = lieflow.import_model(model)
+    via_dict = lieflow.simulate(scene, integrator="rkmk4", dt=0.01, t_end=0.2)
+    assert list(direct.columns) == list(via_dict.columns)
+    for name in direct.columns:
+        np.testing.assert_array_equal(direct.columns[name], via_dict.columns[name], err_msg=name)
+
+
+@needs_urdf
+def test_limits_are_refused_then_ignored_with_a_warning(tmp_path):
+    path = tmp_path / "limited.urdf"
+    path.write_text(LIMITED)
+    with pytest.raises(lieflow.InputError, match=r"limit of joint 'hinge' \(line 6\).*--ignore limits"):
+        lieflow.import_model(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = lieflow.import_model(path, ignore=["limits"])
+    assert any("limits: limit of joint 'hinge'" in str(w.message) for w in caught)
+    assert scene["joints"][0]["type"] == "revolute"
+    result = lieflow.simulate(path, ignore="limits", integrator="rkmk4", dt=0.01, t_end=0.1)
+    assert "hinge.phi" in result.columns
+    with pytest.raises(lieflow.InputError, match="unknown feature 'gravity'"):
+        lieflow.import_model(path, ignore=["gravity"])
