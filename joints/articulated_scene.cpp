@@ -39,6 +39,11 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
              ": it couples coordinates of other joints, which needs multipliers";
       return false;
     }
+    if (j.offset) {
+      *why = label(scene, k) + " is a universal joint whose axes do not meet (offset): the joint-coordinate "
+                               "formulation has universal joints about one point";
+      return false;
+    }
     if (j.type == "prismatic" || j.type == "fixed") {
       *why = label(scene, k) + " is a " + j.type +
              " joint: the joint-coordinate formulation has revolute, universal and spherical joints only";

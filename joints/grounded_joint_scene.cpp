@@ -75,6 +75,8 @@ GroundedJointScene groundedJointScene(const SceneDescription& scene, const std::
     throw InvalidInput(out.label + ".type", "calibrate spring fits a revolute or universal joint coordinate; this "
                                             "joint is '" + j.type + "'");
   out.coordinates = j.type == "revolute" ? 1 : 2;
+  if (j.offset)
+    throw InvalidInput(out.label + ".offset", "calibrate spring models a universal joint whose axes meet");
   if ((j.main == "ground") == (j.secondary == "ground"))
     throw InvalidInput(out.label + ".main",
                        "calibrate spring models one body on a joint to ground; this joint joins '" + j.main +

@@ -142,6 +142,10 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
                                : Eigen::Vector3d(pb.R.inverse() * (pa.R * j.axis_main.normalized()));
       c = constraints::assembleRevoluteJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, axis_b,
                                                      j.initial_angles[0], prefix);
+    } else if (j.offset) {
+      c = constraints::assembleOffsetUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
+                                                            j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
+                                                            prefix);
     } else {
       c = constraints::assembleUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
                                                       j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
@@ -158,7 +162,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
                            "the anchors are not on the slide axis at t = 0: anchor_secondary at " + fmt(xb) +
                                " is " + fmt(off_axis) + " off the line through anchor_main at " + fmt(xa) +
                                " along axis_main " + fmt(axis) + " (world)");
-    } else if ((xa - xb).norm() > kAssemblyTolerance * length)
+    } else if (!j.offset && (xa - xb).norm() > kAssemblyTolerance * length)
       throw InvalidInput(prefix + ".anchor_secondary",
                          "the anchors do not coincide at t = 0: anchor_main is at " + fmt(xa) +
                              " and anchor_secondary at " + fmt(xb) +

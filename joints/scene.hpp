@@ -82,6 +82,10 @@ struct JointDescription {
   Eigen::Vector3d axis_main = Eigen::Vector3d::UnitZ();
   bool has_axis_secondary = false;
   Eigen::Vector3d axis_secondary = Eigen::Vector3d::UnitZ();
+  /// universal: the second axis passes through anchor_secondary, apart from
+  /// the first through anchor_main (`"offset": true`; MuJoCo's two hinges of
+  /// one body at two points): the distance between the anchors is held.
+  bool offset = false;
   /// Joint angles at t = 0 (revolute: [0]; universal: both). Default 0.
   std::array<double, 2> initial_angles{{0.0, 0.0}};
   /// revolute: [0]; universal: [0] = φ₁ (suffix 1), [1] = φ₂ (suffix 2).

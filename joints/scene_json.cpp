@@ -336,6 +336,7 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     j.axis_main = r.vector3("axis1_main");
     j.axis_secondary = r.vector3("axis2_secondary");
     j.has_axis_secondary = true;
+    if (r.has("offset")) j.offset = r.boolean("offset");
     if (r.has("initial_angles")) {
       const Eigen::VectorXd a = r.numbers("initial_angles", 2);
       j.initial_angles = {{a[0], a[1]}};

@@ -76,6 +76,7 @@ json joint(const JointDescription& d) {
   } else if (d.type == "universal") {
     j["axis1_main"] = vec(d.axis_main);
     j["axis2_secondary"] = vec(d.axis_secondary);
+    if (d.offset) j["offset"] = true;
     if (d.initial_angles[0] != 0.0 || d.initial_angles[1] != 0.0)
       j["initial_angles"] = json::array({d.initial_angles[0], d.initial_angles[1]});
     writeCoordinate(d.coordinates[0], "1", false, &j);

@@ -39,9 +39,9 @@ namespace model_import {
 
 namespace {
 
-/// Two hinges make a universal joint when they pass through one point to
-/// this distance (m) and their axes are orthogonal to this |cos|.
-constexpr double kSamePoint = 1e-12;
+/// Two hinges of one body make a universal joint when their axes are
+/// orthogonal to this |cos| (through one point, or offset: universal.hpp,
+/// offset_universal.hpp).
 constexpr double kOrthogonal = 1e-9;
 
 /// MuJoCo's warnings while it compiles, kept instead of printed.
@@ -200,22 +200,23 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
       model.joints.push_back(mj);
       continue;
     }
-    // Two hinges through one point with orthogonal axes: a universal joint.
+    // Two hinges with orthogonal axes: a universal joint (offset when the
+    // second passes through another point).
     const int j1 = first + 1;
     const bool universal = count == 2 && type == mjJNT_HINGE && m->jnt_type[j1] == mjJNT_HINGE &&
-                           (vec3(d->xanchor + 3 * j1) - mj.anchor_world).norm() <= kSamePoint &&
                            std::abs(vec3(d->xaxis + 3 * j1).dot(mj.axis_world)) <= kOrthogonal;
     if (!universal) {
       std::string names;
       for (int j = first; j < first + count; ++j) names += (names.empty() ? "" : ", ") + nameOf(m.get(), mjOBJ_JOINT, j, "joint");
       throw InvalidInput(path + ": " + body_label,
                          "has " + std::to_string(count) + " joints (" + names +
-                             "): lieflow joins two bodies by one joint; two hinges through one point with "
-                             "orthogonal axes make a universal joint, other combinations are not represented");
+                             "): lieflow joins two bodies by one joint; two hinges with orthogonal axes make "
+                             "a universal joint, other combinations are not represented");
     }
     mj.type = ModelJointType::kUniversal;
     mj.name = mj.name + "+" + nameOf(m.get(), mjOBJ_JOINT, j1, "joint");
     mj.axis2_world = vec3(d->xaxis + 3 * j1);
+    mj.anchor2_world = vec3(d->xanchor + 3 * j1);
     coordinate(j0, 0);
     coordinate(j1, 1);
     model.joints.push_back(mj);

@@ -52,6 +52,9 @@ struct ModelJoint {
   Eigen::Vector3d anchor_world = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis_world = Eigen::Vector3d::UnitZ();   ///< revolute, prismatic; universal: the first axis
   Eigen::Vector3d axis2_world = Eigen::Vector3d::UnitY();  ///< universal: the second axis
+  /// universal: a point of the second axis (apart from anchor_world: an
+  /// offset universal joint, MuJoCo's two hinges of one body at two points).
+  Eigen::Vector3d anchor2_world = Eigen::Vector3d::Zero();
   /// Per coordinate (a universal joint has two, about axis then axis2):
   /// q at the reference configuration (the scene's initial angle or slide;
   /// 0 when the reference configuration is the model's zero), the spring

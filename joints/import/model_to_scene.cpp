@@ -20,6 +20,9 @@ namespace {
 constexpr double kMassFloor = 1e-12;
 /// A merged body's inertia must have λ_min > this × λ_max.
 constexpr double kInertiaConditionFloor = 1e-12;
+/// A universal joint's second axis passes through its first anchor when
+/// they are this close (m); otherwise the joint is an offset universal one.
+constexpr double kSamePoint = 1e-12;
 
 constexpr int kGroundGroup = -1;
 
@@ -169,7 +172,9 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
         d.axis_main = rotation(a).transpose() * axis;
         d.axis_secondary = rotation(b).transpose() * j.axis2_world.normalized();
         d.has_axis_secondary = true;
-        d.initial_angles = j.initial;
+        d.initial_angles = {{j.initial[0], j.initial[1]}};
+        d.offset = (j.anchor2_world - j.anchor_world).norm() > kSamePoint;
+        if (d.offset) d.anchor_secondary = local(b, j.anchor2_world);
         break;
       default: break;
     }

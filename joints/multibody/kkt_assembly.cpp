@@ -223,7 +223,7 @@ void KktAssembly::advanceInto(const State& y, const Eigen::VectorXd& dq, const E
       const auto J = constraints::revoluteAngleJacobians(*rev, pose(j.main), pose(j.secondary));
       out.angles[2 * k] += J[0].tail<3>().dot(da) + J[1].tail<3>().dot(db);
     } else {
-      const auto J = constraints::universalAngleJacobians(std::get<constraints::UniversalJoint<double>>(j.constraint),
+      const auto J = constraints::universalAngleJacobians(*universalOf(j.constraint),
                                                           pose(j.main), pose(j.secondary));
       for (int i = 0; i < 2; ++i)
         out.angles[2 * k + i] += J[0].row(i).tail<3>().dot(da) + J[1].row(i).tail<3>().dot(db);

@@ -50,10 +50,19 @@ using JointConstraint = std::variant<constraints::SphericalJoint<double>,
                                      constraints::RevoluteJoint<double>,
                                      constraints::UniversalJoint<double>,
                                      constraints::PrismaticJoint<double>,
-                                     constraints::FixedJoint<double>>;
+                                     constraints::FixedJoint<double>,
+                                     constraints::OffsetUniversalJoint<double>>;
 
 /// The kind of a joint: the index of its constraint in JointConstraint.
-enum class JointKind { kSpherical = 0, kRevolute = 1, kUniversal = 2, kPrismatic = 3, kFixed = 4 };
+enum class JointKind { kSpherical = 0, kRevolute = 1, kUniversal = 2, kPrismatic = 3, kFixed = 4, kOffsetUniversal = 5 };
+
+/// The universal joint whose angles a universal or offset universal joint
+/// has (universal_angles.hpp), or null for the other kinds.
+inline const constraints::UniversalJoint<double>* universalOf(const JointConstraint& c) {
+  if (const auto* u = std::get_if<constraints::UniversalJoint<double>>(&c)) return u;
+  if (const auto* o = std::get_if<constraints::OffsetUniversalJoint<double>>(&c)) return &o->cross;
+  return nullptr;
+}
 
 inline JointKind jointKind(const JointConstraint& c) { return static_cast<JointKind>(c.index()); }
 
@@ -76,6 +85,8 @@ inline std::pair<Eigen::Vector3d, Eigen::Vector3d> jointAnchors(const JointConst
           return {j.anchor_main, j.anchor_secondary};
         else if constexpr (std::is_base_of_v<constraints::PrismaticJoint<double>, C>)  // prismatic, fixed
           return {j.anchor_main, j.anchor_secondary};
+        else if constexpr (std::is_same_v<C, constraints::OffsetUniversalJoint<double>>)
+          return {j.cross.point.anchor_main, j.cross.point.anchor_secondary};
         else
           return {j.point.anchor_main, j.point.anchor_secondary};
       },
@@ -89,6 +100,7 @@ inline const char* constraintTypeName(const JointConstraint& c) {
     case JointKind::kUniversal: return "universal";
     case JointKind::kPrismatic: return "prismatic";
     case JointKind::kFixed: return "fixed";
+    case JointKind::kOffsetUniversal: return "universal (offset)";
   }
   return "joint";
 }

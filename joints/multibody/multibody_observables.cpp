@@ -125,19 +125,22 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
     const BodyPose<double>& P = use_main ? pa : pb;
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
     if (solved) g -= S.block(k, use_main ? 0 : 1).transpose() * lambda.segment(S.rowBegin(k), S.groupRows(k));
-    std::array<Eigen::Vector3d, 2> axes;
-    Eigen::Vector3d anchor;
+    // Each axis as a line: its direction and a point (a universal joint's
+    // second axis passes through the secondary anchor, apart from the first
+    // for an offset universal joint).
+    std::array<Eigen::Vector3d, 2> axes, anchors;
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
       axes[0] = pa.R * rev->axis_main;
-      anchor = pa.toWorld(rev->point.anchor_main);
+      anchors[0] = pa.toWorld(rev->point.anchor_main);
     } else if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint)) {
       axes[0] = pa.R * pri->axis_main;
-      anchor = pa.toWorld(pri->anchor_main);
+      anchors[0] = pa.toWorld(pri->anchor_main);
     } else {
-      const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
+      const auto& uni = *universalOf(j.constraint);
       axes[0] = pa.R * uni.axis1_main;
       axes[1] = pb.R * uni.axis2_secondary;
-      anchor = pa.toWorld(uni.point.anchor_main);
+      anchors[0] = pa.toWorld(uni.point.anchor_main);
+      anchors[1] = pb.toWorld(uni.point.anchor_secondary);
       o.condition = constraints::universalAngles(uni, pa, pb).condition;
     }
     for (int i = 0; i < o.coordinates; ++i) {
@@ -157,8 +160,10 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
       o.moment[0] = sign * g.head<3>().dot(axes[0]);  // the force along the axis
       continue;
     }
-    const Eigen::Vector3d moment = P.R * g.tail<3>() - (anchor - P.p).cross(g.head<3>());
-    for (int i = 0; i < o.coordinates; ++i) o.moment[i] = sign * moment.dot(axes[i]);
+    for (int i = 0; i < o.coordinates; ++i) {
+      const Eigen::Vector3d moment = P.R * g.tail<3>() - (anchors[i] - P.p).cross(g.head<3>());
+      o.moment[i] = sign * moment.dot(axes[i]);
+    }
   }
   return out;
 }

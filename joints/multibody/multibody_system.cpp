@@ -112,7 +112,8 @@ int MultibodySystem::coordinateCount(int k) const {
   switch (jointKind(model_.joints[k].constraint)) {
     case JointKind::kRevolute:
     case JointKind::kPrismatic: return 1;
-    case JointKind::kUniversal: return 2;
+    case JointKind::kUniversal:
+    case JointKind::kOffsetUniversal: return 2;
     default: return 0;  // spherical; fixed (its held slide is a prescribed row, not an output)
   }
 }
@@ -224,7 +225,7 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
     }
     return x.value(a, b);
   }
-  const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
+  const auto& uni = *universalOf(j.constraint);
   if (Ja) {
     const auto J = constraints::universalAngleJacobians(uni, a, b);
     *Ja = J[0].row(i);
@@ -264,7 +265,7 @@ double MultibodySystem::coordinateConvective(const State& y, int k, int i) const
     return pri->position().convective(a, b, va, vb);
   if (const auto* fix = std::get_if<constraints::FixedJoint<double>>(&j.constraint))
     return fix->position().convective(a, b, va, vb);
-  const auto& uni = std::get<constraints::UniversalJoint<double>>(j.constraint);
+  const auto& uni = *universalOf(j.constraint);
   return constraints::universalAngleConvective(uni, a, b, va, vb)[i];
 }
 
@@ -281,7 +282,7 @@ void MultibodySystem::rebaseAngles(State* y) const {
       y->angles[2 * k] = constraints::revoluteAngle(std::get<constraints::RevoluteJoint<double>>(j.constraint), a,
                                                     b, y->angles[2 * k]);
     } else {
-      const auto ang = constraints::universalAngles(std::get<constraints::UniversalJoint<double>>(j.constraint), a,
+      const auto ang = constraints::universalAngles(*universalOf(j.constraint), a,
                                                     b, y->angles[2 * k], y->angles[2 * k + 1]);
       y->angles[2 * k] = ang.phi1;
       y->angles[2 * k + 1] = ang.phi2;

@@ -197,6 +197,76 @@ TEST(ModelImport, EveryMappedMjcfJointAgreesWithMuJoCo) {
 }
 #endif
 
+/// Two pendulums on hinges about y from one parent (the ground), the second
+/// coupled to the first with multiplier −2: URDF <mimic>, MJCF equality joint.
+constexpr const char* kMimicUrdf = R"(<robot name="geared"><link name="base"/>
+<joint name="drive" type="continuous"><parent link="base"/><child link="driver"/><axis xyz="0 1 0"/></joint>
+<link name="driver"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.001" iyy="0.004" izz="0.004" ixy="0" ixz="0" iyz="0"/></inertial></link>
+<joint name="follow" type="continuous"><parent link="base"/><child link="follower"/><origin xyz="0.5 0 0"/><axis xyz="0 1 0"/>
+<mimic joint="drive" multiplier="-2" offset="0"/></joint>
+<link name="follower"><inertial><origin xyz="0.05 0 0"/><mass value="0.5"/><inertia ixx="0.001" iyy="0.002" izz="0.002" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>)";
+constexpr const char* kMimicMjcf = R"(<mujoco model="geared"><worldbody>
+<body name="driver"><joint name="drive" type="hinge" axis="0 1 0"/><inertial pos="0.1 0 0" mass="1" diaginertia="0.001 0.004 0.004"/></body>
+<body name="follower" pos="0.5 0 0"><joint name="follow" type="hinge" axis="0 1 0"/><inertial pos="0.05 0 0" mass="0.5" diaginertia="0.001 0.002 0.002"/></body>
+</worldbody><equality><joint name="gearing" joint1="follow" joint2="drive" polycoef="0 -2 0 0 0"/></equality></mujoco>)";
+
+TEST(ModelImport, CouplingsBecomeGearRowsThatHoldTheRatio) {
+  if (!haveBothReaders()) GTEST_SKIP() << "this build lacks a model reader";
+  const TempModel urdf("geared.urdf", kMimicUrdf), mjcf("geared.xml", kMimicMjcf);
+  for (const std::string& path : {urdf.path(), mjcf.path()}) {
+    SCOPED_TRACE(path);
+    const SceneDescription s = importModel(path, {});
+    ASSERT_EQ(s.joints.size(), 3u);
+    EXPECT_EQ(s.joints[2].type, "gear");
+    EXPECT_EQ(s.joints[2].carrier, "ground");
+    EXPECT_DOUBLE_EQ(s.joints[2].ratio, 2.0);
+    const Trajectory tr = simulate(s, "rkmk4", 1e-3, 1.0, 50);
+    double err = 0.0;
+    for (std::size_t r = 0; r < tr.rows.size(); ++r)
+      err = std::max(err, std::abs(tr.at(r, "follow.phi") + 2.0 * tr.at(r, "drive.phi")));
+    std::cout << "[ measured ] " << path.substr(path.find_last_of('/') + 1)
+              << ": max |q_follow + 2 q_drive| = " << err << " rad over 1 s (the driver turned "
+              << tr.at(tr.rows.size() - 1, "drive.phi") << " rad)\n";
+    EXPECT_LE(err, 1e-9);
+    EXPECT_GT(std::abs(tr.at(tr.rows.size() - 1, "drive.phi")), 0.3);
+  }
+}
+
+TEST(ModelImport, MjcfConnectAndWeldCloseLoopsExactly) {
+  if (!canReadMjcf()) GTEST_SKIP() << "this build has no MJCF reader";
+  // A crank on a hinge and a rocker on a ball joint from the world, a
+  // coupler hinged to the crank and connected to the rocker's tip (a loop),
+  // and a free lamp welded to the coupler.
+  const TempModel mjcf("loop.xml", R"(<mujoco model="loop"><worldbody>
+<body name="crank"><joint name="crank_pivot" type="hinge" axis="0 1 0"/><inertial pos="0.05 0 0.1" mass="0.5" diaginertia="0.002 0.002 0.0001"/>
+  <body name="coupler" pos="0 0 0.2"><joint name="knuckle" type="hinge" axis="0 1 0"/><inertial pos="0.2 0 0" mass="1" diaginertia="0.0001 0.014 0.014"/></body>
+</body>
+<body name="rocker" pos="0.4 0 0"><joint name="rocker_ball" type="ball"/><inertial pos="0 0 0.1" mass="0.5" diaginertia="0.002 0.002 0.0001"/></body>
+<body name="lamp" pos="0.2 0.1 0.25"><freejoint/><inertial pos="0 0 0" mass="0.2" diaginertia="0.0001 0.0001 0.0001"/></body>
+</worldbody><equality>
+<connect name="closure" body1="coupler" body2="rocker" anchor="0.4 0 0"/>
+<weld name="mount" body1="coupler" body2="lamp"/>
+</equality></mujoco>)");
+  const SceneDescription s = importModel(mjcf.path(), {});
+  ASSERT_EQ(s.joints.size(), 5u);
+  EXPECT_EQ(s.joints[3].type, "spherical");
+  EXPECT_EQ(s.joints[3].name, "closure");
+  EXPECT_EQ(s.joints[4].type, "fixed");
+  // Released off the dead position: the loop swings under gravity.
+  const Trajectory tr = simulate(s, "rkmk4", 1e-3, 1.0, 50);
+  EXPECT_LE(tr.result.constraint_error, 1e-10);
+  EXPECT_LE(tr.result.energy_drift, 1e-6);
+  double lamp = 0.0;  // the lamp stays where the weld holds it on the coupler
+  for (std::size_t r = 0; r < tr.rows.size(); ++r) {
+    const Eigen::Quaterniond qc = tr.orientation(r, "coupler");
+    const Eigen::Vector3d pc(tr.at(r, "coupler.x"), tr.at(r, "coupler.y"), tr.at(r, "coupler.z"));
+    const Eigen::Vector3d pl(tr.at(r, "lamp.x"), tr.at(r, "lamp.y"), tr.at(r, "lamp.z"));
+    lamp = std::max(lamp, (qc.inverse() * (pl - pc) - Eigen::Vector3d(0.0, 0.1, 0.05)).norm());
+  }
+  EXPECT_LE(lamp, 1e-10);
+}
+
 TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
   if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
   const TempModel urdf("limits.urdf", R"(<?xml version="1.0"?>

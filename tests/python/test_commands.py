@@ -357,4 +357,7 @@ def test_a_long_fit_stops_on_ctrl_c(tmp_path, run_command):
     assert status == 0, err
     late = interrupt_after(1.0, lambda: lieflow.calibrate_spring(str(tmp_path / "long.csv"), scene="spring-hinge",
                                                                  fit_rest_angle=True, substeps=4))
-    assert late < 2.0, f"the fit stopped {late:.2f} s after SIGINT"
+    # The fit looks for SIGINT between solver iterations; one iteration over
+    # these 30000 samples took 2.3 s on a 2-core machine running the test
+    # suite two at a time, so the bound is a few iterations, not a speed.
+    assert late < 5.0, f"the fit stopped {late:.2f} s after SIGINT"
