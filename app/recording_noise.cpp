@@ -16,7 +16,7 @@ RecordingNoise::RecordingNoise(const std::vector<std::string>& columns, const No
   for (int i = 0; i < static_cast<int>(columns.size()); ++i) {
     const std::string& c = columns[i];
     if (endsWith(c, ".wx") || endsWith(c, ".wy") || endsWith(c, ".wz")) gyro_.push_back(i);
-    if (endsWith(c, ".phi") || endsWith(c, ".phi1") || endsWith(c, ".phi2")) angle_.push_back(i);
+    if (endsWith(c, ".phi") || endsWith(c, ".phi1") || endsWith(c, ".phi2") || endsWith(c, ".phi3")) angle_.push_back(i);
     if (endsWith(c, ".qw") && i + 3 < static_cast<int>(columns.size())) quat_.push_back(i);
     if (endsWith(c, ".ax") || endsWith(c, ".ay") || endsWith(c, ".az")) acc_.push_back(i);
   }

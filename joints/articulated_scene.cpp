@@ -44,7 +44,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
                                "formulation has universal joints about one point";
       return false;
     }
-    if (j.type == "prismatic" || j.type == "fixed") {
+    if (j.type == "prismatic" || j.type == "fixed" || j.type == "gimbal") {
       *why = label(scene, k) + " is a " + j.type +
              " joint: the joint-coordinate formulation has revolute, universal and spherical joints only";
       return false;

@@ -157,7 +157,7 @@ GroundedJointScene groundedJointScene(const SceneDescription& scene, const std::
     fill(out.revolute);
   else
     fill(out.universal);
-  out.drives = system.drives()[model_joint];
+  for (int i = 0; i < 2; ++i) out.drives[i] = system.drives()[model_joint][i];
 
   const std::vector<multibody::JointOutput> joints0 = system.jointOutputs(0.0, assembled->y0);
   for (int i = 0; i < out.coordinates; ++i) {

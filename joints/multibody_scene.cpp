@@ -63,7 +63,7 @@ void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
       if (scene.joints[j].name == name) k = static_cast<int>(j);
     if (k < 0) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
     const std::string& type = scene.joints[k].type;
-    if (type != "revolute" && type != "universal" && type != "prismatic")
+    if (type != "revolute" && type != "universal" && type != "prismatic" && type != "gimbal")
       throw InvalidInput("moments", "joint '" + name + "' is " + type +
                                         ": a moment (or a prismatic joint's force) acts on the coordinate of a "
                                         "revolute, universal or prismatic joint");
@@ -95,7 +95,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
   auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
   auto pose = [&](int i) { return i == kGround ? constraints::groundPose<double>() : s.poses[i]; };
 
-  std::vector<std::array<multibody::CoordinateDrive, 2>> drives;
+  std::vector<multibody::CoordinateDrives> drives;
   std::vector<multibody::Gear> gears;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
@@ -142,6 +142,9 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
                                : Eigen::Vector3d(pb.R.inverse() * (pa.R * j.axis_main.normalized()));
       c = constraints::assembleRevoluteJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, axis_b,
                                                      j.initial_angles[0], prefix);
+    } else if (j.type == "gimbal") {
+      c = constraints::assembleGimbalJoint(pa, pb, j.anchor_main, j.anchor_secondary,
+                                           {{j.axis_main, j.axis2_main, j.axis3_main}}, j.initial_angles, prefix);
     } else if (j.offset) {
       c = constraints::assembleOffsetUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
                                                             j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
@@ -171,16 +174,19 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     joint.label = label;
     model.addJoint(joint);
     out->scene_joint.push_back(static_cast<int>(k));
-    std::array<multibody::CoordinateDrive, 2> d;
+    multibody::CoordinateDrives d;
     const auto user_moment = scene.user_loads.joint_moments.find(j.name);
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < multibody::kMaxJointCoordinates; ++i) {
       const CoordinateDescription& cd = j.coordinates[i];
       d[i].stiffness = cd.stiffness;
       d[i].rest_angle = cd.rest_angle;
       d[i].damping = cd.damping;
       d[i].moment = cd.moment;
       d[i].prescribed = cd.prescribed;
-      const int coordinates = j.type == "universal" ? 2 : (j.type == "revolute" || j.type == "prismatic") ? 1 : 0;
+      const int coordinates = j.type == "gimbal"      ? 3
+                              : j.type == "universal" ? 2
+                              : (j.type == "revolute" || j.type == "prismatic") ? 1
+                                                                                : 0;
       if (user_moment != scene.user_loads.joint_moments.end() && i < coordinates) {
         const UserLoads::JointMoment f = user_moment->second;
         d[i].user_moment = [f, i](double t, double phi, double phidot) { return f(t, i, phi, phidot); };
@@ -193,12 +199,12 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
   const multibody::MultibodySystem& sys = *out->system;
   multibody::MultibodyGroupState y = sys.makeState(s);
   // The joint angles at t = 0 are the given initial angles (the principal
-  // values could differ by 2π; a prismatic joint's x is a length).
+  // values could differ by 2π, a gimbal's by its other branch): read again
+  // near them (a prismatic joint's x is a length, read as it is).
   for (std::size_t k = 0; k < sys.model().joints.size(); ++k)
     for (int i = 0; i < sys.coordinateCount(static_cast<int>(k)); ++i)
-      if (multibody::jointKind(sys.model().joints[k].constraint) != multibody::JointKind::kPrismatic)
-      y.angles[2 * k + i] = constraints::unwrapAngle(y.angles[2 * k + i],
-                                                     scene.joints[out->scene_joint[k]].initial_angles[i]);
+      y.angles[multibody::angleSlot(static_cast<int>(k), i)] = scene.joints[out->scene_joint[k]].initial_angles[i];
+  sys.rebaseAngles(&y);
   std::string why;
   // The system's messages start with the joint's label ("SOURCE: joints[k]
   // (name): reason"); split it off as the field.

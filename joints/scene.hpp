@@ -86,10 +86,14 @@ struct JointDescription {
   /// the first through anchor_main (`"offset": true`; MuJoCo's two hinges of
   /// one body at two points): the distance between the anchors is held.
   bool offset = false;
-  /// Joint angles at t = 0 (revolute: [0]; universal: both). Default 0.
-  std::array<double, 2> initial_angles{{0.0, 0.0}};
-  /// revolute: [0]; universal: [0] = φ₁ (suffix 1), [1] = φ₂ (suffix 2).
-  std::array<CoordinateDescription, 2> coordinates;
+  /// gimbal: the second and third hinge axes (main frame, at zero angles;
+  /// the first is axis_main).
+  Eigen::Vector3d axis2_main = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d axis3_main = Eigen::Vector3d::UnitZ();
+  /// Joint angles at t = 0 (revolute: [0]; universal: two; gimbal: three). Default 0.
+  std::array<double, 3> initial_angles{{0.0, 0.0, 0.0}};
+  /// revolute, prismatic: [0]; universal, gimbal: [i] = φ_{i+1} (suffix "1", "2", "3").
+  std::array<CoordinateDescription, 3> coordinates;
   /// gear, rack_pinion, differential: ratio α, carrier body (default
   /// "ground"), third node (differential: `tertiary`) and node axes
   /// (axes_main, axes_secondary, axes_tertiary).

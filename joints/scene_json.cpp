@@ -304,11 +304,12 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
   JointDescription j;
   j.name = r.string("name");
   j.type = r.string("type");
-  static const std::set<std::string> kTypes = {"spherical", "revolute",    "universal",   "prismatic",
-                                               "fixed",     "gear",        "rack_pinion", "differential"};
+  static const std::set<std::string> kTypes = {"spherical", "revolute", "universal",   "gimbal",      "prismatic",
+                                               "fixed",     "gear",     "rack_pinion", "differential"};
   if (!kTypes.count(j.type))
     r.fail("type", "unknown joint type '" + j.type +
-                       "' (known: spherical, revolute, universal, prismatic, fixed, gear, rack_pinion, differential)");
+                       "' (known: spherical, revolute, universal, gimbal, prismatic, fixed, gear, rack_pinion, "
+                       "differential)");
   j.main = r.string("main");
   j.secondary = r.string("secondary");
   if (j.type == "spherical" || j.type == "fixed")
@@ -329,6 +330,20 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     }
     if (r.has("initial_angle")) j.initial_angles[0] = r.number("initial_angle");
     readCoordinate(r, "", &j.coordinates[0]);
+  } else if (j.type == "gimbal") {
+    j.axis_main = r.vector3("axis1_main");
+    j.axis2_main = r.vector3("axis2_main");
+    j.axis3_main = r.vector3("axis3_main");
+    if (r.has("initial_angles")) {
+      const Eigen::VectorXd a = r.numbers("initial_angles", 3);
+      j.initial_angles = {{a[0], a[1], a[2]}};
+    }
+    for (int i = 0; i < 3; ++i) {
+      const std::string suffix = std::to_string(i + 1);
+      if (r.has("prescribed" + suffix))
+        r.fail("prescribed" + suffix, "a gimbal's angles carry springs, dampers and moments but are not prescribed");
+      readCoordinate(r, suffix, &j.coordinates[i]);
+    }
   } else if (j.type == "prismatic") {
     j.axis_main = r.vector3("axis_main");
     readCoordinate(r, "", &j.coordinates[0], true);
@@ -339,7 +354,7 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     if (r.has("offset")) j.offset = r.boolean("offset");
     if (r.has("initial_angles")) {
       const Eigen::VectorXd a = r.numbers("initial_angles", 2);
-      j.initial_angles = {{a[0], a[1]}};
+      j.initial_angles = {{a[0], a[1], 0.0}};
     }
     readCoordinate(r, "1", &j.coordinates[0]);
     readCoordinate(r, "2", &j.coordinates[1]);

@@ -70,6 +70,13 @@ json joint(const JointDescription& d) {
     if (d.has_axis_secondary) j["axis_secondary"] = vec(d.axis_secondary);
     if (d.initial_angles[0] != 0.0) j["initial_angle"] = d.initial_angles[0];
     writeCoordinate(d.coordinates[0], "", false, &j);
+  } else if (d.type == "gimbal") {
+    j["axis1_main"] = vec(d.axis_main);
+    j["axis2_main"] = vec(d.axis2_main);
+    j["axis3_main"] = vec(d.axis3_main);
+    if (d.initial_angles != std::array<double, 3>{{0.0, 0.0, 0.0}})
+      j["initial_angles"] = json::array({d.initial_angles[0], d.initial_angles[1], d.initial_angles[2]});
+    for (int i = 0; i < 3; ++i) writeCoordinate(d.coordinates[i], std::to_string(i + 1), false, &j);
   } else if (d.type == "prismatic") {
     j["axis_main"] = vec(d.axis_main);
     writeCoordinate(d.coordinates[0], "", true, &j);

@@ -243,6 +243,9 @@ std::vector<std::string> Simulation::columns(bool imu) const {
         for (const char* c : {"phi", "phidot", "moment"}) cols.push_back(j + "." + c);
       if (nc == 2)
         for (const char* c : {"phi1", "phi2", "phi1dot", "phi2dot", "moment1", "moment2"}) cols.push_back(j + "." + c);
+      if (nc == 3)
+        for (const char* c : {"phi1", "phi2", "phi3", "phi1dot", "phi2dot", "phi3dot", "moment1", "moment2", "moment3"})
+          cols.push_back(j + "." + c);
     }
     for (const char* c : {"energy", "Lx", "Ly", "Lz", "constraint_error"}) cols.push_back(c);
     return cols;

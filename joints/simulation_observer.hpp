@@ -109,6 +109,9 @@ struct RowBuilder {
       if (o.coordinates == 1) row->insert(row->end(), {o.phi[0], o.phidot[0], o.moment[0]});
       if (o.coordinates == 2)
         row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
+      if (o.coordinates == 3)
+        row->insert(row->end(), {o.phi[0], o.phi[1], o.phi[2], o.phidot[0], o.phidot[1], o.phidot[2], o.moment[0],
+                                 o.moment[1], o.moment[2]});
       if (o.kind == multibody::JointKind::kFixed) row->insert(row->end(), o.reaction.data(), o.reaction.data() + 6);
     }
     const Eigen::Vector3d L = sys.angularMomentum(y);

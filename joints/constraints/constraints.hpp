@@ -18,6 +18,7 @@
 ///   universal.hpp        universal joint (4 rows)
 ///   universal_angles.hpp φ₁, φ₂, rates, Jacobians, the 90° singularity
 ///   offset_universal.hpp a universal joint whose hinges do not meet (4 rows)
+///   gimbal.hpp           three hinges through one point (3 rows) and their angles
 ///   gear_terms.hpp       spin and slide terms of the gear rows
 ///   gear.hpp             gear, rack and pinion, differential (velocity rows)
 #pragma once
@@ -30,6 +31,7 @@
 #include "joints/constraints/fixed.hpp"
 #include "joints/constraints/gear.hpp"
 #include "joints/constraints/gear_terms.hpp"
+#include "joints/constraints/gimbal.hpp"
 #include "joints/constraints/offset_universal.hpp"
 #include "joints/constraints/prismatic.hpp"
 #include "joints/constraints/revolute.hpp"

@@ -41,8 +41,10 @@ namespace {
 
 /// Two hinges of one body make a universal joint when their axes are
 /// orthogonal to this |cos| (through one point, or offset: universal.hpp,
-/// offset_universal.hpp).
+/// offset_universal.hpp); three make a gimbal (gimbal.hpp) when they are
+/// also through one point to kSamePoint (m).
 constexpr double kOrthogonal = 1e-9;
+constexpr double kSamePoint = 1e-12;
 
 /// MuJoCo's warnings while it compiles, kept instead of printed.
 std::string* g_warnings = nullptr;
@@ -201,17 +203,35 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
       continue;
     }
     // Two hinges with orthogonal axes: a universal joint (offset when the
-    // second passes through another point).
-    const int j1 = first + 1;
-    const bool universal = count == 2 && type == mjJNT_HINGE && m->jnt_type[j1] == mjJNT_HINGE &&
-                           std::abs(vec3(d->xaxis + 3 * j1).dot(mj.axis_world)) <= kOrthogonal;
+    // second passes through another point); three through one point with
+    // orthogonal axes: a gimbal.
+    const int j1 = first + 1, j2 = first + 2;
+    bool hinges = true;
+    for (int j = first; j < first + count; ++j) hinges = hinges && m->jnt_type[j] == mjJNT_HINGE;
+    auto orthogonal = [&](int p, int q) {
+      return std::abs(vec3(d->xaxis + 3 * p).dot(vec3(d->xaxis + 3 * q))) <= kOrthogonal;
+    };
+    const bool universal = count == 2 && hinges && orthogonal(j0, j1);
+    const bool gimbal = count == 3 && hinges && orthogonal(j0, j1) && orthogonal(j0, j2) && orthogonal(j1, j2) &&
+                        (vec3(d->xanchor + 3 * j1) - mj.anchor_world).norm() <= kSamePoint &&
+                        (vec3(d->xanchor + 3 * j2) - mj.anchor_world).norm() <= kSamePoint;
+    if (gimbal) {
+      mj.type = ModelJointType::kGimbal;
+      mj.name = mj.name + "+" + nameOf(m.get(), mjOBJ_JOINT, j1, "joint") + "+" + nameOf(m.get(), mjOBJ_JOINT, j2, "joint");
+      mj.axis2_world = vec3(d->xaxis + 3 * j1);
+      mj.axis3_world = vec3(d->xaxis + 3 * j2);
+      for (int i = 0; i < 3; ++i) coordinate(first + i, i);
+      model.joints.push_back(mj);
+      continue;
+    }
     if (!universal) {
       std::string names;
       for (int j = first; j < first + count; ++j) names += (names.empty() ? "" : ", ") + nameOf(m.get(), mjOBJ_JOINT, j, "joint");
       throw InvalidInput(path + ": " + body_label,
                          "has " + std::to_string(count) + " joints (" + names +
                              "): lieflow joins two bodies by one joint; two hinges with orthogonal axes make "
-                             "a universal joint, other combinations are not represented");
+                             "a universal joint, three through one point with orthogonal axes a gimbal, other "
+                             "combinations are not represented");
     }
     mj.type = ModelJointType::kUniversal;
     mj.name = mj.name + "+" + nameOf(m.get(), mjOBJ_JOINT, j1, "joint");

@@ -38,7 +38,7 @@ struct ModelLink {
 };
 
 /// The joint types a model file maps to (DESIGN.md Additions; issue 15).
-enum class ModelJointType { kRevolute, kPrismatic, kSpherical, kUniversal, kFixed, kFree };
+enum class ModelJointType { kRevolute, kPrismatic, kSpherical, kUniversal, kGimbal, kFixed, kFree };
 
 /// A joint between `parent` and `child` (link indices; −1 is the world).
 /// The child moves relative to the parent; the scene's joint has the parent
@@ -55,15 +55,18 @@ struct ModelJoint {
   /// universal: a point of the second axis (apart from anchor_world: an
   /// offset universal joint, MuJoCo's two hinges of one body at two points).
   Eigen::Vector3d anchor2_world = Eigen::Vector3d::Zero();
-  /// Per coordinate (a universal joint has two, about axis then axis2):
+  Eigen::Vector3d axis3_world = Eigen::Vector3d::UnitX();  ///< gimbal: the third axis
+  /// Per coordinate (a universal joint has two, about axis then axis2; a
+  /// gimbal three, then axis3; the axes as they are at the reference
+  /// configuration):
   /// q at the reference configuration (the scene's initial angle or slide;
   /// 0 when the reference configuration is the model's zero), the spring
   /// (N m/rad or N/m) with its rest value (rad or m), and the dashpot
   /// (N m s/rad or N s/m).
-  std::array<double, 2> initial{{0.0, 0.0}};
-  std::array<double, 2> stiffness{{0.0, 0.0}};
-  std::array<double, 2> rest{{0.0, 0.0}};
-  std::array<double, 2> damping{{0.0, 0.0}};
+  std::array<double, 3> initial{{0.0, 0.0, 0.0}};
+  std::array<double, 3> stiffness{{0.0, 0.0, 0.0}};
+  std::array<double, 3> rest{{0.0, 0.0, 0.0}};
+  std::array<double, 3> damping{{0.0, 0.0, 0.0}};
 };
 
 /// A coupling q_follower = multiplier q_leader + offset of two revolute

@@ -52,6 +52,7 @@ std::string jointTypeName(ModelJointType t) {
     case ModelJointType::kPrismatic: return "prismatic";
     case ModelJointType::kSpherical: return "spherical";
     case ModelJointType::kUniversal: return "universal";
+    case ModelJointType::kGimbal: return "gimbal";
     case ModelJointType::kFixed: return "fixed";
     case ModelJointType::kFree: return "free";
   }
@@ -172,13 +173,28 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
         d.axis_main = rotation(a).transpose() * axis;
         d.axis_secondary = rotation(b).transpose() * j.axis2_world.normalized();
         d.has_axis_secondary = true;
-        d.initial_angles = {{j.initial[0], j.initial[1]}};
+        d.initial_angles = {{j.initial[0], j.initial[1], 0.0}};
         d.offset = (j.anchor2_world - j.anchor_world).norm() > kSamePoint;
         if (d.offset) d.anchor_secondary = local(b, j.anchor2_world);
         break;
+      case ModelJointType::kGimbal: {
+        // The axes at zero angles (main frame), from the hinge lines at the
+        // reference configuration, where the angles are `initial`:
+        // e₁ = R_aᵀ A₁, e₂ = exp(−φ₁ e₁) R_aᵀ A₂, e₃ = exp(−φ₂ e₂) exp(−φ₁ e₁) R_aᵀ A₃.
+        const Eigen::Matrix3d Rt = rotation(a).transpose();
+        const Eigen::Vector3d e1 = Rt * axis;
+        const Eigen::Matrix3d U1 = Eigen::AngleAxisd(-j.initial[0], e1).toRotationMatrix();
+        const Eigen::Vector3d e2 = U1 * Rt * j.axis2_world.normalized();
+        const Eigen::Matrix3d U2 = Eigen::AngleAxisd(-j.initial[1], e2).toRotationMatrix();
+        d.axis_main = e1;
+        d.axis2_main = e2;
+        d.axis3_main = U2 * U1 * Rt * j.axis3_world.normalized();
+        d.initial_angles = j.initial;
+        break;
+      }
       default: break;
     }
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 3; ++i) {
       d.coordinates[i].stiffness = j.stiffness[i];
       d.coordinates[i].rest_angle = j.rest[i];
       d.coordinates[i].damping = j.damping[i];

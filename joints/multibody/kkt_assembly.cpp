@@ -221,12 +221,17 @@ void KktAssembly::advanceInto(const State& y, const Eigen::VectorXd& dq, const E
     const Eigen::Vector3d da = rotation(j.main), db = rotation(j.secondary);
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
       const auto J = constraints::revoluteAngleJacobians(*rev, pose(j.main), pose(j.secondary));
-      out.angles[2 * k] += J[0].tail<3>().dot(da) + J[1].tail<3>().dot(db);
+      out.angles[angleSlot(static_cast<int>(k), 0)] += J[0].tail<3>().dot(da) + J[1].tail<3>().dot(db);
+    } else if (const auto* gim = std::get_if<constraints::GimbalJoint<double>>(&j.constraint)) {
+      const auto J = constraints::gimbalAngleJacobians(*gim, pose(j.main), pose(j.secondary),
+                                                       s.gimbalPrevious(y, static_cast<int>(k)));
+      for (int i = 0; i < 3; ++i)
+        out.angles[angleSlot(static_cast<int>(k), i)] += J[0].row(i).tail<3>().dot(da) + J[1].row(i).tail<3>().dot(db);
     } else {
       const auto J = constraints::universalAngleJacobians(*universalOf(j.constraint),
                                                           pose(j.main), pose(j.secondary));
       for (int i = 0; i < 2; ++i)
-        out.angles[2 * k + i] += J[0].row(i).tail<3>().dot(da) + J[1].row(i).tail<3>().dot(db);
+        out.angles[angleSlot(static_cast<int>(k), i)] += J[0].row(i).tail<3>().dot(da) + J[1].row(i).tail<3>().dot(db);
     }
   }
   s.rebaseAngles(&out);

@@ -51,10 +51,19 @@ using JointConstraint = std::variant<constraints::SphericalJoint<double>,
                                      constraints::UniversalJoint<double>,
                                      constraints::PrismaticJoint<double>,
                                      constraints::FixedJoint<double>,
-                                     constraints::OffsetUniversalJoint<double>>;
+                                     constraints::OffsetUniversalJoint<double>,
+                                     constraints::GimbalJoint<double>>;
 
 /// The kind of a joint: the index of its constraint in JointConstraint.
-enum class JointKind { kSpherical = 0, kRevolute = 1, kUniversal = 2, kPrismatic = 3, kFixed = 4, kOffsetUniversal = 5 };
+enum class JointKind {
+  kSpherical = 0,
+  kRevolute = 1,
+  kUniversal = 2,
+  kPrismatic = 3,
+  kFixed = 4,
+  kOffsetUniversal = 5,
+  kGimbal = 6
+};
 
 /// The universal joint whose angles a universal or offset universal joint
 /// has (universal_angles.hpp), or null for the other kinds.
@@ -101,6 +110,7 @@ inline const char* constraintTypeName(const JointConstraint& c) {
     case JointKind::kPrismatic: return "prismatic";
     case JointKind::kFixed: return "fixed";
     case JointKind::kOffsetUniversal: return "universal (offset)";
+    case JointKind::kGimbal: return "gimbal";
   }
   return "joint";
 }

@@ -29,7 +29,7 @@ double MultibodySystem::energy(const State& y) const {
     for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
       const CoordinateDrive& d = drives_[k][i];
       if (d.stiffness == 0.0) continue;
-      const double e = y.angles[2 * k + i] - d.rest_angle;
+      const double e = y.angles[angleSlot(static_cast<int>(k), i)] - d.rest_angle;
       E += 0.5 * d.stiffness * e * e;
     }
   return E;
@@ -128,13 +128,20 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
     // Each axis as a line: its direction and a point (a universal joint's
     // second axis passes through the secondary anchor, apart from the first
     // for an offset universal joint).
-    std::array<Eigen::Vector3d, 2> axes, anchors;
+    std::array<Eigen::Vector3d, kMaxJointCoordinates> axes, anchors;
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
       axes[0] = pa.R * rev->axis_main;
       anchors[0] = pa.toWorld(rev->point.anchor_main);
     } else if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint)) {
       axes[0] = pa.R * pri->axis_main;
       anchors[0] = pa.toWorld(pri->anchor_main);
+    } else if (const auto* gim = std::get_if<constraints::GimbalJoint<double>>(&j.constraint)) {
+      // The hinge lines now: e₁, R₁ e₂, R₁ R₂ e₃ (main frame), through the point.
+      const auto ang = constraints::gimbalAngles(*gim, pa, pb, gimbalPrevious(y, k));
+      const SO3d R1 = SO3d::exp(ang.phi[0] * gim->axes[0]), R2 = SO3d::exp(ang.phi[1] * gim->axes[1]);
+      axes = {{pa.R * gim->axes[0], pa.R * (R1 * gim->axes[1]), pa.R * (R1 * (R2 * gim->axes[2]))}};
+      anchors.fill(pa.toWorld(gim->point.anchor_main));
+      o.condition = ang.condition;
     } else {
       const auto& uni = *universalOf(j.constraint);
       axes[0] = pa.R * uni.axis1_main;

@@ -14,7 +14,7 @@ using Row6 = Eigen::Matrix<double, 1, 6>;
 
 // --- Construction --------------------------------------------------------------
 
-MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<std::array<CoordinateDrive, 2>> drives,
+MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<CoordinateDrives> drives,
                                  std::vector<Gear> gears)
     : model_(std::move(model)), drives_(std::move(drives)), gears_(std::move(gears)) {
   if (drives_.empty()) drives_.resize(model_.joints.size());
@@ -114,6 +114,7 @@ int MultibodySystem::coordinateCount(int k) const {
     case JointKind::kPrismatic: return 1;
     case JointKind::kUniversal:
     case JointKind::kOffsetUniversal: return 2;
+    case JointKind::kGimbal: return 3;
     default: return 0;  // spherical; fixed (its held slide is a prescribed row, not an output)
   }
 }
@@ -149,14 +150,18 @@ void MultibodySystem::validate() const {
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const std::string label = model_.jointLabel(static_cast<int>(k));
     const int nc = coordinateCount(static_cast<int>(k));
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < kMaxJointCoordinates; ++i) {
       const CoordinateDrive& d = drives_[k][i];
       const bool used = d.hasForce() || d.prescribed.has_value() || d.rest_angle != 0.0;
       if (i >= nc && used)
         throw InvalidInput(label, std::string("a ") + constraintTypeName(model_.joints[k].constraint) +
                                       (nc == 0 ? " joint has no joint coordinate to carry a spring, damper, "
                                                  "moment, force or prescribed motion"
-                                               : " joint has one joint coordinate"));
+                                               : " joint has " + std::to_string(nc) + " joint coordinate" +
+                                                     (nc > 1 ? "s" : "")));
+      if (d.prescribed && jointKind(model_.joints[k].constraint) == JointKind::kGimbal)
+        throw InvalidInput(label + ".prescribed" + std::to_string(i + 1),
+                           "a gimbal's angles carry springs, dampers and moments but are not prescribed");
       if (!(std::isfinite(d.stiffness) && d.stiffness >= 0.0))
         throw InvalidInput(label + ".spring.stiffness", "must be finite and >= 0");
       if (!std::isfinite(d.rest_angle)) throw InvalidInput(label + ".spring.rest_angle", "must be finite");
@@ -189,7 +194,7 @@ MultibodyGroupState MultibodySystem::makeState(const MultibodyState& bodies) con
   y.bodies = bodies;
   y.system = this;
   // Principal values: unwrapped around 0.
-  y.angles.assign(2 * model_.joints.size(), 0.0);
+  y.angles.assign(kMaxJointCoordinates * model_.joints.size(), 0.0);
   rebaseAngles(&y);
   return y;
 }
@@ -212,7 +217,7 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
       *Ja = J[0];
       *Jb = J[1];
     }
-    return constraints::revoluteAngle(*rev, a, b, y.angles[2 * k]);
+    return constraints::revoluteAngle(*rev, a, b, y.angles[angleSlot(k, 0)]);
   }
   const constraints::PrismaticJoint<double>* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint);
   if (!pri) pri = std::get_if<constraints::FixedJoint<double>>(&j.constraint);  // its held slide
@@ -225,14 +230,27 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
     }
     return x.value(a, b);
   }
+  if (const auto* gim = std::get_if<constraints::GimbalJoint<double>>(&j.constraint)) {
+    const auto ang = constraints::gimbalAngles(*gim, a, b, gimbalPrevious(y, k));
+    if (Ja) {
+      const auto J = constraints::gimbalAngleJacobians(*gim, a, b, ang.phi);
+      *Ja = J[0].row(i);
+      *Jb = J[1].row(i);
+    }
+    return ang.phi[i];
+  }
   const auto& uni = *universalOf(j.constraint);
   if (Ja) {
     const auto J = constraints::universalAngleJacobians(uni, a, b);
     *Ja = J[0].row(i);
     *Jb = J[1].row(i);
   }
-  const auto ang = constraints::universalAngles(uni, a, b, y.angles[2 * k], y.angles[2 * k + 1]);
+  const auto ang = constraints::universalAngles(uni, a, b, y.angles[angleSlot(k, 0)], y.angles[angleSlot(k, 1)]);
   return i == 0 ? ang.phi1 : ang.phi2;
+}
+
+std::array<double, 3> MultibodySystem::gimbalPrevious(const State& y, int k) const {
+  return {{y.angles[angleSlot(k, 0)], y.angles[angleSlot(k, 1)], y.angles[angleSlot(k, 2)]}};
 }
 
 double MultibodySystem::coordinateRate(const State& y, int main, int secondary, const Row6& Ja,
@@ -265,6 +283,8 @@ double MultibodySystem::coordinateConvective(const State& y, int k, int i) const
     return pri->position().convective(a, b, va, vb);
   if (const auto* fix = std::get_if<constraints::FixedJoint<double>>(&j.constraint))
     return fix->position().convective(a, b, va, vb);
+  // Only prescribed coordinates need it; validate() refuses prescribed gimbal angles.
+  LIEFLOW_ASSERT(universalOf(j.constraint) != nullptr, "coordinateConvective: a coordinate without a convective term");
   const auto& uni = *universalOf(j.constraint);
   return constraints::universalAngleConvective(uni, a, b, va, vb)[i];
 }
@@ -277,15 +297,18 @@ void MultibodySystem::rebaseAngles(State* y) const {
     BodyPose<double> a, b;
     poses(*y, j.main, j.secondary, &a, &b, nullptr, nullptr);
     if (const auto* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint)) {
-      y->angles[2 * k] = pri->position().value(a, b);  // a length: nothing to unwrap
+      y->angles[angleSlot(static_cast<int>(k), 0)] = pri->position().value(a, b);  // a length: nothing to unwrap
+    } else if (const auto* gim = std::get_if<constraints::GimbalJoint<double>>(&j.constraint)) {
+      const auto ang = constraints::gimbalAngles(*gim, a, b, gimbalPrevious(*y, static_cast<int>(k)));
+      for (int i = 0; i < 3; ++i) y->angles[angleSlot(static_cast<int>(k), i)] = ang.phi[i];
     } else if (nc == 1) {
-      y->angles[2 * k] = constraints::revoluteAngle(std::get<constraints::RevoluteJoint<double>>(j.constraint), a,
-                                                    b, y->angles[2 * k]);
+      y->angles[angleSlot(static_cast<int>(k), 0)] = constraints::revoluteAngle(std::get<constraints::RevoluteJoint<double>>(j.constraint), a,
+                                                    b, y->angles[angleSlot(static_cast<int>(k), 0)]);
     } else {
       const auto ang = constraints::universalAngles(*universalOf(j.constraint), a,
-                                                    b, y->angles[2 * k], y->angles[2 * k + 1]);
-      y->angles[2 * k] = ang.phi1;
-      y->angles[2 * k + 1] = ang.phi2;
+                                                    b, y->angles[angleSlot(static_cast<int>(k), 0)], y->angles[angleSlot(static_cast<int>(k), 1)]);
+      y->angles[angleSlot(static_cast<int>(k), 0)] = ang.phi1;
+      y->angles[angleSlot(static_cast<int>(k), 1)] = ang.phi2;
     }
   }
 }

@@ -60,6 +60,11 @@ namespace multibody {
 
 class MultibodySystem;
 
+/// The most coordinates one joint has (a gimbal: three angles).
+constexpr int kMaxJointCoordinates = 3;
+/// The slot of coordinate i of joint k in MultibodyGroupState::angles.
+constexpr int angleSlot(int k, int i) { return kMaxJointCoordinates * k + i; }
+
 /// Force elements and drive of one joint coordinate.
 struct CoordinateDrive {
   double stiffness = 0.0;   ///< k ≥ 0: spring moment −k (φ − rest_angle)
@@ -81,6 +86,9 @@ struct CoordinateDrive {
   }
 };
 
+/// The drives of one joint's coordinates (unused slots stay empty).
+using CoordinateDrives = std::array<CoordinateDrive, kMaxJointCoordinates>;
+
 using GearConstraint = std::variant<constraints::GearJoint<double>, constraints::RackPinionJoint<double>,
                                     constraints::DifferentialJoint<double>>;
 
@@ -93,7 +101,8 @@ struct Gear {
 };
 
 /// The state on Π_i (SO(3) × ℝ³ × ℝ³ × ℝ³ or SO(3) × ℝ³): body poses and
-/// velocities, plus the unwrapped joint coordinates (two slots per joint).
+/// velocities, plus the unwrapped joint coordinates (kMaxJointCoordinates
+/// slots per joint).
 /// Tangent (size 2n, n = Σ dofs): first the position increments per body in
 /// body order ((δp world, δθ body) or δθ), then the velocity increments
 /// ((δv, δω) or δω). ⊕ is right multiplication by exp on each SO(3) and
@@ -103,7 +112,7 @@ struct MultibodyGroupState {
   using Tangent = Eigen::VectorXd;
 
   MultibodyState bodies;
-  std::vector<double> angles;  ///< unwrapped φ (slot 2k + i for coordinate i of joint k)
+  std::vector<double> angles;  ///< unwrapped φ (angleSlot(k, i) for coordinate i of joint k)
   const MultibodySystem* system = nullptr;
 
   Tangent zeroTangent() const;
@@ -144,7 +153,7 @@ struct JointOutput {
   int coordinates = 0;               ///< 0 (spherical, fixed), 1 (revolute, prismatic), 2 (universal)
   /// Per coordinate: φ, φ̇ and the moment on the main body about the axis
   /// (prismatic: x, ẋ and the force on the main body along the axis).
-  std::array<double, 2> phi{}, phidot{}, moment{};
+  std::array<double, kMaxJointCoordinates> phi{}, phidot{}, moment{};
   /// Fixed joint: the reaction on the secondary body, force (fx, fy, fz) and
   /// moment about the anchor (mx, my, mz), in the main body's frame.
   Eigen::Matrix<double, 6, 1> reaction = Eigen::Matrix<double, 6, 1>::Zero();
@@ -169,7 +178,7 @@ class MultibodySystem {
   /// ≥ 0; rest angles finite) and the gears' bodies (known, distinct, nodes
   /// not the ground, a rack with translational coordinates). Throws
   /// InvalidInput naming the joint and field.
-  MultibodySystem(MultibodyModel model, std::vector<std::array<CoordinateDrive, 2>> drives,
+  MultibodySystem(MultibodyModel model, std::vector<CoordinateDrives> drives,
                   std::vector<Gear> gears = {});
 
   /// A program's torque on body i (body frame, about the CoM) as a function
@@ -180,7 +189,7 @@ class MultibodySystem {
   bool hasUserTorques() const;
 
   const MultibodyModel& model() const { return model_; }
-  const std::vector<std::array<CoordinateDrive, 2>>& drives() const { return drives_; }
+  const std::vector<CoordinateDrives>& drives() const { return drives_; }
   const std::vector<Gear>& gears() const { return gears_; }
   int bodyCount() const { return static_cast<int>(model_.bodies.size()); }
   /// n = Σ dofs.
@@ -192,8 +201,10 @@ class MultibodySystem {
   const Eigen::Matrix3d& bodyInertia(int body) const { return model_.bodies[body].inertia; }
   /// True when some joint coordinate carries a dashpot (forces depend on u).
   bool hasDampers() const;
-  /// 0, 1 or 2 coordinates of joint k.
+  /// The coordinates of joint k: 0 (spherical, fixed), 1, 2 or 3 (gimbal).
   int coordinateCount(int k) const;
+  /// A gimbal joint k's angles in y (the previous values its angles unwrap near).
+  std::array<double, 3> gimbalPrevious(const State& y, int k) const;
   bool hasConstraints() const { return all_groups_.size() > 0; }
   bool hasGears() const { return !gears_.empty(); }
   /// Whether some constraint block changes with the bodies' positions p (the
@@ -346,7 +357,7 @@ class MultibodySystem {
   std::vector<std::vector<int>> gear_rows_;
 
   MultibodyModel model_;
-  std::vector<std::array<CoordinateDrive, 2>> drives_;
+  std::vector<CoordinateDrives> drives_;
   std::vector<Gear> gears_;
   std::vector<UserTorque> user_torques_;  ///< per body, empty: none
   std::vector<char> rot_;

@@ -171,7 +171,7 @@ struct FloatingPair {
     const constraints::BodyPose<double> pb{SO3d::exp(Vector3d(-0.5, 0.3, 0.7)), Vector3d(0.5, -0.1, 0.2)};
     const Vector3d anchor(0.3, 0.05, 0.0);  // world
     const Vector3d sa = pa.R.inverse() * (anchor - pa.p), sb = pb.R.inverse() * (anchor - pb.p);
-    std::vector<std::array<CoordinateDrive, 2>> drives(1);
+    std::vector<CoordinateDrives> drives(1);
     if (revolute) {
       const Vector3d axis = Vector3d(0.3, -1.0, 0.5).normalized();  // main frame
       model.addJoint(Joint{"hinge", 0, 1,
