@@ -80,7 +80,7 @@ double characteristicFrequency(const SceneDescription& scene) {
       if (bi >= 0) omega = std::max(omega, std::sqrt(j.coordinates[0].stiffness / scene.bodies[bi].mass));
       continue;
     }
-    if (j.type != "revolute" && j.type != "universal") continue;
+    if (j.type != "revolute" && j.type != "universal" && j.type != "gimbal") continue;
     const int bi = scene.bodyIndex(j.secondary);
     const int ai = scene.bodyIndex(j.main);
     if (bi < 0) continue;
@@ -88,9 +88,14 @@ double characteristicFrequency(const SceneDescription& scene) {
     const Eigen::Matrix3d Rb = b.orientation.toRotationMatrix();
     const Eigen::Matrix3d Ra = ai < 0 ? Eigen::Matrix3d::Identity()
                                       : Eigen::Matrix3d(scene.bodies[ai].orientation.toRotationMatrix());
-    const std::array<Eigen::Vector3d, 2> axes = {
-        Eigen::Vector3d((Ra * j.axis_main).normalized()), Eigen::Vector3d((Rb * j.axis_secondary).normalized())};
-    for (int i = 0; i < (j.type == "revolute" ? 1 : 2); ++i) {
+    // The hinge axes at t = 0 (a gimbal's given in the main frame at zero
+    // angles: close enough for a time scale).
+    const std::array<Eigen::Vector3d, 3> axes = {
+        Eigen::Vector3d((Ra * j.axis_main).normalized()),
+        Eigen::Vector3d(j.type == "gimbal" ? (Ra * j.axis2_main).normalized() : (Rb * j.axis_secondary).normalized()),
+        Eigen::Vector3d((Ra * j.axis3_main).normalized())};
+    const int coordinates = j.type == "revolute" ? 1 : j.type == "universal" ? 2 : 3;
+    for (int i = 0; i < coordinates; ++i) {
       const double k = j.coordinates[i].stiffness;
       if (!(k > 0.0)) continue;
       const Eigen::Vector3d& a = axes[i];

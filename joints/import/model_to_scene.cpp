@@ -141,20 +141,27 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     return rotation(body).transpose() * (x_world - scene.bodies[body].position);
   };
 
+  // A joint of `type` between the links' bodies, both anchors at one world
+  // point (a joint between links welded together is refused).
+  auto jointBetween = [&](const std::string& name, const std::string& label, ModelJointType type, int link_a,
+                          int link_b, const Eigen::Vector3d& anchor_world) {
+    const int a = bodyOf(link_a), b = bodyOf(link_b);
+    if (a == b) throw fail(label, "joins links that are welded together (into body '" + bodyName(a) + "')");
+    JointDescription d;
+    d.name = name;
+    d.type = jointTypeName(type);
+    d.main = bodyName(a);
+    d.secondary = bodyName(b);
+    d.anchor_main = local(a, anchor_world);
+    d.anchor_secondary = local(b, anchor_world);
+    return d;
+  };
   std::map<std::string, int> scene_joint_of;  // model joint name → scene joint
   for (const ModelJoint& j : model.joints) {
     if (j.type == ModelJointType::kFixed || j.type == ModelJointType::kFree) continue;
+    JointDescription d =
+        jointBetween(j.name, elementLabel("joint", j.name, j.line), j.type, j.parent, j.child, j.anchor_world);
     const int a = bodyOf(j.parent), b = bodyOf(j.child);
-    const std::string label = elementLabel("joint", j.name, j.line);
-    if (a == b)
-      throw fail(label, "joins links that are welded together (into body '" + bodyName(a) + "')");
-    JointDescription d;
-    d.name = j.name;
-    d.type = jointTypeName(j.type);
-    d.main = bodyName(a);
-    d.secondary = bodyName(b);
-    d.anchor_main = local(a, j.anchor_world);
-    d.anchor_secondary = local(b, j.anchor_world);
     const Eigen::Vector3d axis = j.axis_world.normalized();
     switch (j.type) {
       case ModelJointType::kRevolute:
@@ -202,19 +209,9 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     scene_joint_of[j.name] = static_cast<int>(scene.joints.size());
     scene.joints.push_back(d);
   }
-  for (const ModelClosure& c : model.closures) {
-    const int a = bodyOf(c.link1), b = bodyOf(c.link2);
-    const std::string label = elementLabel("equality", c.name, c.line);
-    if (a == b) throw fail(label, "joins links that are welded together (into body '" + bodyName(a) + "')");
-    JointDescription d;
-    d.name = c.name;
-    d.type = jointTypeName(c.type);
-    d.main = bodyName(a);
-    d.secondary = bodyName(b);
-    d.anchor_main = local(a, c.anchor_world);
-    d.anchor_secondary = local(b, c.anchor_world);
-    scene.joints.push_back(d);
-  }
+  for (const ModelClosure& c : model.closures)
+    scene.joints.push_back(
+        jointBetween(c.name, elementLabel("equality", c.name, c.line), c.type, c.link1, c.link2, c.anchor_world));
   for (const ModelCoupling& g : model.couplings) {
     const std::string label = elementLabel("coupling", g.name, g.line);
     const auto lead = scene_joint_of.find(g.leader), follow = scene_joint_of.find(g.follower);

@@ -35,18 +35,17 @@ TEST(ModelCli, ImportWritesASceneThatRunsLikeTheModel) {
 
 TEST(ModelCli, UnrepresentedFeaturesExitTwoOrAreReportedWhenIgnored) {
   if (!lieflow::canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
-  const std::string path = testFile(".urdf");
-  std::ofstream(path) << R"(<robot name="r"><link name="base"/>
-<joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-<link name="arm"><inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
-</robot>)";
+  const std::string path = model("limited.urdf");  // a joint limit and a collision shape
   Outcome o = runLieflow("simulate " + path + " --integrator rkmk4 --dt 0.01 --t-end 0.1");
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("limit of joint 'hinge' (line 3)"), std::string::npos) << o.err;
-  o = runLieflow("simulate " + path + " --ignore limits --integrator rkmk4 --dt 0.01 --t-end 0.1 --stats");
+  EXPECT_NE(o.err.find("limit of joint 'hinge' (line 6)"), std::string::npos) << o.err;
+  o = runLieflow("simulate " + path + " --ignore limits --integrator rkmk4 --dt 0.01 --t-end 0.1");
+  EXPECT_EQ(o.status, 2);  // the collision shape is still there
+  EXPECT_NE(o.err.find("collision of link 'arm' (line 10)"), std::string::npos) << o.err;
+  o = runLieflow("simulate " + path + " --ignore limits,contacts --integrator rkmk4 --dt 0.01 --t-end 0.1 --stats");
   EXPECT_EQ(o.status, 0) << o.err;
-  EXPECT_NE(o.err.find("ignored limits: limit of joint 'hinge' (line 3)"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("ignored limits: limit of joint 'hinge' (line 6)"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("ignored contacts: collision of link 'arm' (line 10)"), std::string::npos) << o.err;
   o = runLieflow("simulate pendulum --ignore limits");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("not a model file"), std::string::npos) << o.err;

@@ -439,18 +439,6 @@ const char* kTwoRods = R"({
   "integrator": {"name": "rkmk4", "dt": 0.001}, "t_end": 0.01
 })";
 
-/// The message of the InvalidInput that parseScene + the Simulation
-/// constructor throw for `json` (empty, with a failure, if accepted).
-std::string rejection(const std::string& json) {
-  try {
-    const Simulation sim(parseScene(json, "joints.json"));
-    ADD_FAILURE() << "accepted: " << json;
-  } catch (const InvalidInput& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // Assembly errors name the joint as "joints[k] (name).field", reader errors as
 // "joints[k].field": fragments are matched against the message with the
 // " (name)" parts removed.

@@ -339,24 +339,13 @@ TEST(ModelImport, MjcfConnectAndWeldCloseLoopsExactly) {
 
 TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
   if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
-  const TempModel urdf("limits.urdf", R"(<?xml version="1.0"?>
-<robot name="r">
-  <link name="base"/>
-  <joint name="hinge" type="revolute">
-    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="10" velocity="2"/>
-  </joint>
-  <link name="arm">
-    <inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-    <collision><geometry><box size="0.2 0.02 0.02"/></geometry></collision>
-  </link>
-</robot>
-)");
-  expectContains(refusal(urdf.path()),
-                 {"limits.urdf", "limit of joint 'hinge' (line 6)", "collision of link 'arm' (line 10)",
+  // A revolute joint with limits and a link with a collision shape.
+  const std::string urdf = model("limited.urdf");
+  expectContains(refusal(urdf),
+                 {"limited.urdf", "limit of joint 'hinge' (line 6)", "collision of link 'arm' (line 10)",
                   "--ignore contacts,limits"});
   ModelImportOptions ignore = parseIgnoreList("contacts,limits");
-  const SceneDescription s = importModel(urdf.path(), ignore);
+  const SceneDescription s = importModel(urdf, ignore);
   ASSERT_EQ(s.import_notes.size(), 2u);
   expectContains(s.import_notes[0] + "\n" + s.import_notes[1], {"contacts: collision of link 'arm'", "limits: limit of joint 'hinge'"});
   EXPECT_EQ(s.joints[0].type, "revolute");

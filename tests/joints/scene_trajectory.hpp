@@ -14,6 +14,7 @@
 
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
+#include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 namespace scene_testing {
@@ -71,6 +72,19 @@ inline std::string replaced(std::string text, const std::string& from, const std
   EXPECT_NE(pos, std::string::npos) << "'" << from << "' not in the scene";
   if (pos == std::string::npos) return text;
   return text.replace(pos, from.size(), to);
+}
+
+/// The message of the InvalidInput that parseScene + the Simulation
+/// constructor throw for `json` read as "joints.json" (empty, with a test
+/// failure, if accepted).
+inline std::string rejection(const std::string& json) {
+  try {
+    const Simulation sim(parseScene(json, "joints.json"));
+    ADD_FAILURE() << "accepted: " << json;
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace scene_testing

@@ -229,16 +229,6 @@ TEST(FixedJoint, WeldedPendulumSwingsAsTheMergedBody) {
 
 // --- e. Bad input ------------------------------------------------------------------
 
-std::string rejection(const std::string& json) {
-  try {
-    const Simulation sim(parseScene(json, "joints.json"));
-    ADD_FAILURE() << "accepted: " << json;
-  } catch (const InvalidInput& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(SliderWeldBadInput, IsNamedByFileJointAndField) {
   const std::string base = SpringMass().json();
   auto expect = [&](const std::string& from, const std::string& to, std::initializer_list<const char*> parts) {

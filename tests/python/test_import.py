@@ -13,18 +13,6 @@ from lieflow import _lieflow
 MODELS = os.path.join(os.path.dirname(__file__), "..", "data", "models")
 needs_urdf = pytest.mark.skipif(not _lieflow.reads_urdf, reason="this build has no URDF reader (liburdfdom-dev)")
 
-LIMITED = """<?xml version="1.0"?>
-<robot name="r">
-  <link name="base"/>
-  <joint name="hinge" type="revolute">
-    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="10" velocity="2"/>
-  </joint>
-  <link name="arm">
-    <inertial><origin xyz="0.1 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>
-</robot>
-"""
 
 
 @needs_urdf
@@ -51,17 +39,16 @@ def test_a_model_file_simulates_like_its_imported_scene(tmp_path):
 
 
 @needs_urdf
-def test_limits_are_refused_then_ignored_with_a_warning(tmp_path):
-    path = tmp_path / "limited.urdf"
-    path.write_text(LIMITED)
-    with pytest.raises(lieflow.InputError, match=r"limit of joint 'hinge' \(line 6\).*--ignore limits"):
+def test_limits_and_contacts_are_refused_then_ignored_with_a_warning():
+    path = os.path.join(MODELS, "limited.urdf")  # a joint limit and a collision shape
+    with pytest.raises(lieflow.InputError, match=r"limit of joint 'hinge' \(line 6\).*--ignore contacts,limits"):
         lieflow.import_model(path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        scene = lieflow.import_model(path, ignore=["limits"])
+        scene = lieflow.import_model(path, ignore=["contacts", "limits"])
     assert any("limits: limit of joint 'hinge'" in str(w.message) for w in caught)
     assert scene["joints"][0]["type"] == "revolute"
-    result = lieflow.simulate(path, ignore="limits", integrator="rkmk4", dt=0.01, t_end=0.1)
+    result = lieflow.simulate(path, ignore=["contacts", "limits"], integrator="rkmk4", dt=0.01, t_end=0.1)
     assert "hinge.phi" in result.columns
     with pytest.raises(lieflow.InputError, match="unknown feature 'gravity'"):
         lieflow.import_model(path, ignore=["gravity"])
