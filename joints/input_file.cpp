@@ -1,12 +1,14 @@
 #include "joints/input_file.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
 #include <vector>
 
 #include "joints/resource_limits.hpp"
+#include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 
@@ -26,7 +28,15 @@ bool readInputFile(const std::string& path, std::uint64_t max_bytes, std::string
   while (out.size() <= max_bytes) {
     const std::uint64_t room = max_bytes + 1 - out.size();
     file.read(buffer.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(buffer.size(), room)));
-    out.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
+    // Scenes, models and recordings are text: a NUL byte means a binary file
+    // or a device such as /dev/zero, refused at once instead of at the limit.
+    const std::size_t got = static_cast<std::size_t>(file.gcount());
+    if (const void* nul = std::memchr(buffer.data(), '\0', got))
+      throw InvalidInput(path, "holds a NUL byte at offset " +
+                                   std::to_string(out.size() + static_cast<std::size_t>(
+                                                                   static_cast<const char*>(nul) - buffer.data())) +
+                                   ": not a text file (scenes, models and recordings are text)");
+    out.append(buffer.data(), got);
     if (file.gcount() == 0 || !file) break;
   }
   if (out.size() > max_bytes)

@@ -13,7 +13,8 @@ namespace lieflow {
 
 /// The contents of `path`; false (and `text` untouched) if it cannot be
 /// opened. Throws InvalidInput naming `path`, the limit and --max-input-mb
-/// past `max_bytes`, and naming `path` on a read error (a directory).
+/// past `max_bytes`, naming `path` on a read error (a directory), and at
+/// the first NUL byte (not text: a binary file, /dev/zero).
 bool readInputFile(const std::string& path, std::uint64_t max_bytes, std::string* text);
 
 }  // namespace lieflow

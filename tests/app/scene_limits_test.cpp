@@ -65,9 +65,16 @@ TEST(SceneLimits, FilesBeyondTheSizeLimitAndEndlessStreamsAreRefused) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("--max-input-mb"), std::string::npos) << e.what();
   }
-  const auto o = testing_support::runLieflow("simulate /dev/zero --max-input-mb 1 --stats");
+  // An endless stream of text is read to the limit and refused there.
+  const std::string err = testing_support::testFile("_err.txt");
+  const int raw = std::system(("yes | " + testing_support::lieflowBinary() +
+                               " simulate /dev/stdin --max-input-mb 1 --stats >/dev/null 2>" + err).c_str());
+  EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 2) << testing_support::slurp(err);
+  EXPECT_NE(testing_support::slurp(err).find("--max-input-mb"), std::string::npos) << testing_support::slurp(err);
+  // An endless stream of NUL bytes is not text: refused at its first byte.
+  const auto o = testing_support::runLieflow("simulate /dev/zero --stats");
   EXPECT_EQ(o.status, 2) << o.err;
-  EXPECT_NE(o.err.find("--max-input-mb"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("/dev/zero: holds a NUL byte at offset 0"), std::string::npos) << o.err;
 }
 
 TEST(SceneLimits, MoreBodiesThanTheLimitAreRefused) {
