@@ -2,8 +2,8 @@
 
 #include <cerrno>
 #include <cmath>
-#include <iostream>
 #include <cstdlib>
+#include <iostream>
 #include <limits>
 #include <sstream>
 
