@@ -23,7 +23,7 @@ struct GimbalCase {
   Pose at(const std::array<double, 3>& phi) const {
     const auto& e = joint.axes;
     return Pose{a.R * SO3d::exp(phi[0] * e[0]) * SO3d::exp(phi[1] * e[1]) * SO3d::exp(phi[2] * e[2]) * joint.reference,
-                a.toWorld(joint.point.anchor_main) - Vec3::Zero()};
+                a.toWorld(joint.point.anchor_main)};
   }
 };
 
