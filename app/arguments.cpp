@@ -97,15 +97,24 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
 }
 
 const std::set<std::string>& runLimitFlags() {
-  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--ignore"};
+  static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--ignore",
+                                              "--keyframe"};
   return flags;
 }
 
-SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
-  const ModelImportOptions import = parseIgnoreList(args.value("--ignore", ""));
+ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::string& scene) {
+  ModelImportOptions import = parseIgnoreList(args.value("--ignore", ""));
   if (!import.ignore.empty() && !isModelFile(scene))
     throw UsageError("--ignore: '" + scene + "' is not a model file (.xml, .urdf); only models have parts to ignore");
-  SceneDescription s = loadScene(scene, resourceLimitsFrom(args), import);
+  import.keyframe = args.value("--keyframe", "");
+  if (args.has("--keyframe") && import.keyframe.empty()) throw UsageError("--keyframe: expected a keyframe name or index");
+  if (!import.keyframe.empty() && !isModelFile(scene))
+    throw UsageError("--keyframe: '" + scene + "' is not an MJCF model (.xml); only MJCF models have keyframes");
+  return import;
+}
+
+SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
+  SceneDescription s = loadScene(scene, resourceLimitsFrom(args), modelImportOptionsFrom(args, scene));
   for (const std::string& note : s.import_notes) std::cerr << "lieflow: " << scene << ": ignored " << note << "\n";
   return s;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "joints/import/import_options.hpp"
 #include "joints/resource_limits.hpp"
 #include "joints/scene.hpp"
 
@@ -51,12 +52,16 @@ double parsePositiveNumber(const std::string& what, const std::string& text);
 /// where `args` has them.
 ResourceLimits resourceLimitsFrom(const Arguments& args);
 /// The limit flags of the commands that run scenes (simulate, study,
-/// stability): --max-steps, --max-input-mb, --max-bodies, and --ignore
-/// (what a model file may leave out).
+/// stability): --max-steps, --max-input-mb, --max-bodies, --ignore (what a
+/// model file may leave out) and --keyframe (an MJCF keyframe as the start).
 const std::set<std::string>& runLimitFlags();
 
-/// SCENE (a built-in name, a JSON file or a model file) with the limits and
-/// the --ignore list of `args`; what a model import left out is printed to
+/// How SCENE is imported when it is a model file: the --ignore list and the
+/// --keyframe of `args` (UsageError when SCENE is not a model file).
+ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::string& scene);
+
+/// SCENE (a built-in name, a JSON file or a model file) with the limits,
+/// the --ignore list and the --keyframe of `args`; what a model import left out is printed to
 /// stderr, one line each ("lieflow: MODEL: ignored contacts: geom 'floor' (line 12)").
 SceneDescription sceneFrom(const Arguments& args, const std::string& scene);
 

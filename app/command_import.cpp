@@ -1,5 +1,5 @@
 /// \file
-/// `lieflow import MODEL [--out SCENE.json] [--ignore LIST]`: a MuJoCo MJCF
+/// `lieflow import MODEL [--out SCENE.json] [--ignore LIST] [--keyframe K]`: a MuJoCo MJCF
 /// or URDF model as the lieflow scene it becomes (joints/import/), written so
 /// that it can be read and edited, then run like any scene file.
 #include <iostream>
@@ -15,17 +15,19 @@ namespace lieflow {
 namespace app {
 
 int runImport(int argc, char** argv) {
-  const Arguments args(argc, argv, {"--out", "--ignore", "--max-input-mb", "--max-bodies"}, {});
+  const Arguments args(argc, argv, {"--out", "--ignore", "--keyframe", "--max-input-mb", "--max-bodies"}, {});
   if (args.help()) {
-    std::cout << "usage: lieflow import MODEL.xml|MODEL.urdf [--out SCENE.json] [--ignore LIST]\n\n"
+    std::cout << "usage: lieflow import MODEL.xml|MODEL.urdf [--out SCENE.json] [--ignore LIST] [--keyframe K]\n\n"
                  "Writes the lieflow scene a model file becomes (to stdout without --out). MJCF is read by\n"
                  "MuJoCo's compiler (libmujoco-dev: " << (canReadMjcf() ? "present" : "absent in this build")
               << "), URDF by urdfdom (liburdfdom-dev: " << (canReadUrdf() ? "present" : "absent in this build")
               << ").\nWelded links are merged into one body; a URDF's root link is the ground. What lieflow\n"
                  "cannot represent is refused with the list of elements, unless --ignore names its category:\n";
     for (const auto& [name, what] : ignorableFeatures()) std::cout << "  " << name << ": " << what << "\n";
-    std::cout << "  all: every category above\nWhat was ignored is printed to stderr. The same --ignore works on "
-                 "simulate, study and stability,\nwhich take model files wherever they take a SCENE.\n";
+    std::cout << "  all: every category above\nWhat was ignored is printed to stderr. An MJCF model starts at qpos0 "
+                 "and at rest, as\nMuJoCo's mj_resetData puts it, or at the qpos and qvel of --keyframe NAME|INDEX.\n"
+                 "The same --ignore and --keyframe work on simulate, study and stability, which take\nmodel files "
+                 "wherever they take a SCENE.\n";
     return kSuccess;
   }
   if (args.positional().size() != 1) throw UsageError("import needs exactly one MODEL (see lieflow import --help)");

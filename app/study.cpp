@@ -13,6 +13,7 @@
 #include "app/run_setup.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
+#include "joints/import/mujoco_peer.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -57,6 +58,24 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   return r.final_row;
 }
 
+/// The invariant drifts of a MuJoCo run in the scene's order (NaN, written
+/// as an empty cell, for a quantity MuJoCo's run does not measure).
+std::vector<double> peerInvariants(const std::vector<std::string>& names, double L, double L_com, double balance) {
+  std::vector<double> out;
+  for (const std::string& n : names)
+    out.push_back(n == "L" ? L : n == "L_com" ? L_com : n == "energy_balance" ? balance
+                                                                            : std::numeric_limits<double>::quiet_NaN());
+  return out;
+}
+
+/// A row with the first body's quaternion and angular velocity where
+/// orientationErrorBetweenRows reads them (t, qw, qx, qy, qz, wx, wy, wz).
+std::vector<double> peerRow(double t, const MujocoPeerRun& run) {
+  const Eigen::Quaterniond& q = run.orientations.front();
+  const Eigen::Vector3d& w = run.angular_velocities.front();
+  return {t, q.w(), q.x(), q.y(), q.z(), w.x(), w.y(), w.z()};
+}
+
 std::string number(double v) {
   if (!std::isfinite(v)) return "nan";
   char buffer[32];
@@ -68,6 +87,106 @@ std::string csvNumber(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.17g", v);
   return buffer;
+}
+
+/// MuJoCo's integrators on the model at the study's steps (--with-mujoco):
+/// the same measurements as lieflow's rows, from MuJoCo's own quantities,
+/// and MuJoCo RK4 at the reference's step as a check of the reference.
+void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>& dts, double drift_dt,
+                 const std::vector<double>& ref, const StudyOptions& options, StudyResult* result) {
+  std::string why;
+  if (!mujocoPeerAvailable(&why)) {
+    for (const std::string& name : mujocoPeerIntegrators()) {
+      StudyRow row;
+      row.integrator = name;
+      row.dt = dts.front();
+      row.failed = true;
+      row.failure = "MuJoCo is absent: " + why;
+      result->rows.push_back(row);
+    }
+    return;
+  }
+  const MujocoPeer peer(options.mujoco_model, options.mujoco_import, sim.scene());
+  const std::vector<std::string>& names = result->invariant_names;
+  const std::string version = "MuJoCo " + mujocoPeerVersion();
+  int done = 0;
+  const int total = static_cast<int>(mujocoPeerIntegrators().size() * dts.size());
+  for (const std::string& name : mujocoPeerIntegrators()) {
+    for (const double dt : dts) {
+      if (options.progress)
+        *options.progress << "study: [MuJoCo " << ++done << "/" << total << "] " << name << " dt=" << dt << "\n";
+      if (options.heartbeat) options.heartbeat();
+      StudyRow row;
+      row.integrator = name;
+      row.dt = dt;
+      row.options = version;
+      const long steps = stepCount(0.0, t_end, dt);
+      if (steps > options.max_steps)
+        throw InvalidInput("--max-steps", "MuJoCo's " + std::to_string(steps) + " steps at dt " + number(dt) +
+                                              " exceed the limit " + std::to_string(options.max_steps));
+      const MujocoPeerRun diag =
+          peer.run(name, dt, t_end, true, std::max(1L, steps / kDriftSamples), options.heartbeat);
+      row.steps = diag.steps;
+      row.failed = diag.failed;
+      row.failure = diag.failure;
+      row.momentum_conserved = result->momentum_conserved;
+      if (diag.failed) {
+        row.orientation_error = row.omega_error = std::numeric_limits<double>::quiet_NaN();
+        row.wall_seconds = diag.wall_seconds;
+        result->rows.push_back(row);
+        continue;
+      }
+      row.energy_drift = diag.energy_drift;
+      row.momentum_drift = diag.momentum_drift;
+      row.invariant_drifts = peerInvariants(names, diag.momentum_drift, diag.com_momentum_drift,
+                                            diag.energy_balance_drift);
+      const std::vector<double> last = peerRow(t_end, diag);
+      row.orientation_error = orientationErrorBetweenRows(last, ref);
+      row.omega_error = omegaError(last, ref);
+      if (dt == drift_dt) {
+        const MujocoPeerSample& s0 = diag.samples.front();
+        const double e_scale = std::max(std::abs(s0.energy), 1e-300);
+        for (const MujocoPeerSample& s : diag.samples) {
+          DriftSample d;
+          d.integrator = name;
+          d.dt = dt;
+          d.t = s.t;
+          d.energy_error = (s.energy - s0.energy) / e_scale;
+          d.momentum_error = (s.L - s0.L).norm() / std::max(s0.L.norm(), 1e-300);
+          d.invariant_errors = peerInvariants(names, d.momentum_error,
+                                              (s.L_com - s0.L_com).norm() / std::max(s0.L_com.norm(), 1e-300),
+                                              std::abs(s.energy + s.dissipated_work - s0.energy) / e_scale);
+          result->drift.push_back(d);
+        }
+      }
+      std::vector<double> times;
+      double spent = 0.0;
+      while (static_cast<int>(times.size()) < options.max_repeats &&
+             (static_cast<int>(times.size()) < options.min_repeats || spent < options.min_timing_seconds)) {
+        const MujocoPeerRun timed = peer.run(name, dt, t_end, false, 1, options.heartbeat);
+        times.push_back(timed.wall_seconds);
+        spent += timed.wall_seconds;
+      }
+      std::sort(times.begin(), times.end());
+      if (spent < options.min_timing_seconds) ++result->capped_timings;
+      row.repeats = static_cast<int>(times.size());
+      row.wall_seconds = times[times.size() / 2];
+      row.ns_per_step = row.steps > 0 ? 1e9 * row.wall_seconds / static_cast<double>(row.steps) : 0.0;
+      result->rows.push_back(row);
+    }
+  }
+  // The reference against MuJoCo RK4 at the smallest step over 32 (where
+  // the reference is a fixed-step run, at its step).
+  const double h_check = dts.back() / 32.0;
+  if (options.progress) *options.progress << "study: checking the reference against MuJoCo RK4 at h " << h_check << "\n";
+  const MujocoPeerRun check = peer.run("mujoco-rk4", h_check, t_end, false, 1, options.heartbeat);
+  std::ostringstream s;
+  if (check.failed)
+    s << "; MuJoCo RK4 at h = " << number(h_check) << " failed: " << check.failure;
+  else
+    s << "; MuJoCo RK4 at h = " << number(h_check) << " differs from it by "
+      << number(orientationErrorBetweenRows(peerRow(t_end, check), ref)) << " rad";
+  result->reference += s.str();
 }
 
 }  // namespace
@@ -221,6 +340,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       result.rows.push_back(row);
     }
   }
+  if (!options.mujoco_model.empty()) studyMujoco(sim, t_end, dts, drift_dt, ref, options, &result);
   return result;
 }
 

@@ -3,7 +3,10 @@
 /// run time (median of repeated runs) and the error at t_end against a
 /// reference — the exact flow where the scene has one, else a converged
 /// adaptive run whose own error is estimated and reported — plus energy and
-/// momentum drift over time; written as CSV and drawn with matplotlib.
+/// momentum drift over time; written as CSV and drawn with matplotlib. On an
+/// MJCF model, MuJoCo's own integrators may run beside lieflow's
+/// (--with-mujoco): their rows are named mujoco-euler, mujoco-rk4 and
+/// mujoco-implicit, their errors measured against the same reference.
 #pragma once
 
 #include <functional>
@@ -12,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "joints/import/import_options.hpp"
 #include "joints/simulation.hpp"
 
 namespace lieflow {
@@ -36,6 +40,11 @@ struct StudyOptions {
   /// accept it (over the scene's own options for its integrator).
   std::map<std::string, double> integrator_options;
   long max_steps = kMaxSteps;
+  /// --with-mujoco: the MJCF model the scene was imported from and how
+  /// (--ignore, --keyframe); MuJoCo's integrators (joints/import/mujoco_peer.hpp)
+  /// then run beside lieflow's at the same steps. Empty: no MuJoCo rows.
+  std::string mujoco_model;
+  ModelImportOptions mujoco_import;
   /// Where progress goes (nullptr: silent).
   std::ostream* progress = nullptr;
   /// Called before every run and every 65536 steps within one

@@ -5,6 +5,7 @@
 #include "app/cli.hpp"
 #include "app/run_setup.hpp"
 #include "app/simulate_request.hpp"
+#include "joints/import/model_import.hpp"
 
 namespace lieflow {
 namespace app {
@@ -24,7 +25,7 @@ const std::set<std::string>& studyValueFlags() {
 }
 
 const std::set<std::string>& studySwitches() {
-  static const std::set<std::string> switches = {"--no-plots"};
+  static const std::set<std::string> switches = {"--no-plots", "--with-mujoco"};
   return switches;
 }
 
@@ -42,6 +43,17 @@ StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescript
   options.out_dir = args.value("--out", "study-" + s.name);
   options.min_timing_seconds = args.positiveNumber("--min-time", options.min_timing_seconds);
   options.plots = !args.has("--no-plots");
+  if (args.has("--with-mujoco")) {
+    // MuJoCo runs the model file itself: a scene given as JSON (Python) or
+    // a JSON or built-in scene has no MJCF to give it.
+    const std::string model = args.positional().empty() ? std::string() : args.positional().front();
+    if (model.empty() || !isModelFile(model) || model.size() < 4 ||
+        model.compare(model.size() - 4, 4, ".xml") != 0)
+      throw UsageError("--with-mujoco: MuJoCo runs beside lieflow on an MJCF model (SCENE ending in .xml), not on '" +
+                       (model.empty() ? std::string("a scene given as JSON") : model) + "'");
+    options.mujoco_model = model;
+    options.mujoco_import = modelImportOptionsFrom(args, model);
+  }
   request.t_end = args.positiveNumber("--t-end", s.has_t_end ? s.t_end : 0.0);
   if (!(request.t_end > 0.0)) throw UsageError("the scene has no t_end: give --t-end");
   return request;
@@ -52,7 +64,10 @@ const std::set<std::string>& stabilityValueFlags() {
   return flags;
 }
 
-const std::set<std::string>& stabilitySwitches() { return studySwitches(); }
+const std::set<std::string>& stabilitySwitches() {
+  static const std::set<std::string> switches = {"--no-plots"};
+  return switches;
+}
 
 StabilityRequest stabilityRequestFrom(const Arguments& args, std::vector<SceneDescription> scenes) {
   const ResourceLimits limits = resourceLimitsFrom(args);

@@ -15,7 +15,17 @@
 ///   or with the centre of mass on that axis: its `spin` ω·e (Euler's third
 ///   equation J₃ω̇₃ = (J₁ − J₂)ω₁ω₂ + τ·e = 0);
 /// - a multibody scene without external moments: its spatial angular
-///   momentum `L`.
+///   momentum `L`;
+/// - a multibody scene without external forces but uniform gravity (no
+///   joint to the ground, no supported rotation-only body, no loads from a
+///   program): its angular momentum about the centre of mass,
+///   `L_com` = Σ R_i J_i ω_i + (p_i − c) × m_i (v_i − v_c): gravity
+///   m_i g acts at each centre and Σ (p_i − c) × m_i g = 0 (reported when
+///   `L` is not, that is under gravity);
+/// - a scene whose only non-conservative forces are the joints' dashpots:
+///   its `energy_balance`, the energy plus the work W(t) = ∫₀ᵗ Σ c φ̇² dτ the
+///   dashpots dissipated, integrated by the trapezoidal rule over the
+///   observed steps (its error, −h²/12 [Ṗ]₀ᵗ, telescopes: bounded, no drift).
 /// A drift is relative: vectors ‖x − x₀‖/‖x₀‖; `L_z` against ‖L₀‖ about the
 /// pivot (the component alone may be 0); `spin` against ‖ω₀‖; absolute when
 /// the scale is 0.
@@ -72,10 +82,13 @@ class InvariantSet {
     return s;
   }
 
-  /// A multibody scene: its spatial angular momentum, if conserved.
-  static InvariantSet multibody(bool momentum_conserved) {
+  /// A multibody scene: its spatial angular momentum, its angular momentum
+  /// about the centre of mass and its energy balance, each if conserved.
+  static InvariantSet multibody(bool momentum_conserved, bool com_momentum_conserved, bool energy_balance) {
     InvariantSet s;
     if (momentum_conserved) s.add("L", Kind::kMomentum);
+    if (com_momentum_conserved && !momentum_conserved) s.add("L_com", Kind::kComMomentum);
+    if (energy_balance) s.add("energy_balance", Kind::kEnergyBalance);
     return s;
   }
 
@@ -90,15 +103,46 @@ class InvariantSet {
         case Kind::kMomentum: return {L, L.norm()};
         case Kind::kVerticalMomentum: return {Eigen::Vector3d(L.dot(vertical_), 0, 0), L.norm()};
         case Kind::kSpin: return {Eigen::Vector3d(omega.dot(spin_axis_), 0, 0), omega.norm()};
+        default: break;  // multibody kinds
       }
       return {Eigen::Vector3d::Zero(), 0.0};
     });
   }
 
-  /// Records a multibody state's spatial angular momentum L.
-  void observe(const Eigen::Vector3d& L) {
-    observeEach([&](Kind) { return std::make_pair(L, L.norm()); });
+  /// What a multibody state contributes to its invariants.
+  struct MultibodyValues {
+    Eigen::Vector3d L = Eigen::Vector3d::Zero();      ///< about the world origin
+    Eigen::Vector3d L_com = Eigen::Vector3d::Zero();  ///< about the centre of mass
+    double energy = 0.0;
+    double dissipated_power = 0.0;  ///< Σ c φ̇² of the dashpots, ≥ 0
+  };
+
+  /// Whether observe(t, MultibodyValues) needs L_com, the energy and the
+  /// dissipated power (else only L).
+  bool needsMultibodyValues() const {
+    return std::find(kinds_.begin(), kinds_.end(), Kind::kComMomentum) != kinds_.end() ||
+           std::find(kinds_.begin(), kinds_.end(), Kind::kEnergyBalance) != kinds_.end();
   }
+
+  /// Records a multibody state at time t; the dissipated work is the
+  /// trapezoidal sum of the power over the observed times.
+  void observe(double t, const MultibodyValues& v) {
+    if (started_) dissipated_ += 0.5 * (t - t_last_) * (power_last_ + v.dissipated_power);
+    t_last_ = t;
+    power_last_ = v.dissipated_power;
+    observeEach([&](Kind kind) -> std::pair<Eigen::Vector3d, double> {
+      switch (kind) {
+        case Kind::kComMomentum: return {v.L_com, v.L_com.norm()};
+        case Kind::kEnergyBalance: {
+          const double balance = v.energy + dissipated_;
+          return {Eigen::Vector3d(balance, 0, 0), std::abs(balance)};
+        }
+        default: return {v.L, v.L.norm()};
+      }
+    });
+  }
+  /// The work the dashpots dissipated up to the last observation.
+  double dissipatedWork() const { return dissipated_; }
 
   /// Relative error of each invariant at the last observation and its
   /// maximum over all observations, in the order of names().
@@ -106,7 +150,7 @@ class InvariantSet {
   const std::vector<double>& maxDrift() const { return max_; }
 
  private:
-  enum class Kind { kMomentum, kVerticalMomentum, kSpin };
+  enum class Kind { kMomentum, kVerticalMomentum, kSpin, kComMomentum, kEnergyBalance };
 
   void add(const std::string& name, Kind kind) {
     names_.push_back(name);
@@ -135,6 +179,7 @@ class InvariantSet {
 
   bool single_ = false;
   bool started_ = false;
+  double t_last_ = 0.0, power_last_ = 0.0, dissipated_ = 0.0;
   Eigen::Matrix3d J_ = Eigen::Matrix3d::Identity();
   Eigen::Vector3d vertical_ = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d spin_axis_ = Eigen::Vector3d::UnitZ();

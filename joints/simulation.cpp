@@ -52,7 +52,10 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   for (const BodyDescription& b : scene.bodies) model->sensors.push_back(b.sensor);
   if (needsMultibody(scene)) {
     model->multibody = assembleMultibody(scene);
-    model->invariants = InvariantSet::multibody(model->multibody->system->conservesAngularMomentum());
+    const multibody::MultibodySystem& system = *model->multibody->system;
+    model->invariants = InvariantSet::multibody(system.conservesAngularMomentum(),
+                                                system.conservesCentreOfMassMomentum(),
+                                                system.conservesEnergyBalance());
     if (articulatedCovers(scene, &model->articulated_why)) {
       model->articulated = assembleArticulated(scene);
       model->articulated->system->setConservesAngularMomentum(model->multibody->system->conservesAngularMomentum());

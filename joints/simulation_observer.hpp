@@ -228,12 +228,26 @@ inline void observeInvariants(InvariantSet* set, const FreeBodySystem<double>&, 
   set->observe(y.R, y.omega);
 }
 inline void observeInvariants(InvariantSet* set, const multibody::MultibodySystem& sys,
-                       const multibody::MultibodyGroupState& y) {
-  set->observe(sys.angularMomentum(y));
+                              const multibody::MultibodyGroupState& y, double t) {
+  InvariantSet::MultibodyValues v;
+  v.L = sys.angularMomentum(y);
+  if (set->needsMultibodyValues()) {
+    v.L_com = sys.centreOfMassMomentum(y);
+    v.energy = sys.energy(y);
+    v.dissipated_power = sys.dissipatedPower(y);
+  }
+  set->observe(t, v);
 }
 inline void observeInvariants(InvariantSet* set, const articulated::ArticulatedSystem& sys,
                               const articulated::ArticulatedState& y, double t) {
-  set->observe(sys.angularMomentum(t, y));
+  InvariantSet::MultibodyValues v;
+  v.L = sys.angularMomentum(t, y);
+  if (set->needsMultibodyValues()) {
+    v.L_com = sys.centreOfMassMomentum(t, y);
+    v.energy = sys.energy(t, y);
+    v.dissipated_power = sys.dissipatedPower(t, y);
+  }
+  set->observe(t, v);
 }
 template <typename System, typename State>
 void observeInvariants(InvariantSet* set, const System& sys, const State& y, double) {

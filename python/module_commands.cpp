@@ -304,11 +304,13 @@ void defineCommands(py::module_& m) {
 #endif
   m.def(
       "import_model",
-      [](const std::string& path, const std::string& ignore) {
-        const SceneDescription s = importModel(path, parseIgnoreList(ignore));
+      [](const std::string& path, const std::string& ignore, const std::string& keyframe) {
+        ModelImportOptions options = parseIgnoreList(ignore);
+        options.keyframe = keyframe;
+        const SceneDescription s = importModel(path, options);
         return py::make_tuple(sceneToJson(s), s.import_notes);
       },
-      py::arg("path"), py::arg("ignore") = "");
+      py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "");
   m.attr("reads_mjcf") = canReadMjcf();
   m.attr("reads_urdf") = canReadUrdf();
   m.def("scenes", [] {

@@ -8,6 +8,10 @@ DIR/work_precision.png, DIR/energy_drift.png and DIR/momentum_drift.png out.
   the reference's own error as a band (points below it are not meaningful),
   marks saturated errors (>= 1 rad: no correct digit) with hollow markers and
   lists the failed runs instead of dropping them.
+- A peer engine's rows (MuJoCo's integrators, `--with-mujoco`: names
+  starting with "mujoco-") are drawn in black and shades of grey with open
+  markers, so they stand apart from lieflow's; when MuJoCo is absent from
+  the build the figure says so instead of listing failed runs.
 - The momentum figure shows the spatial angular momentum where the scene
   conserves it, and every other invariant of the scene (drift.csv columns
   NAME_error: L_z, spin, L_com, ...); with nothing conserved it says so.
@@ -46,19 +50,43 @@ def human(v):
     return f"{v:.3g}" if math.isfinite(v) else "?"
 
 
+PEER_PREFIX = "mujoco-"
+PEER_COLORS = ["black", "dimgray", "darkgray"]
+
+
 def style_of(names):
-    return {n: dict(marker=MARKERS[i % len(MARKERS)], linestyle=STYLES[(i // len(MARKERS) + i) % len(STYLES)])
-            for i, n in enumerate(names)}
+    styles, ours, peers = {}, 0, 0
+    for n in names:
+        if n.startswith(PEER_PREFIX):
+            styles[n] = dict(marker=MARKERS[peers % len(MARKERS)], linestyle=":", color=PEER_COLORS[peers % 3],
+                             markerfacecolor="none")
+            peers += 1
+        else:
+            styles[n] = dict(marker=MARKERS[ours % len(MARKERS)],
+                             linestyle=STYLES[(ours // len(MARKERS) + ours) % len(STYLES)])
+            ours += 1
+    return styles
+
+
+def peer_absent(study):
+    """The reason MuJoCo's rows give when this build has no MuJoCo, or None."""
+    for r in study:
+        if r["integrator"].startswith(PEER_PREFIX) and r["failure"].startswith("MuJoCo is absent"):
+            return r["failure"]
+    return None
 
 
 def work_precision(directory, study, styles, scene):
     fig, ax = plt.subplots(figsize=(10, 5.5))
     failed = []
     any_saturated = False
+    absent = peer_absent(study)
     for name in styles:
         pts = []
         for r in study:
             if r["integrator"] != name:
+                continue
+            if r["failed"] == "true" and absent and name.startswith(PEER_PREFIX):
                 continue
             if r["failed"] == "true":
                 failed.append(f"{name} dt={human(number(r['dt']))}")
@@ -70,8 +98,7 @@ def work_precision(directory, study, styles, scene):
             continue
         pts.sort()
         st = styles[name]
-        line, = ax.loglog([p[0] for p in pts], [p[1] for p in pts], label=name, markersize=5, alpha=0.85,
-                          linestyle=st["linestyle"], marker=st["marker"])
+        line, = ax.loglog([p[0] for p in pts], [p[1] for p in pts], label=name, markersize=5, alpha=0.85, **st)
         sat = [p for p in pts if p[1] >= SATURATED]
         if sat:
             any_saturated = True
@@ -95,6 +122,9 @@ def work_precision(directory, study, styles, scene):
     ax.set_ylabel("orientation error at t_end [rad]")
     short = reference if len(reference) <= 90 else reference[:87] + "..."
     ax.set_title(f"work-precision: {scene}\nerrors against: {short}", fontsize=9)
+    if absent:
+        ax.text(0.99, 0.01, absent, transform=ax.transAxes, ha="right", va="bottom", fontsize=8, color="darkred",
+                wrap=True)
     if failed:
         fig.text(0.01, 0.005, "failed (no point): " + ", ".join(failed), fontsize=7, color="darkred", va="bottom",
                  wrap=True)
@@ -105,7 +135,8 @@ def work_precision(directory, study, styles, scene):
     plt.close(fig)
     curves = len([n for n in styles if any(r["integrator"] == n and r["failed"] != "true" for r in study)])
     saturated = sum(1 for r in study if r["failed"] != "true" and number(r["orientation_error"]) >= SATURATED)
-    print(f"work_precision.png: {curves} curves, {saturated} saturated points, {len(failed)} failed runs listed")
+    print(f"work_precision.png: {curves} curves, {saturated} saturated points, {len(failed)} failed runs listed"
+          + (f"; {absent}" if absent else ""))
 
 
 def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, empty_note):
@@ -121,8 +152,8 @@ def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, emp
                 continue
             st = styles[name]
             label = name if len(columns) == 1 else f"{name}: {column_label}"
-            ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=label, linestyle=st["linestyle"],
-                        marker=st["marker"], markevery=max(1, len(pts) // 12), markersize=4, alpha=0.85)
+            ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=label, markevery=max(1, len(pts) // 12),
+                        markersize=4, alpha=0.85, **st)
             plotted = True
             if column_label not in drawn:
                 drawn.append(column_label)

@@ -38,6 +38,39 @@ Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) con
   return L;
 }
 
+Eigen::Vector3d ArticulatedSystem::centreOfMassMomentum(double t, const State& y) const {
+  kinematics(t, y);
+  double mass = 0.0;
+  Eigen::Vector3d mc = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    if (b.rotation_only) continue;
+    mass += b.mass;
+    mc += b.mass * data_[i].c;
+    mv += b.mass * velocityOfCentre(i);
+  }
+  const Eigen::Vector3d c = mass > 0.0 ? Eigen::Vector3d(mc / mass) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d vc = mass > 0.0 ? Eigen::Vector3d(mv / mass) : Eigen::Vector3d::Zero();
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    L += data_[i].R * (b.inertia * angularVelocityBody(i));
+    if (!b.rotation_only) L += (data_[i].c - c).cross(b.mass * (velocityOfCentre(i) - vc));
+  }
+  return L;
+}
+
+double ArticulatedSystem::dissipatedPower(double t, const State& y) const {
+  kinematics(t, y);
+  double P = 0.0;
+  for (int i = 0; i < bodyCount(); ++i)
+    for (int k = 0; k < model_.bodies[i].coordinates(); ++k) {
+      const double c = model_.drives[i][k].damping;
+      P += c * data_[i].phidot[k] * data_[i].phidot[k];
+    }
+  return P;
+}
+
 void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const {
   accelerations(t, y, &udot_);
   out->assign(model_.scene_joints, ArticulatedJointOutput());

@@ -152,6 +152,11 @@ class ArticulatedSystem {
   /// maximal system's answer (joints to the ground, gravity, supports of
   /// rotation-only bodies and loads from a program are external).
   bool conservesAngularMomentum() const { return conserves_momentum_; }
+  /// The angular momentum about the bodies' centre of mass (the maximal
+  /// formulation's MultibodySystem::centreOfMassMomentum).
+  Eigen::Vector3d centreOfMassMomentum(double t, const State& y) const;
+  /// Σ c φ̇², the power the joints' dashpots dissipate.
+  double dissipatedPower(double t, const State& y) const;
   void setConservesAngularMomentum(bool conserved) { conserves_momentum_ = conserved; }
 
   /// The joints' outputs by scene joint index (from a full dynamics solve at

@@ -11,6 +11,10 @@ struct ModelImportOptions {
   /// Feature categories (ignorableFeatures(), model_import.hpp) the importer
   /// may leave out; each left-out element is listed in the scene's import_notes.
   std::set<std::string> ignore;
+  /// An MJCF keyframe (`--keyframe NAME|INDEX`; empty: none) whose qpos and
+  /// qvel are the scene's initial state; without it a model starts where
+  /// MuJoCo's mj_resetData puts it, at qpos0 and at rest.
+  std::string keyframe;
   bool ignores(const std::string& category) const { return ignore.count(category) > 0; }
 };
 

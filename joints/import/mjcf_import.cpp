@@ -14,6 +14,7 @@
 #include <memory>
 #include <sstream>
 
+#include "joints/import/mjcf_model.hpp"
 #include "joints/import/model_to_scene.hpp"
 #include "joints/import/xml_lines.hpp"
 #endif
@@ -52,9 +53,6 @@ void keepWarning(const char* text) {
   if (g_warnings) *g_warnings += (g_warnings->empty() ? "" : "; ") + std::string(text);
 }
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
 struct DataDeleter {
   void operator()(mjData* d) const { mj_deleteData(d); }
 };
@@ -72,23 +70,119 @@ std::string nameOf(const mjModel* m, int type, int id, const char* kind) {
   return std::string(kind) + " " + std::to_string(id);
 }
 
+/// A keyframe's gap in a closure that holds at qpos0 beyond this (m, rad)
+/// refuses the keyframe.
+constexpr double kKeyframeClosureGap = 1e-9;
+
+std::string keyframeName(const mjModel* m, int key) {
+  const char* n = mj_id2name(m, mjOBJ_KEY, key);
+  return n && *n ? std::string(n) : std::to_string(key);
+}
+
+}  // namespace
+
+void MjcfModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
+
+MjcfModel compileMjcf(const std::string& path) {
+  std::string warnings;
+  char error[1024] = "";
+  g_warnings = &warnings;
+  void (*previous_warning)(const char*) = mju_user_warning;
+  mju_user_warning = keepWarning;
+  MjcfModel m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+  mju_user_warning = previous_warning;
+  g_warnings = nullptr;
+  if (!m) throw InvalidInput(path, std::string("MuJoCo's compiler refuses it: ") + (*error ? error : warnings.c_str()));
+  return m;
+}
+
+int keyframeIndex(const mjModel* m, const std::string& path, const std::string& wanted) {
+  if (wanted.empty()) return -1;
+  const int by_name = mj_name2id(m, mjOBJ_KEY, wanted.c_str());
+  if (by_name >= 0) return by_name;
+  if (wanted.find_first_not_of("0123456789") == std::string::npos && wanted.size() < 9) {
+    const int index = std::stoi(wanted);
+    if (index < m->nkey) return index;
+  }
+  std::string have;
+  for (int k = 0; k < m->nkey; ++k) have += (have.empty() ? "" : ", ") + keyframeName(m, k);
+  throw InvalidInput(path + ": --keyframe", "the model has no keyframe '" + wanted + "' (" +
+                                                (m->nkey == 0 ? std::string("it has no <key>") : "it has " + have) + ")");
+}
+
+namespace {
+
+/// Whether lieflow represents equality e (connect, weld, a linear joint coupling).
+bool representedEquality(const mjModel* m, int e) {
+  const int type = m->eq_type[e];
+  const mjtNum* c = m->eq_data + e * mjNEQDATA;
+  const bool linear_coupling = type == mjEQ_JOINT && m->eq_obj2id[e] >= 0 && c[2] == 0 && c[3] == 0 && c[4] == 0;
+  return type == mjEQ_CONNECT || type == mjEQ_WELD || linear_coupling;
+}
+
+}  // namespace
+
+void switchOffIgnored(mjModel* m, const ModelImportOptions& options) {
+  if (options.ignores("contacts")) m->opt.disableflags |= mjDSBL_CONTACT;
+  if (options.ignores("limits")) m->opt.disableflags |= mjDSBL_LIMIT;
+  if (options.ignores("actuators")) m->opt.disableflags |= mjDSBL_ACTUATION;
+  if (options.ignores("friction")) m->opt.disableflags |= mjDSBL_FRICTIONLOSS;
+  if (options.ignores("armature"))
+    for (int i = 0; i < m->nv; ++i) m->dof_armature[i] = 0.0;
+  if (options.ignores("tendons"))
+    for (int t = 0; t < m->ntendon; ++t) {
+      m->tendon_stiffness[t] = m->tendon_damping[t] = m->tendon_frictionloss[t] = 0.0;
+      m->tendon_limited[t] = 0;
+    }
+  if (options.ignores("equalities"))
+    for (int e = 0; e < m->neq; ++e)
+      if (!representedEquality(m, e)) m->eq_active[e] = 0;
+}
+
+namespace {
+
+/// How far a closure that holds at qpos0 (d0) is from holding in d: the
+/// distance between the two bodies' copies of the connect point (`point`,
+/// body 1's frame), or for a weld the change of body 2's pose in body 1's
+/// frame (position and angle).
+double closureGap(const mjData* d0, const mjData* d, int b1, int b2, const Eigen::Vector3d& point, bool weld) {
+  const auto pose = [](const mjData* x, int b) {
+    return std::make_pair(b == 0 ? Eigen::Matrix3d::Identity().eval() : mat3(x->xmat + 9 * b),
+                          b == 0 ? Eigen::Vector3d::Zero().eval() : vec3(x->xpos + 3 * b));
+  };
+  const auto [R1a, x1a] = pose(d0, b1);
+  const auto [R2a, x2a] = pose(d0, b2);
+  const auto [R1b, x1b] = pose(d, b1);
+  const auto [R2b, x2b] = pose(d, b2);
+  if (!weld) {
+    const Eigen::Vector3d on2 = R2a.transpose() * (x1a + R1a * point - x2a);  // body 2's copy, its frame
+    return ((x1b + R1b * point) - (x2b + R2b * on2)).norm();
+  }
+  const Eigen::Matrix3d rel_a = R1a.transpose() * R2a, rel_b = R1b.transpose() * R2b;
+  const double angle = Eigen::AngleAxisd(rel_a.transpose() * rel_b).angle();
+  return std::max(angle, (R1a.transpose() * (x2a - x1a) - R1b.transpose() * (x2b - x1b)).norm());
+}
+
 }  // namespace
 
 ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options) {
   const XmlLines xml(text, path);
   if (xml.rootTag() != "mujoco")
     throw InvalidInput(path, "an MJCF file's root element is <mujoco>, not <" + xml.rootTag() + ">");
-  std::string warnings;
-  char error[1024] = "";
-  g_warnings = &warnings;
-  void (*previous_warning)(const char*) = mju_user_warning;
-  mju_user_warning = keepWarning;
-  std::unique_ptr<mjModel, ModelDeleter> m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
-  mju_user_warning = previous_warning;
-  g_warnings = nullptr;
-  if (!m) throw InvalidInput(path, std::string("MuJoCo's compiler refuses it: ") + (*error ? error : warnings.c_str()));
+  const MjcfModel m = compileMjcf(path);
+  // Poses at qpos0 (d0), and at the keyframe if one is asked for (d), with
+  // the bodies' velocities (mj_comVel).
+  std::unique_ptr<mjData, DataDeleter> d0(mj_makeData(m.get()));
+  mj_kinematics(m.get(), d0.get());
   std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m.get()));
-  mj_kinematics(m.get(), d.get());  // poses at qpos0
+  const int key = keyframeIndex(m.get(), path, options.keyframe);
+  if (key >= 0) {
+    mju_copy(d->qpos, m->key_qpos + key * m->nq, m->nq);
+    mju_copy(d->qvel, m->key_qvel + key * m->nv, m->nv);
+  }
+  mj_kinematics(m.get(), d.get());
+  mj_comPos(m.get(), d.get());
+  mj_comVel(m.get(), d.get());
 
   ModelDescription model;
   model.source = path;
@@ -126,13 +220,8 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   }
   for (int u = 0; u < m->nu; ++u) unsupported.add("actuators", label("actuator", mjOBJ_ACTUATOR, u));
   for (int t = 0; t < m->ntendon; ++t) unsupported.add("tendons", label("tendon", mjOBJ_TENDON, t));
-  for (int e = 0; e < m->neq; ++e) {
-    const int type = m->eq_type[e];
-    const mjtNum* c = m->eq_data + e * mjNEQDATA;
-    const bool linear_coupling = type == mjEQ_JOINT && m->eq_obj2id[e] >= 0 && c[2] == 0 && c[3] == 0 && c[4] == 0;
-    if (type != mjEQ_CONNECT && type != mjEQ_WELD && !linear_coupling)
-      unsupported.add("equalities", label("equality", mjOBJ_EQUALITY, e));
-  }
+  for (int e = 0; e < m->neq; ++e)
+    if (!representedEquality(m.get(), e)) unsupported.add("equalities", label("equality", mjOBJ_EQUALITY, e));
   unsupported.resolve(options, &model);
 
   // Links: every body but the world (body 0), at qpos0.
@@ -151,6 +240,10 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     const Eigen::Matrix3d Ri = mat3(d->ximat + 9 * b);
     l.inertia_world = Ri * vec3(m->body_inertia + 3 * b).asDiagonal() * Ri.transpose();
     l.orientation = Eigen::Quaterniond(d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2], d->xquat[4 * b + 3]);
+    mjtNum velocity[6];  // (ω, v of the centre of mass), world
+    mj_objectVelocity(m.get(), d.get(), mjOBJ_BODY, b, velocity, 0);
+    l.angular_velocity_world = vec3(velocity);
+    l.velocity_world = vec3(velocity + 3);
     model.links.push_back(l);
   }
   auto link = [](int body) { return body - 1; };  // the world is −1
@@ -177,7 +270,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     mj.axis_world = vec3(d->xaxis + 3 * j0);
     auto coordinate = [&](int j, int i) {
       const int q = m->jnt_qposadr[j];
-      mj.initial[i] = m->qpos0[q];
+      mj.initial[i] = d->qpos[q];
       mj.stiffness[i] = m->jnt_stiffness[j];
       mj.rest[i] = m->qpos_spring[q];
       mj.damping[i] = m->dof_damping[m->jnt_dofadr[j]];
@@ -260,6 +353,16 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
       // connect: the anchor in body 1's frame; weld: body 2's origin.
       cl.anchor_world = type == mjEQ_CONNECT ? Eigen::Vector3d(vec3(d->xpos + 3 * b1) + mat3(d->xmat + 9 * b1) * vec3(c))
                                              : vec3(d->xpos + 3 * b2);
+      // MuJoCo takes the constraint as satisfied at qpos0: a keyframe must
+      // keep it (else the scene would close the loop somewhere else).
+      if (key >= 0) {
+        const double gap = closureGap(d0.get(), d.get(), b1, b2, type == mjEQ_CONNECT ? vec3(c) : Eigen::Vector3d::Zero(),
+                                      type == mjEQ_WELD);
+        if (gap > kKeyframeClosureGap)
+          throw InvalidInput(path + ": --keyframe", "keyframe '" + keyframeName(m.get(), key) + "' breaks " +
+                                                        elementLabel("equality", name, eline) + " (by " +
+                                                        std::to_string(gap) + " m or rad), which holds at qpos0");
+      }
       model.closures.push_back(cl);
     } else if (type == mjEQ_JOINT && m->eq_obj2id[e] >= 0) {
       const int follower = m->eq_obj1id[e], leader = m->eq_obj2id[e];

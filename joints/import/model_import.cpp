@@ -91,9 +91,11 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
   std::string text;
   if (!readInputFile(path, limits.max_input_bytes, &text))
     throw InvalidInput(path, "cannot open the model file");
-  model_import::ModelDescription model = endsWith(path, ".urdf")
-                                             ? model_import::readUrdf(text, path, options)
-                                             : model_import::readMjcf(text, path, options);
+  const bool urdf = endsWith(path, ".urdf");
+  if (urdf && !options.keyframe.empty())
+    throw InvalidInput(path + ": --keyframe", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
+  model_import::ModelDescription model =
+      urdf ? model_import::readUrdf(text, path, options) : model_import::readMjcf(text, path, options);
   if (static_cast<long>(model.links.size()) > limits.max_bodies)
     throw InvalidInput(path, "the model has " + std::to_string(model.links.size()) + " links, more than --max-bodies " +
                                  std::to_string(limits.max_bodies));

@@ -69,6 +69,67 @@ bool MultibodySystem::conservesAngularMomentum() const {
   return true;
 }
 
+Eigen::Vector3d MultibodySystem::centreOfMassMomentum(const State& y) const {
+  double mass = 0.0;
+  Eigen::Vector3d mc = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    if (rot_[i]) continue;
+    const double m = model_.bodies[i].mass;
+    mass += m;
+    mc += m * y.bodies.poses[i].p;
+    mv += m * y.bodies.velocities[i].v;
+  }
+  const Eigen::Vector3d c = mass > 0.0 ? Eigen::Vector3d(mc / mass) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d vc = mass > 0.0 ? Eigen::Vector3d(mv / mass) : Eigen::Vector3d::Zero();
+  Eigen::Vector3d L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < bodyCount(); ++i) {
+    const RigidBody& b = model_.bodies[i];
+    const auto& P = y.bodies.poses[i];
+    const auto& V = y.bodies.velocities[i];
+    L += P.R * (b.inertia * V.omega);
+    if (!rot_[i]) L += (P.p - c).cross(b.mass * (V.v - vc));
+  }
+  return L;
+}
+
+bool MultibodySystem::conservesCentreOfMassMomentum() const {
+  if (hasUserTorques()) return false;
+  for (int i = 0; i < bodyCount(); ++i)
+    if (rot_[i]) return false;  // held at its centre: the support is an external force
+  for (const Joint& j : model_.joints)
+    if (j.main == kGround || j.secondary == kGround) return false;
+  for (const Gear& g : gears_)
+    for (int b : g.bodies)
+      if (b == kGround) return false;
+  return true;
+}
+
+double MultibodySystem::dissipatedPower(const State& y) const {
+  double P = 0.0;
+  for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const Joint& j = model_.joints[k];
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+      const double c = drives_[k][i].damping;
+      if (c == 0.0) continue;
+      Row6 Ja, Jb;
+      coordinate(y, static_cast<int>(k), i, &Ja, &Jb);
+      const double phidot = coordinateRate(y, j.main, j.secondary, Ja, Jb);
+      P += c * phidot * phidot;
+    }
+  }
+  return P;
+}
+
+bool MultibodySystem::conservesEnergyBalance() const {
+  if (!hasDampers() || hasUserTorques()) return false;
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+      const CoordinateDrive& d = drives_[k][i];
+      if (d.moment || d.prescribed || d.user_moment) return false;
+    }
+  return true;
+}
+
 std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y) const {
   const int nj = static_cast<int>(model_.joints.size());
   std::vector<JointOutput> out(nj);

@@ -297,6 +297,19 @@ class MultibodySystem {
   /// translating body, no joint or gear to the ground, no force passed to the
   /// support of a rotation-only body (see the .cpp).
   bool conservesAngularMomentum() const;
+  /// Σ R J ω + (p − c) × m (v − v_c), the angular momentum about the centre
+  /// of mass c of the bodies (all translating when it is asked for).
+  Eigen::Vector3d centreOfMassMomentum(const State& y) const;
+  /// True when the only external force is uniform gravity: every body
+  /// translates, no joint or gear to the ground, no program's torques; then
+  /// centreOfMassMomentum is conserved.
+  bool conservesCentreOfMassMomentum() const;
+  /// Σ c φ̇² ≥ 0, the power the joints' dashpots dissipate.
+  double dissipatedPower(const State& y) const;
+  /// True when some coordinate has a dashpot and the dashpots are the only
+  /// non-conservative forces (no applied or program moments, no prescribed
+  /// motion, no program torques): energy + dissipated work is conserved.
+  bool conservesEnergyBalance() const;
   /// Joint angles, rates and moments about the joint axes at (t, y): the
   /// moment on the main body about each axis (M_J = M_M · a, README), the
   /// constraint reaction plus the joint's force elements. Uses the

@@ -75,6 +75,12 @@ def _numbers(flag, values):
     return ",".join(_number(flag, v) for v in items)
 
 
+def _keyframe(flag, value):
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        return str(value)
+    return _text(flag, value)
+
+
 def _names(flag, values):
     if isinstance(values, str):
         values = [values]
@@ -105,7 +111,8 @@ def _flags(spec, values):
 
 
 _LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input-mb", _integer),
-           "max_bodies": ("--max-bodies", _integer), "ignore": ("--ignore", _names)}
+           "max_bodies": ("--max-bodies", _integer), "ignore": ("--ignore", _names),
+           "keyframe": ("--keyframe", _keyframe)}
 
 
 def _scene(scene, what="scene"):
@@ -118,16 +125,19 @@ def _scene(scene, what="scene"):
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
 
 
-def import_model(model, ignore=None):
+def import_model(model, ignore=None, keyframe=None):
     """A MuJoCo MJCF (.xml) or URDF (.urdf) model as the scene it becomes, as
     ``lieflow import MODEL``: a dict in the scene schema (welded links merged;
     pass it to simulate, study or stability, or edit it first). ignore: what
     the model may leave out (e.g. ["contacts", "limits"], or ["all"]); what was
-    left out is reported with warnings.warn. Raises InputError naming the file,
-    element and line for what lieflow cannot represent."""
+    left out is reported with warnings.warn. keyframe: an MJCF keyframe's name
+    or index whose qpos and qvel are the start (default: qpos0, at rest).
+    Raises InputError naming the file, element and line for what lieflow
+    cannot represent."""
     if not isinstance(model, (str, os.PathLike)):
         raise InputError(f"model: expected a path to a .xml or .urdf file, got {type(model).__name__}")
-    text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "")
+    text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "",
+                                        _keyframe("keyframe", keyframe) if keyframe is not None else "")
     if notes:
         warnings.warn(f"lieflow: {os.fspath(model)}: ignored " + "; ".join(notes), stacklevel=2)
     return json.loads(text)
@@ -151,13 +161,14 @@ def _callables(name, loads):
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
              moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
-             imu=False, ignore=None):
+             imu=False, ignore=None, keyframe=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a model file (MJCF .xml, URDF .urdf), a built-in
                 name (``lieflow.scenes()``) or a dict in the scene schema;
     ignore:     what a model file may leave out (--ignore), e.g.
                 ["contacts", "limits"]; what was left out is printed to stderr;
+    keyframe:   an MJCF model's keyframe (name or index) as the start (--keyframe);
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
                 (None: the scene's own);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
@@ -193,7 +204,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
             "acc": ("--noise-acc", _number), "bias_gyro": ("--bias-gyro", _number),
             "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
-                                            formulation=formulation, imu=imu, ignore=ignore,
+                                            formulation=formulation, imu=imu, ignore=ignore, keyframe=keyframe,
                                             max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
@@ -251,7 +262,8 @@ class _OutputDirectory:
 
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
-          max_steps=None, max_input_mb=None, max_bodies=None, formulation=None, ignore=None):
+          max_steps=None, max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None,
+          with_mujoco=False):
     """Work-precision study, as ``lieflow study SCENE``.
 
     Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
@@ -259,16 +271,19 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
     CSV cell is empty), "drift" (the columns of drift.csv), "reference",
     "reference_error", and "out" (the directory with the CSV files and, with
     plots=True, the plots; None when out was not given: the files were
-    written to a temporary directory and removed).
+    written to a temporary directory and removed). with_mujoco: MuJoCo's
+    Euler, RK4 and implicit integrators beside lieflow's on an MJCF model
+    (--with-mujoco; rows "mujoco-euler", "mujoco-rk4", "mujoco-implicit").
     """
     positional, scene_json = _scene(scene)
     spec = {"integrators": ("--integrators", _names), "dt": ("--dt", _numbers), "t_end": ("--t-end", _number),
             "min_time": ("--min-time", _number), "options": ("--options", _options),
-            "formulation": ("--formulation", _text), **_LIMITS}
+            "formulation": ("--formulation", _text), "with_mujoco": ("--with-mujoco", None), **_LIMITS}
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, dt=dt, t_end=t_end, min_time=min_time,
                                                 options=options, max_steps=max_steps, max_input_mb=max_input_mb,
-                                                max_bodies=max_bodies, formulation=formulation, ignore=ignore))
+                                                max_bodies=max_bodies, formulation=formulation, ignore=ignore,
+                                                keyframe=keyframe, with_mujoco=with_mujoco))
         tokens += ["--out", directory.path]
         if not plots:
             tokens.append("--no-plots")
@@ -283,7 +298,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
 
 
 def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
-              max_input_mb=None, max_bodies=None, formulation=None, ignore=None):
+              max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None):
     """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
     and scene the largest bounded h*omega_c. scenes: a list of files, built-in
     names or dicts (default stiff-spring and fast-top). Returns a dict:
@@ -305,7 +320,7 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
                                                 max_input_mb=max_input_mb, max_bodies=max_bodies,
-                                                formulation=formulation, ignore=ignore))
+                                                formulation=formulation, ignore=ignore, keyframe=keyframe))
         tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
         raw = _lieflow.stability(tokens, jsons)
         result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),

@@ -64,4 +64,29 @@ TEST(ModelCli, SliderCrankWritesThePrismaticAndFixedColumns) {
   EXPECT_NE(header.find("wrist.phi1,wrist.phi2"), std::string::npos) << header;
 }
 
+TEST(ModelCli, StudyWithMujocoPutsMuJoCosIntegratorsBesideLieflows) {
+  const std::string dir = testFile("_study");
+  Outcome o = runLieflow("study pendulum --with-mujoco --no-plots --out " + dir);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--with-mujoco: MuJoCo runs beside lieflow on an MJCF model"), std::string::npos) << o.err;
+  if (!lieflow::canReadMjcf()) GTEST_SKIP() << "this build has no MJCF reader";
+  o = runLieflow("study " + model("spinning.xml") + " --keyframe spin --with-mujoco --integrators rkmk4,lgvi "
+                 "--dt 0.004,0.002 --t-end 0.2 --min-time 0.001 --no-plots --out " + dir);
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string csv = slurp(dir + "/study.csv");
+  for (const char* name : {"mujoco-euler", "mujoco-rk4", "mujoco-implicit"})
+    EXPECT_NE(csv.find(std::string("spinning,") + name + ",0.002"), std::string::npos) << name << "\n" << csv;
+  EXPECT_NE(csv.find("MuJoCo RK4 at h = 6.25e-05 differs from it by"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",L_com_drift,energy_balance_drift"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("nan"), std::string::npos) << csv;
+  const std::string drift = slurp(dir + "/drift.csv");
+  EXPECT_NE(drift.find("\nmujoco-rk4,"), std::string::npos);
+  o = runLieflow("simulate " + model("spinning.xml") + " --keyframe jump");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("no keyframe 'jump' (it has rest, spin)"), std::string::npos) << o.err;
+  o = runLieflow("simulate pendulum --keyframe 0");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("only MJCF models have keyframes"), std::string::npos) << o.err;
+}
+
 }  // namespace

@@ -52,3 +52,24 @@ def test_limits_and_contacts_are_refused_then_ignored_with_a_warning():
     assert "hinge.phi" in result.columns
     with pytest.raises(lieflow.InputError, match="unknown feature 'gravity'"):
         lieflow.import_model(path, ignore=["gravity"])
+
+
+needs_mjcf = pytest.mark.skipif(not _lieflow.reads_mjcf, reason="this build has no MJCF reader (libmujoco-dev)")
+
+
+@needs_mjcf
+def test_a_keyframe_starts_the_model_and_mujoco_runs_beside_lieflow(tmp_path):
+    path = os.path.join(MODELS, "spinning.xml")
+    spin = lieflow.import_model(path, keyframe="spin")
+    assert lieflow.import_model(path, keyframe=1) == spin
+    assert all(np.linalg.norm(b["angular_velocity"]) > 1.0 for b in spin["bodies"])
+    with pytest.raises(lieflow.InputError, match=r"no keyframe 'jump' \(it has rest, spin\)"):
+        lieflow.import_model(path, keyframe="jump")
+    result = lieflow.study(path, keyframe="spin", with_mujoco=True, integrators=["lgvi"], dt=[0.004],
+                           t_end=0.1, min_time=0.001)
+    rows = result["rows"]
+    assert list(rows["integrator"]) == ["lgvi", "mujoco-euler", "mujoco-rk4", "mujoco-implicit"]
+    assert not rows["failed"].any()
+    assert (rows["orientation_error"] > 0).all()
+    assert "MuJoCo RK4 at h = " in result["reference"]
+    assert "L_com_drift" in rows and "energy_balance_drift" in rows

@@ -1,0 +1,41 @@
+/// \file
+/// What the MJCF reader (mjcf_import.cpp) and the MuJoCo peer
+/// (mujoco_peer.cpp) share: MuJoCo's compiled model of a file, its keyframes
+/// by name or index, and MuJoCo's own switches for what an import leaves
+/// out. Declared on MuJoCo's opaque `mjModel_` so that this header compiles
+/// without MuJoCo; the definitions exist only in builds with it.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "joints/import/import_options.hpp"
+
+struct mjModel_;
+
+namespace lieflow {
+namespace model_import {
+
+struct MjcfModelDeleter {
+  void operator()(mjModel_* m) const;
+};
+using MjcfModel = std::unique_ptr<mjModel_, MjcfModelDeleter>;
+
+/// MuJoCo's compiler on `path` (its warnings kept, not printed). Throws
+/// InvalidInput naming the file and MuJoCo's reason.
+MjcfModel compileMjcf(const std::string& path);
+
+/// The keyframe `wanted` names (its name, else its index), or −1 when
+/// `wanted` is empty. Throws InvalidInput (field "PATH: --keyframe") listing
+/// the model's keyframes when there is no such one.
+int keyframeIndex(const mjModel_* m, const std::string& path, const std::string& wanted);
+
+/// Switches off in MuJoCo what the import leaves out by `options.ignore`,
+/// so that MuJoCo simulates the same mechanism as the imported scene:
+/// contacts, limits (joints and tendons), actuation (mjDSBL_* flags),
+/// friction loss, armature, tendons' springs and dashpots, and the
+/// equalities lieflow does not represent.
+void switchOffIgnored(mjModel_* m, const ModelImportOptions& options);
+
+}  // namespace model_import
+}  // namespace lieflow

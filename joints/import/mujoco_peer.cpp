@@ -1,0 +1,230 @@
+// MuJoCo beside lieflow on the same MJCF model (mujoco_peer.hpp).
+#include "joints/import/mujoco_peer.hpp"
+
+#include "liegroup/invalid_input.hpp"
+
+#ifdef LIEFLOW_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "joints/import/mjcf_model.hpp"
+#endif
+
+namespace lieflow {
+
+const std::vector<std::string>& mujocoPeerIntegrators() {
+  static const std::vector<std::string> kNames = {"mujoco-euler", "mujoco-rk4", "mujoco-implicit"};
+  return kNames;
+}
+
+#ifndef LIEFLOW_HAVE_MUJOCO
+
+std::string mujocoPeerVersion() { return ""; }
+
+bool mujocoPeerAvailable(std::string* why) {
+  if (why) *why = "this build has no MuJoCo (install Debian's libmujoco-dev and rebuild lieflow)";
+  return false;
+}
+
+struct MujocoPeer::Impl {};
+
+MujocoPeer::MujocoPeer(const std::string&, const ModelImportOptions&, const SceneDescription&) {
+  std::string why;
+  mujocoPeerAvailable(&why);
+  throw InvalidInput("--with-mujoco", why);
+}
+
+MujocoPeerRun MujocoPeer::run(const std::string&, double, double, bool, long, const std::function<void()>&) const {
+  return {};
+}
+
+#else
+
+namespace {
+
+/// Heartbeats (MujocoPeer::run) this often, as lieflow's own runs report progress.
+constexpr long kHeartbeatSteps = 65536;
+
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+Eigen::Vector3d vec3(const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
+Eigen::Matrix3d mat3(const mjtNum* x) {
+  Eigen::Matrix3d R;
+  R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];  // row-major
+  return R;
+}
+
+double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
+
+/// MuJoCo's quantities at d, after mj_forward: energy, dashpot power,
+/// angular momenta (about the origin and about the centre of mass) from the
+/// bodies' velocities at their centres and their inertias (body_inertia is
+/// diagonal in the body's inertial frame ximat).
+struct Measured {
+  double energy = 0.0, power = 0.0;
+  Eigen::Vector3d L = Eigen::Vector3d::Zero(), L_com = Eigen::Vector3d::Zero();
+};
+
+Measured measure(const mjModel* m, mjData* d) {
+  Measured out;
+  mj_energyPos(m, d);
+  mj_energyVel(m, d);
+  out.energy = d->energy[0] + d->energy[1];
+  for (int i = 0; i < m->nv; ++i) out.power += m->dof_damping[i] * d->qvel[i] * d->qvel[i];
+  double mass = 0.0;
+  Eigen::Vector3d mc = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero();
+  Eigen::Vector3d spin = Eigen::Vector3d::Zero();
+  for (int b = 1; b < m->nbody; ++b) {
+    mjtNum velocity[6];  // (ω, v at the centre of mass), world
+    mj_objectVelocity(m, d, mjOBJ_BODY, b, velocity, 0);
+    const double mb = m->body_mass[b];
+    const Eigen::Vector3d c = vec3(d->xipos + 3 * b), v = vec3(velocity + 3);
+    const Eigen::Matrix3d Ri = mat3(d->ximat + 9 * b);
+    spin += Ri * vec3(m->body_inertia + 3 * b).asDiagonal() * Ri.transpose() * vec3(velocity);
+    out.L += c.cross(mb * v);
+    mass += mb;
+    mc += mb * c;
+    mv += mb * v;
+  }
+  out.L += spin;
+  // About the centre: L − c × M v_c (with c = Σ m x / M, v_c = Σ m v / M).
+  out.L_com = out.L - (mass > 0.0 ? Eigen::Vector3d(mc.cross(mv) / mass) : Eigen::Vector3d::Zero());
+  return out;
+}
+
+/// The first non-finite number of the state, or an empty string.
+std::string nonFinite(const mjModel* m, const mjData* d) {
+  for (int i = 0; i < m->nq; ++i)
+    if (!std::isfinite(d->qpos[i])) return "qpos[" + std::to_string(i) + "]";
+  for (int i = 0; i < m->nv; ++i)
+    if (!std::isfinite(d->qvel[i])) return "qvel[" + std::to_string(i) + "]";
+  return "";
+}
+
+}  // namespace
+
+bool mujocoPeerAvailable(std::string*) { return true; }
+
+std::string mujocoPeerVersion() { return mj_versionString(); }
+
+struct MujocoPeer::Impl {
+  model_import::MjcfModel model;
+  int key = -1;
+  std::vector<int> bodies;  ///< MuJoCo body of each scene body
+};
+
+MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& options, const SceneDescription& scene)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->model = model_import::compileMjcf(path);
+  mjModel* m = impl_->model.get();
+  model_import::switchOffIgnored(m, options);
+  impl_->key = model_import::keyframeIndex(m, path, options.keyframe);
+  for (const BodyDescription& b : scene.bodies) {
+    const int id = mj_name2id(m, mjOBJ_BODY, b.name.c_str());
+    if (id <= 0)
+      throw InvalidInput(path + ": --with-mujoco", "the scene's body '" + b.name +
+                                                       "' is not a MuJoCo body of this model (was the scene "
+                                                       "imported from it?)");
+    impl_->bodies.push_back(id);
+  }
+}
+
+MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_end, bool observe, long every,
+                              const std::function<void()>& heartbeat) const {
+  const std::vector<std::string>& names = mujocoPeerIntegrators();
+  const auto it = std::find(names.begin(), names.end(), integrator);
+  if (it == names.end()) throw InvalidInput("--integrators", "'" + integrator + "' is not a MuJoCo integrator");
+  if (!(h > 0.0) || !(t_end > 0.0)) throw InvalidInput("--dt", "a MuJoCo run needs a positive step and end time");
+  mjModel* m = impl_->model.get();
+  static constexpr int kIntegrator[] = {mjINT_EULER, mjINT_RK4, mjINT_IMPLICIT};
+  m->opt.integrator = kIntegrator[it - names.begin()];
+  m->opt.timestep = h;
+  // MuJoCo computes its energy only when asked (and then in every step).
+  if (observe)
+    m->opt.enableflags |= mjENBL_ENERGY;
+  else
+    m->opt.enableflags &= ~mjENBL_ENERGY;
+  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  if (impl_->key >= 0)
+    mj_resetDataKeyframe(m, d.get(), impl_->key);
+  else
+    mj_resetData(m, d.get());
+  d->time = 0.0;
+
+  MujocoPeerRun run;
+  const long steps = std::max(1L, std::lround(t_end / h));
+  every = std::max(1L, every);
+  Measured first, previous;
+  double work = 0.0;
+  const auto sample = [&](long k) {
+    mj_forward(m, d.get());
+    const Measured now = measure(m, d.get());
+    if (k == 0) first = now;
+    if (k > 0) work += 0.5 * h * (previous.power + now.power);
+    previous = now;
+    const double scale = std::abs(first.energy);
+    run.energy_drift = std::max(run.energy_drift, relative(std::abs(now.energy - first.energy), scale));
+    run.energy_balance_drift =
+        std::max(run.energy_balance_drift, relative(std::abs(now.energy + work - first.energy), scale));
+    run.momentum_drift = std::max(run.momentum_drift, relative((now.L - first.L).norm(), first.L.norm()));
+    run.com_momentum_drift =
+        std::max(run.com_momentum_drift, relative((now.L_com - first.L_com).norm(), first.L_com.norm()));
+    if (k % every == 0 || k == steps) run.samples.push_back({k * h, now.energy, work, now.L, now.L_com});
+  };
+  const auto failed = [&](long k) {
+    std::string what = nonFinite(m, d.get());
+    if (what.empty() && d->warning[mjWARN_BADQACC].number == 0) return false;
+    std::ostringstream why;
+    if (!what.empty())
+      why << "MuJoCo's state " << what << " became non-finite";
+    else
+      why << "MuJoCo found a bad acceleration and reset the simulation";
+    why << " by t = " << k * h << " (step " << k << ")";
+    run.failed = true;
+    run.failure = why.str();
+    return true;
+  };
+
+  if (observe) sample(0);
+  const auto start = std::chrono::steady_clock::now();
+  long k = 0;
+  while (k < steps) {
+    mj_step(m, d.get());
+    ++k;
+    if (heartbeat && k % kHeartbeatSteps == 0) heartbeat();
+    if (observe) {
+      if (failed(k)) break;
+      sample(k);
+    }
+  }
+  const auto stop = std::chrono::steady_clock::now();
+  run.steps = k;
+  run.wall_seconds = std::chrono::duration<double>(stop - start).count();
+  if (!observe) failed(k);
+  if (run.failed) return run;
+  mj_kinematics(m, d.get());
+  mj_comPos(m, d.get());
+  mj_comVel(m, d.get());
+  for (int b : impl_->bodies) {
+    const Eigen::Quaterniond q(d->xquat[4 * b], d->xquat[4 * b + 1], d->xquat[4 * b + 2], d->xquat[4 * b + 3]);
+    mjtNum velocity[6];
+    mj_objectVelocity(m, d.get(), mjOBJ_XBODY, b, velocity, 1);  // in the body frame
+    run.orientations.push_back(q);
+    run.angular_velocities.push_back(vec3(velocity));
+  }
+  return run;
+}
+
+#endif
+
+MujocoPeer::~MujocoPeer() = default;
+MujocoPeer::MujocoPeer(MujocoPeer&&) noexcept = default;
+MujocoPeer& MujocoPeer::operator=(MujocoPeer&&) noexcept = default;
+
+}  // namespace lieflow
