@@ -274,7 +274,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   fit.covariance = solution.covariance;
   if (nuisance.active[0]) {
     // b = B ν in each body's axes; the component along the axis is not observable (0).
-    const std::vector<NamedStart>::const_reference first = starts.front();
+    const NamedStart& first = starts.front();
     const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1), B2 = perpendicularBasis(first.axes.axis2);
     fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
     fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);

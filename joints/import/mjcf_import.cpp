@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include "joints/import/mjcf_model.hpp"
 #include "joints/import/model_to_scene.hpp"
@@ -53,16 +54,9 @@ void keepWarning(const char* text) {
   if (g_warnings) *g_warnings += (g_warnings->empty() ? "" : "; ") + std::string(text);
 }
 
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-
-Eigen::Vector3d vec3(const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
-Eigen::Matrix3d mat3(const mjtNum* x) {
-  Eigen::Matrix3d R;
-  R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];  // row-major
-  return R;
-}
+static_assert(std::is_same<mjtNum, double>::value, "lieflow reads MuJoCo built with double mjtNum");
+Eigen::Vector3d vec3(const mjtNum* x) { return mjVec3(x); }
+Eigen::Matrix3d mat3(const mjtNum* x) { return mjMat3(x); }
 
 std::string nameOf(const mjModel* m, int type, int id, const char* kind) {
   const char* n = mj_id2name(m, type, id);
@@ -82,6 +76,8 @@ std::string keyframeName(const mjModel* m, int key) {
 }  // namespace
 
 void MjcfModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
+void MjcfDataDeleter::operator()(mjData_* d) const { mj_deleteData(d); }
+MjcfData makeMjcfData(const mjModel_* m) { return MjcfData(mj_makeData(m)); }
 
 MjcfModel compileMjcf(const std::string& path) {
   std::string warnings;
@@ -172,9 +168,9 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   const MjcfModel m = compileMjcf(path);
   // Poses at qpos0 (d0), and at the keyframe if one is asked for (d), with
   // the bodies' velocities (mj_comVel).
-  std::unique_ptr<mjData, DataDeleter> d0(mj_makeData(m.get()));
+  const MjcfData d0 = makeMjcfData(m.get());
   mj_kinematics(m.get(), d0.get());
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m.get()));
+  const MjcfData d = makeMjcfData(m.get());
   const int key = keyframeIndex(m.get(), path, options.keyframe);
   if (key >= 0) {
     mju_copy(d->qpos, m->key_qpos + key * m->nq, m->nq);

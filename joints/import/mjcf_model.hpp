@@ -9,9 +9,12 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "joints/import/import_options.hpp"
 
 struct mjModel_;
+struct mjData_;
 
 namespace lieflow {
 namespace model_import {
@@ -20,6 +23,21 @@ struct MjcfModelDeleter {
   void operator()(mjModel_* m) const;
 };
 using MjcfModel = std::unique_ptr<mjModel_, MjcfModelDeleter>;
+struct MjcfDataDeleter {
+  void operator()(mjData_* d) const;
+};
+using MjcfData = std::unique_ptr<mjData_, MjcfDataDeleter>;
+
+/// mj_makeData for `m`.
+MjcfData makeMjcfData(const mjModel_* m);
+
+/// MuJoCo's 3-vectors and row-major 3×3 matrices (mjtNum is double) as Eigen's.
+inline Eigen::Vector3d mjVec3(const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
+inline Eigen::Matrix3d mjMat3(const double* x) {
+  Eigen::Matrix3d R;
+  R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
+  return R;
+}
 
 /// MuJoCo's compiler on `path` (its warnings kept, not printed). Throws
 /// InvalidInput naming the file and MuJoCo's reason.

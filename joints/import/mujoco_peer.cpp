@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "joints/import/mjcf_model.hpp"
 #endif
@@ -49,16 +50,8 @@ namespace {
 /// Heartbeats (MujocoPeer::run) this often, as lieflow's own runs report progress.
 constexpr long kHeartbeatSteps = 65536;
 
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-
-Eigen::Vector3d vec3(const mjtNum* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
-Eigen::Matrix3d mat3(const mjtNum* x) {
-  Eigen::Matrix3d R;
-  R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];  // row-major
-  return R;
-}
+using model_import::mjMat3;
+using model_import::mjVec3;
 
 double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
 
@@ -77,24 +70,33 @@ Measured measure(const mjModel* m, mjData* d) {
   mj_energyVel(m, d);
   out.energy = d->energy[0] + d->energy[1];
   for (int i = 0; i < m->nv; ++i) out.power += m->dof_damping[i] * d->qvel[i] * d->qvel[i];
+  // Each body's centre and velocity, then the momenta about the origin and,
+  // from differences to the centre (not as L − c × M v_c, which loses the
+  // digits of L_com once the body has fallen far), about the centre.
+  const int n = m->nbody - 1;
+  std::vector<Eigen::Vector3d> c(n), v(n);
   double mass = 0.0;
-  Eigen::Vector3d mc = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero();
-  Eigen::Vector3d spin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mc = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero(), spin = Eigen::Vector3d::Zero();
   for (int b = 1; b < m->nbody; ++b) {
     mjtNum velocity[6];  // (ω, v at the centre of mass), world
     mj_objectVelocity(m, d, mjOBJ_BODY, b, velocity, 0);
     const double mb = m->body_mass[b];
-    const Eigen::Vector3d c = vec3(d->xipos + 3 * b), v = vec3(velocity + 3);
-    const Eigen::Matrix3d Ri = mat3(d->ximat + 9 * b);
-    spin += Ri * vec3(m->body_inertia + 3 * b).asDiagonal() * Ri.transpose() * vec3(velocity);
-    out.L += c.cross(mb * v);
+    c[b - 1] = mjVec3(d->xipos + 3 * b);
+    v[b - 1] = mjVec3(velocity + 3);
+    const Eigen::Matrix3d Ri = mjMat3(d->ximat + 9 * b);
+    spin += Ri * mjVec3(m->body_inertia + 3 * b).asDiagonal() * Ri.transpose() * mjVec3(velocity);
     mass += mb;
-    mc += mb * c;
-    mv += mb * v;
+    mc += mb * c[b - 1];
+    mv += mb * v[b - 1];
   }
-  out.L += spin;
-  // About the centre: L − c × M v_c (with c = Σ m x / M, v_c = Σ m v / M).
-  out.L_com = out.L - (mass > 0.0 ? Eigen::Vector3d(mc.cross(mv) / mass) : Eigen::Vector3d::Zero());
+  const Eigen::Vector3d centre = mass > 0.0 ? Eigen::Vector3d(mc / mass) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d vc = mass > 0.0 ? Eigen::Vector3d(mv / mass) : Eigen::Vector3d::Zero();
+  out.L = out.L_com = spin;
+  for (int b = 1; b < m->nbody; ++b) {
+    const double mb = m->body_mass[b];
+    out.L += c[b - 1].cross(mb * v[b - 1]);
+    out.L_com += (c[b - 1] - centre).cross(mb * (v[b - 1] - vc));
+  }
   return out;
 }
 
@@ -150,7 +152,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     m->opt.enableflags |= mjENBL_ENERGY;
   else
     m->opt.enableflags &= ~mjENBL_ENERGY;
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  const model_import::MjcfData d = model_import::makeMjcfData(m);
   if (impl_->key >= 0)
     mj_resetDataKeyframe(m, d.get(), impl_->key);
   else
@@ -216,7 +218,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     mjtNum velocity[6];
     mj_objectVelocity(m, d.get(), mjOBJ_XBODY, b, velocity, 1);  // in the body frame
     run.orientations.push_back(q);
-    run.angular_velocities.push_back(vec3(velocity));
+    run.angular_velocities.push_back(mjVec3(velocity));
   }
   return run;
 }

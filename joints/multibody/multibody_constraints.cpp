@@ -172,8 +172,15 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
 void MultibodySystem::coordinateElementsInto(const State& y, std::vector<CoordinateElement>* out_ptr) const {
   std::vector<CoordinateElement>& out = *out_ptr;
   out.clear();
-  for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+  for (std::size_t k = 0; k < model_.joints.size(); ++k) {
+    const int nc = coordinateCount(static_cast<int>(k));
+    bool any = false;
+    for (int i = 0; i < nc; ++i) any = any || drives_[k][i].stiffness != 0.0 || drives_[k][i].damping != 0.0;
+    if (!any) continue;
+    std::array<double, kMaxJointCoordinates> phi;
+    CoordinateRows Ja, Jb;
+    coordinates(y, static_cast<int>(k), &phi, &Ja, &Jb);
+    for (int i = 0; i < nc; ++i) {
       const CoordinateDrive& d = drives_[k][i];
       if (d.stiffness == 0.0 && d.damping == 0.0) continue;
       CoordinateElement e;
@@ -181,11 +188,13 @@ void MultibodySystem::coordinateElementsInto(const State& y, std::vector<Coordin
       e.coordinate = i;
       e.main = model_.joints[k].main;
       e.secondary = model_.joints[k].secondary;
-      coordinate(y, e.joint, i, &e.J_main, &e.J_secondary);
+      e.J_main = Ja[i];
+      e.J_secondary = Jb[i];
       e.stiffness = d.stiffness;
       e.damping = d.damping;
       out.push_back(e);
     }
+  }
 }
 
 }  // namespace multibody

@@ -29,17 +29,21 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
   }
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const int nc = coordinateCount(static_cast<int>(k));
+    bool any = false;
+    for (int i = 0; i < nc; ++i) any = any || drives_[k][i].hasForce();
+    if (!any) continue;
     const Joint& j = model_.joints[k];
+    std::array<double, kMaxJointCoordinates> phi;
+    CoordinateRows Ja, Jb;
+    coordinates(y, static_cast<int>(k), &phi, &Ja, &Jb);
     for (int i = 0; i < nc; ++i) {
       const CoordinateDrive& d = drives_[k][i];
       if (!d.hasForce()) continue;
-      Row6 Ja, Jb;
-      const double phi = coordinate(y, static_cast<int>(k), i, &Ja, &Jb);
-      const double phidot = coordinateRate(y, j.main, j.secondary, Ja, Jb);
+      const double phidot = coordinateRate(y, j.main, j.secondary, Ja[i], Jb[i]);
       // Generalized force J_φᵀ M (the moment, or a prismatic joint's force).
-      const double M = d.momentAt(t, phi, phidot);
-      addCoordinateForce(j.main, Ja, M, F);
-      addCoordinateForce(j.secondary, Jb, M, F);
+      const double M = d.momentAt(t, phi[i], phidot);
+      addCoordinateForce(j.main, Ja[i], M, F);
+      addCoordinateForce(j.secondary, Jb[i], M, F);
     }
   }
 }

@@ -36,13 +36,18 @@ double MultibodySystem::energy(const State& y) const {
 }
 
 Eigen::Vector3d MultibodySystem::angularMomentum(const State& y) const {
+  return momentumAbout(y, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+}
+
+Eigen::Vector3d MultibodySystem::momentumAbout(const State& y, const Eigen::Vector3d& point,
+                                               const Eigen::Vector3d& velocity) const {
   Eigen::Vector3d L = Eigen::Vector3d::Zero();
   for (int i = 0; i < bodyCount(); ++i) {
     const RigidBody& b = model_.bodies[i];
     const auto& P = y.bodies.poses[i];
     const auto& V = y.bodies.velocities[i];
     L += P.R * (b.inertia * V.omega);
-    if (!rot_[i]) L += P.p.cross(b.mass * V.v);
+    if (!rot_[i]) L += (P.p - point).cross(b.mass * (V.v - velocity));
   }
   return L;
 }
@@ -79,17 +84,8 @@ Eigen::Vector3d MultibodySystem::centreOfMassMomentum(const State& y) const {
     mc += m * y.bodies.poses[i].p;
     mv += m * y.bodies.velocities[i].v;
   }
-  const Eigen::Vector3d c = mass > 0.0 ? Eigen::Vector3d(mc / mass) : Eigen::Vector3d::Zero();
-  const Eigen::Vector3d vc = mass > 0.0 ? Eigen::Vector3d(mv / mass) : Eigen::Vector3d::Zero();
-  Eigen::Vector3d L = Eigen::Vector3d::Zero();
-  for (int i = 0; i < bodyCount(); ++i) {
-    const RigidBody& b = model_.bodies[i];
-    const auto& P = y.bodies.poses[i];
-    const auto& V = y.bodies.velocities[i];
-    L += P.R * (b.inertia * V.omega);
-    if (!rot_[i]) L += (P.p - c).cross(b.mass * (V.v - vc));
-  }
-  return L;
+  if (!(mass > 0.0)) return angularMomentum(y);
+  return momentumAbout(y, mc / mass, mv / mass);
 }
 
 bool MultibodySystem::conservesCentreOfMassMomentum() const {
@@ -108,13 +104,16 @@ double MultibodySystem::dissipatedPower(const State& y) const {
   double P = 0.0;
   for (std::size_t k = 0; k < model_.joints.size(); ++k) {
     const Joint& j = model_.joints[k];
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
-      const double c = drives_[k][i].damping;
-      if (c == 0.0) continue;
-      Row6 Ja, Jb;
-      coordinate(y, static_cast<int>(k), i, &Ja, &Jb);
-      const double phidot = coordinateRate(y, j.main, j.secondary, Ja, Jb);
-      P += c * phidot * phidot;
+    const int nc = coordinateCount(static_cast<int>(k));
+    bool any = false;
+    for (int i = 0; i < nc; ++i) any = any || drives_[k][i].damping != 0.0;
+    if (!any) continue;
+    std::array<double, kMaxJointCoordinates> phi;
+    CoordinateRows Ja, Jb;
+    coordinates(y, static_cast<int>(k), &phi, &Ja, &Jb);
+    for (int i = 0; i < nc; ++i) {
+      const double phidot = coordinateRate(y, j.main, j.secondary, Ja[i], Jb[i]);
+      P += drives_[k][i].damping * phidot * phidot;
     }
   }
   return P;
@@ -211,9 +210,13 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
       anchors[1] = pb.toWorld(uni.point.anchor_secondary);
       o.condition = constraints::universalAngles(uni, pa, pb).condition;
     }
+    std::array<double, kMaxJointCoordinates> phis;
+    CoordinateRows Jas, Jbs;
+    coordinates(y, k, &phis, &Jas, &Jbs);
     for (int i = 0; i < o.coordinates; ++i) {
-      Row6 Ja, Jb;
-      o.phi[i] = coordinate(y, k, i, &Ja, &Jb);
+      const Row6& Ja = Jas[i];
+      const Row6& Jb = Jbs[i];
+      o.phi[i] = phis[i];
       o.phidot[i] = coordinateRate(y, j.main, j.secondary, Ja, Jb);
       const Row6& Jside = use_main ? Ja : Jb;
       const CoordinateDrive& d = drives_[k][i];

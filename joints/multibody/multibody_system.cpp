@@ -208,16 +208,29 @@ void MultibodySystem::poses(const State& y, int main, int secondary, BodyPose<do
 }
 
 double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6* Jb) const {
+  std::array<double, kMaxJointCoordinates> phi;
+  CoordinateRows A, B;
+  coordinates(y, k, &phi, Ja ? &A : nullptr, Ja ? &B : nullptr);
+  if (Ja) {
+    *Ja = A[i];
+    *Jb = B[i];
+  }
+  return phi[i];
+}
+
+int MultibodySystem::coordinates(const State& y, int k, std::array<double, kMaxJointCoordinates>* phi,
+                                 CoordinateRows* Ja, CoordinateRows* Jb) const {
   const Joint& j = model_.joints[k];
   BodyPose<double> a, b;
   poses(y, j.main, j.secondary, &a, &b, nullptr, nullptr);
   if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&j.constraint)) {
     if (Ja) {
       const auto J = constraints::revoluteAngleJacobians(*rev, a, b);
-      *Ja = J[0];
-      *Jb = J[1];
+      (*Ja)[0] = J[0];
+      (*Jb)[0] = J[1];
     }
-    return constraints::revoluteAngle(*rev, a, b, y.angles[angleSlot(k, 0)]);
+    (*phi)[0] = constraints::revoluteAngle(*rev, a, b, y.angles[angleSlot(k, 0)]);
+    return 1;
   }
   const constraints::PrismaticJoint<double>* pri = std::get_if<constraints::PrismaticJoint<double>>(&j.constraint);
   if (!pri) pri = std::get_if<constraints::FixedJoint<double>>(&j.constraint);  // its held slide
@@ -225,28 +238,36 @@ double MultibodySystem::coordinate(const State& y, int k, int i, Row6* Ja, Row6*
     const auto x = pri->position();
     if (Ja) {
       const auto J = x.jacobians(a, b);
-      *Ja = J[0];
-      *Jb = J[1];
+      (*Ja)[0] = J[0];
+      (*Jb)[0] = J[1];
     }
-    return x.value(a, b);
+    (*phi)[0] = x.value(a, b);
+    return 1;
   }
   if (const auto* gim = std::get_if<constraints::GimbalJoint<double>>(&j.constraint)) {
     const auto ang = constraints::gimbalAngles(*gim, a, b, gimbalPrevious(y, k));
     if (Ja) {
       const auto J = constraints::gimbalAngleJacobians(*gim, a, b, ang.phi);
-      *Ja = J[0].row(i);
-      *Jb = J[1].row(i);
+      for (int i = 0; i < 3; ++i) {
+        (*Ja)[i] = J[0].row(i);
+        (*Jb)[i] = J[1].row(i);
+      }
     }
-    return ang.phi[i];
+    for (int i = 0; i < 3; ++i) (*phi)[i] = ang.phi[i];
+    return 3;
   }
   const auto& uni = *universalOf(j.constraint);
   if (Ja) {
     const auto J = constraints::universalAngleJacobians(uni, a, b);
-    *Ja = J[0].row(i);
-    *Jb = J[1].row(i);
+    for (int i = 0; i < 2; ++i) {
+      (*Ja)[i] = J[0].row(i);
+      (*Jb)[i] = J[1].row(i);
+    }
   }
   const auto ang = constraints::universalAngles(uni, a, b, y.angles[angleSlot(k, 0)], y.angles[angleSlot(k, 1)]);
-  return i == 0 ? ang.phi1 : ang.phi2;
+  (*phi)[0] = ang.phi1;
+  (*phi)[1] = ang.phi2;
+  return 2;
 }
 
 std::array<double, 3> MultibodySystem::gimbalPrevious(const State& y, int k) const {

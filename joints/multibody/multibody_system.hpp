@@ -297,6 +297,10 @@ class MultibodySystem {
   /// translating body, no joint or gear to the ground, no force passed to the
   /// support of a rotation-only body (see the .cpp).
   bool conservesAngularMomentum() const;
+  /// Σ R J ω + (p − x) × m (v − ẋ): the angular momentum about a point x
+  /// moving at ẋ (differences first, so that far from the origin it keeps
+  /// its digits).
+  Eigen::Vector3d momentumAbout(const State& y, const Eigen::Vector3d& point, const Eigen::Vector3d& velocity) const;
   /// Σ R J ω + (p − c) × m (v − v_c), the angular momentum about the centre
   /// of mass c of the bodies (all translating when it is asked for).
   Eigen::Vector3d centreOfMassMomentum(const State& y) const;
@@ -326,6 +330,13 @@ class MultibodySystem {
   /// φ (unwrapped near y.angles), and its Jacobian row blocks on (main, secondary).
   double coordinate(const State& y, int k, int i, Eigen::Matrix<double, 1, 6>* Ja,
                     Eigen::Matrix<double, 1, 6>* Jb) const;
+  /// Every coordinate of joint k at once (a universal joint's two angles,
+  /// a gimbal's three, come from one decomposition of the relative
+  /// rotation): φ_i and, when Ja is given, their Jacobian rows. Returns
+  /// coordinateCount(k).
+  using CoordinateRows = std::array<Eigen::Matrix<double, 1, 6>, kMaxJointCoordinates>;
+  int coordinates(const State& y, int k, std::array<double, kMaxJointCoordinates>* phi, CoordinateRows* Ja,
+                  CoordinateRows* Jb) const;
   double coordinateConvective(const State& y, int k, int i) const;
   /// φ̇ = J_a u_a + J_b u_b from a coordinate's Jacobian rows (bodies main,
   /// secondary; kGround contributes nothing).

@@ -100,7 +100,7 @@ TEST(ConstrainedGenAlpha, ThreeLinkChainSecondOrderAgainstProjectedRk4) {
   const MultibodySystem system(randomRevoluteChain(3, true, I, 7, &s0), {});
   const MultibodyGroupState y0 = system.makeState(s0);
   const double T = 0.5;
-  ProjectedStepper<RkmkStepper<MultibodyGroupState>> rk4(RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4()));
+  ProjectedStepper<RkmkStepper<MultibodyGroupState>> rk4{RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())};
   MultibodyGroupState ref = y0;
   const RunSummary rs = integrateFixedStep(rk4, system, y0, 0.0, T, 2.5e-4, [&](long, double, const MultibodyGroupState& s) {
     ref = s;

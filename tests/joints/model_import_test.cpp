@@ -24,6 +24,7 @@
 #include "joints/scene_writer.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "tests/joints/model_files.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 
 #ifdef LIEFLOW_HAVE_MUJOCO
@@ -33,9 +34,7 @@
 namespace lieflow {
 namespace {
 
-using namespace scene_testing;  // NOLINT: Trajectory, simulate (scene_trajectory.hpp)
-
-std::string model(const std::string& file) { return std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/models/" + file; }
+using namespace scene_testing;  // NOLINT: Trajectory, simulate, model, refusal
 
 /// A model file written for one test (removed at the end of the test).
 class TempModel {
@@ -50,17 +49,6 @@ class TempModel {
  private:
   std::string path_;
 };
-
-/// InvalidInput's message for importing `path` (fails the test if accepted).
-std::string refusal(const std::string& path, const ModelImportOptions& options = ModelImportOptions()) {
-  try {
-    importModel(path, options);
-    ADD_FAILURE() << "accepted: " << path;
-  } catch (const InvalidInput& e) {
-    return e.what();
-  }
-  return "";
-}
 
 void expectContains(const std::string& text, std::initializer_list<const char*> parts) {
   for (const char* p : parts) EXPECT_NE(text.find(p), std::string::npos) << "'" << p << "' not in: " << text;

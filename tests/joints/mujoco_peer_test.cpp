@@ -12,6 +12,7 @@
 #include "joints/import/model_import.hpp"
 #include "joints/import/mujoco_peer.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "tests/joints/model_files.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 
 #ifdef LIEFLOW_HAVE_MUJOCO
@@ -21,24 +22,12 @@
 namespace lieflow {
 namespace {
 
-using namespace scene_testing;  // NOLINT: Trajectory, simulate (scene_trajectory.hpp)
-
-std::string model(const std::string& file) { return std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/models/" + file; }
+using namespace scene_testing;  // NOLINT: Trajectory, simulate, model, refusal
 
 ModelImportOptions keyframe(const std::string& key) {
   ModelImportOptions o;
   o.keyframe = key;
   return o;
-}
-
-std::string refusal(const std::string& path, const ModelImportOptions& options) {
-  try {
-    importModel(path, options);
-  } catch (const InvalidInput& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << path << " was not refused";
-  return "";
 }
 
 TEST(MjcfKeyframe, NamedOrIndexedKeyframesStartTheSceneAndUnknownOnesAreListed) {

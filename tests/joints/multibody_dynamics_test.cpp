@@ -22,7 +22,7 @@ TEST(MultibodyDynamics, PendulumMatchesOneDimensionalReference) {
   const double theta0 = 1.2, T = 2.0;
   const Pendulum P(theta0);
   const double ref = P.reference(T);
-  ProjectedStepper<RkmkStepper<MultibodyGroupState>> stepper(RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4()));
+  ProjectedStepper<RkmkStepper<MultibodyGroupState>> stepper{RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())};
   MultibodyGroupState y = P.y0;
   double max_err = 0.0;
   const RunSummary run = integrateFixedStep(stepper, P.system, y, 0.0, T, 1e-3,

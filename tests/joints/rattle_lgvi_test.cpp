@@ -324,7 +324,7 @@ TEST(RattleLgvi, GearTrainOnGroundTurnsUniformly) {
 TEST(RattleLgvi, GearOnTurningCarrierIsSecondOrder) {
   const GearTrain G(true);
   const double T = 1.0;
-  ProjectedStepper<RkmkStepper<MultibodyGroupState>> rk4(RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4()));
+  ProjectedStepper<RkmkStepper<MultibodyGroupState>> rk4{RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4())};
   MultibodyGroupState ref = G.y0;
   const RunSummary summary = integrateFixedStep(rk4, G.system, G.y0, 0.0, T, 2e-4,
                                                 [&](long, double, const MultibodyGroupState& s) {
