@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "joints/import/mjcf_model.hpp"
+#include "joints/invariants.hpp"
 #endif
 
 namespace lieflow {
@@ -162,14 +163,14 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
   MujocoPeerRun run;
   const long steps = std::max(1L, std::lround(t_end / h));
   every = std::max(1L, every);
-  Measured first, previous;
-  double work = 0.0;
+  Measured first;
+  DissipatedWork dissipated;
   const auto sample = [&](long k) {
     mj_forward(m, d.get());
     const Measured now = measure(m, d.get());
     if (k == 0) first = now;
-    if (k > 0) work += 0.5 * h * (previous.power + now.power);
-    previous = now;
+    dissipated.add(k * h, now.power);
+    const double work = dissipated.value();
     const double scale = std::abs(first.energy);
     run.energy_drift = std::max(run.energy_drift, relative(std::abs(now.energy - first.energy), scale));
     run.energy_balance_drift =

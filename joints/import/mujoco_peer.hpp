@@ -7,8 +7,8 @@
 /// at rest, or the same keyframe) and stepped by MuJoCo's own integrators.
 /// A run is measured with MuJoCo's own quantities: its energy (kinetic +
 /// gravity + springs, mj_energyPos/mj_energyVel), the power its dashpots
-/// dissipate Σ b q̇² (summed over the steps by the trapezoidal rule, as
-/// lieflow's InvariantSet does), and the angular momenta of its bodies about
+/// dissipate Σ b q̇² (integrated over the steps by lieflow's DissipatedWork,
+/// joints/invariants.hpp, as lieflow's own runs are), and the angular momenta of its bodies about
 /// the world origin and about their centre of mass from MuJoCo's body
 /// velocities (mj_objectVelocity) and inertias.
 ///

@@ -122,7 +122,7 @@ def drift_over_time(samples, paper):
                 s = dict(st[k[0]])
                 s["markevery"] = max(1, len(pts) // 8)
                 s["markersize"] = 4
-                ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=f"{label(k[0])} h={k[1]}", **s)
+                ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=f"{label(k[0])} h={fmt(num(k[1]))}", **s)
         ax.set_title(title, fontsize=10)
         ax.set_xlabel("t [s]")
         ax.grid(True, which="both", alpha=0.3)
@@ -159,7 +159,7 @@ def every_run(title, runs, first):
     text = f"## {title}\n\n| run | steps | " + " | ".join(c[0] for c in columns) + " |\n"
     text += "| --- " * (len(columns) + 2) + "|\n"
     for r in runs:
-        text += f"| {label(r['integrator'])} h={r['dt']} | {r['steps']} | "
+        text += f"| {label(r['integrator'])} h={fmt(num(r['dt']))} | {r['steps']} | "
         if r["failed"] == "true":
             text += f"failed: {r['failure']} |" + " |" * (len(columns) - 1) + "\n"
         else:
@@ -178,14 +178,44 @@ def main(out, paper):
     drift_over_time(samples, paper)
     drift_cost(summary, paper)
 
-    lines = [f"Long runs ({t_drift}), each engine measuring its own run; equal run time: lieflow's lowest drift "
-             "among its runs that took at most as long as MuJoCo's.", "",
+    zero_g = rows(os.path.join(out, "drift-zero-g", "summary.csv"))
+    lines = equal_time_table(f"Long runs in free fall ({t_drift})", summary) + [""] + \
+        equal_time_table(f"Long runs without gravity ({t_drift})", zero_g)
+    lines += ["", "Work-precision over 1 s (the torso's orientation at t = 1 s against "
+              f"{study[0]['reference']}):", "",
+              "| MuJoCo run | time [s] | error [rad] | lieflow's lowest error at that time |", "| --- | --- | --- | --- |"]
+    for r in study:
+        if not peer(r["integrator"]):
+            continue
+        name = f"{label(r['integrator'])} h={fmt(num(r['dt']))}"
+        if r["failed"] == "true":
+            lines.append(f"| {name} | | failed: {r['failure']} | |")
+            continue
+        wall = num(r["wall_seconds"])
+        best, who = best_lieflow(study, wall, "orientation_error")
+        lines.append(f"| {name} | {fmt(wall)} | {fmt(num(r['orientation_error']))} | " +
+                     (f"{fmt(best)} ({who['integrator']} h={fmt(num(who['dt']))})" if who
+                      else "n/a (no lieflow run that fast)") + " |")
+    generated = "\n".join(lines)
+    splice_readme(os.path.join(paper, "README.md"), generated)
+
+    with open(os.path.join(paper, "results.md"), "w") as f:
+        f.write("# humanoid-free-fall: measured\n\n" + machine.replace("\n", "  \n") + "\n\n" + generated + "\n\n")
+        f.write(every_run("Every long run in free fall", summary, [("ns/step", "ns_per_step")]))
+        f.write(every_run("Every long run without gravity", zero_g, [("ns/step", "ns_per_step")]))
+        f.write(every_run("Every 1 s run", study, [("error [rad]", "orientation_error")]))
+    print(generated)
+
+
+def equal_time_table(title, summary):
+    lines = [f"{title}, each engine measuring its own run; equal run time: lieflow's lowest drift among its runs "
+             "that took at most as long as MuJoCo's.", "",
              "| MuJoCo run | time [s] | L_com drift | lieflow's lowest at that time | energy+W drift | "
              "lieflow's lowest at that time |", "| --- | --- | --- | --- | --- | --- |"]
     for r in summary:
         if not peer(r["integrator"]):
             continue
-        name = f"{label(r['integrator'])} h={r['dt']}"
+        name = f"{label(r['integrator'])} h={fmt(num(r['dt']))}"
         if r["failed"] == "true":
             lines.append(f"| {name} | | failed: {r['failure']} | | | |")
             continue
@@ -193,32 +223,11 @@ def main(out, paper):
         cells = []
         for key in ("L_com_drift", "energy_balance_drift"):
             best, who = best_lieflow(summary, wall, key)
-            cells += [fmt(num(r[key])), f"{fmt(best)} ({who['integrator']} h={who['dt']}, {fmt(num(who['wall_seconds']))} s)"
+            cells += [fmt(num(r[key])), f"{fmt(best)} ({who['integrator']} h={fmt(num(who['dt']))}, "
+                      f"{fmt(num(who['wall_seconds']))} s)"
                       if who else "n/a (no lieflow run that fast)"]
         lines.append(f"| {name} | {fmt(wall)} | " + " | ".join(cells) + " |")
-    lines += ["", "Work-precision over 1 s (the torso's orientation at t = 1 s against "
-              f"{study[0]['reference']}):", "",
-              "| MuJoCo run | time [s] | error [rad] | lieflow's lowest error at that time |", "| --- | --- | --- | --- |"]
-    for r in study:
-        if not peer(r["integrator"]):
-            continue
-        name = f"{label(r['integrator'])} h={r['dt']}"
-        if r["failed"] == "true":
-            lines.append(f"| {name} | | failed: {r['failure']} | |")
-            continue
-        wall = num(r["wall_seconds"])
-        best, who = best_lieflow(study, wall, "orientation_error")
-        lines.append(f"| {name} | {fmt(wall)} | {fmt(num(r['orientation_error']))} | " +
-                     (f"{fmt(best)} ({who['integrator']} h={who['dt']})" if who else "n/a (no lieflow run that fast)")
-                     + " |")
-    generated = "\n".join(lines)
-    splice_readme(os.path.join(paper, "README.md"), generated)
-
-    with open(os.path.join(paper, "results.md"), "w") as f:
-        f.write("# humanoid-free-fall: measured\n\n" + machine.replace("\n", "  \n") + "\n\n" + generated + "\n\n")
-        f.write(every_run("Every long run", summary, [("ns/step", "ns_per_step")]))
-        f.write(every_run("Every 1 s run", study, [("error [rad]", "orientation_error")]))
-    print(generated)
+    return lines
 
 
 if __name__ == "__main__":
