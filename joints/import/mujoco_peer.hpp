@@ -81,7 +81,8 @@ class MujocoPeer {
   /// measured (MuJoCo's forward pass again after each step) and samples
   /// kept every `every` steps; without it only the stepping is timed.
   /// `heartbeat` (may be empty) is called every 65536 steps and may throw.
-  /// A non-finite state ends the run as failed, saying when.
+  /// A non-finite state ends the run as failed, saying when. Runs set the
+  /// compiled model's integrator and step: one run at a time per peer.
   MujocoPeerRun run(const std::string& integrator, double h, double t_end, bool observe, long every,
                     const std::function<void()>& heartbeat = {}) const;
 
