@@ -34,8 +34,8 @@ class ThreeLinkConvergence {
   std::string why;  ///< when !ok: why the reference failed
 
   ThreeLinkConvergence() : system(chain(&s0_), {}), y0(system.makeState(s0_)), reference(y0) {
-    ProjectedStepper<RkmkStepper<multibody::MultibodyGroupState>> rk4(
-        RkmkStepper<multibody::MultibodyGroupState>(ButcherTableau::rk4()));
+    ProjectedStepper<RkmkStepper<multibody::MultibodyGroupState>> rk4{
+        RkmkStepper<multibody::MultibodyGroupState>(ButcherTableau::rk4())};
     const RunSummary r = integrateFixedStep(rk4, system, y0, 0.0, kEnd, kReferenceStep,
                                             [&](long, double, const multibody::MultibodyGroupState& s) {
                                               reference = s;
