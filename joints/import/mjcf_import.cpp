@@ -166,15 +166,17 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   if (xml.rootTag() != "mujoco")
     throw InvalidInput(path, "an MJCF file's root element is <mujoco>, not <" + xml.rootTag() + ">");
   const MjcfModel m = compileMjcf(path);
-  // Poses at qpos0 (d0), and at the keyframe if one is asked for (d), with
-  // the bodies' velocities (mj_comVel).
-  const MjcfData d0 = makeMjcfData(m.get());
-  mj_kinematics(m.get(), d0.get());
+  // Poses and the bodies' velocities (mj_comVel) at qpos0 and at rest, or
+  // at the keyframe if one is asked for (d); then also at qpos0 (d0), where
+  // the model's closures hold.
   const MjcfData d = makeMjcfData(m.get());
   const int key = keyframeIndex(m.get(), path, options.keyframe);
+  MjcfData d0;
   if (key >= 0) {
     mju_copy(d->qpos, m->key_qpos + key * m->nq, m->nq);
     mju_copy(d->qvel, m->key_qvel + key * m->nv, m->nv);
+    d0 = makeMjcfData(m.get());
+    mj_kinematics(m.get(), d0.get());
   }
   mj_kinematics(m.get(), d.get());
   mj_comPos(m.get(), d.get());
