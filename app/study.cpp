@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -56,6 +57,26 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   const SimulationResult r = sim.run(o);
   if (r.failed) throw std::runtime_error("the reference run (" + integrator + ") failed: " + r.failure);
   return r.final_row;
+}
+
+/// Times a run (`run_once` returns its wall seconds) by repeating it until
+/// options.min_timing_seconds were spent (at least min_repeats, at most
+/// max_repeats runs) and writes the median, the repeats and ns per step into
+/// `row`; a run whose repeats hit the limit first counts in capped_timings.
+void timeRow(const StudyOptions& options, const std::function<double()>& run_once, StudyRow* row,
+             StudyResult* result) {
+  std::vector<double> times;
+  double spent = 0.0;
+  while (static_cast<int>(times.size()) < options.max_repeats &&
+         (static_cast<int>(times.size()) < options.min_repeats || spent < options.min_timing_seconds)) {
+    times.push_back(run_once());
+    spent += times.back();
+  }
+  std::sort(times.begin(), times.end());
+  if (spent < options.min_timing_seconds) ++result->capped_timings;
+  row->repeats = static_cast<int>(times.size());
+  row->wall_seconds = times[times.size() / 2];
+  row->ns_per_step = row->steps > 0 ? 1e9 * row->wall_seconds / static_cast<double>(row->steps) : 0.0;
 }
 
 /// The invariant drifts of a MuJoCo run in the scene's order (NaN, written
@@ -159,19 +180,8 @@ void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>&
           result->drift.push_back(d);
         }
       }
-      std::vector<double> times;
-      double spent = 0.0;
-      while (static_cast<int>(times.size()) < options.max_repeats &&
-             (static_cast<int>(times.size()) < options.min_repeats || spent < options.min_timing_seconds)) {
-        const MujocoPeerRun timed = peer.run(name, dt, t_end, false, 1, options.heartbeat);
-        times.push_back(timed.wall_seconds);
-        spent += timed.wall_seconds;
-      }
-      std::sort(times.begin(), times.end());
-      if (spent < options.min_timing_seconds) ++result->capped_timings;
-      row.repeats = static_cast<int>(times.size());
-      row.wall_seconds = times[times.size() / 2];
-      row.ns_per_step = row.steps > 0 ? 1e9 * row.wall_seconds / static_cast<double>(row.steps) : 0.0;
+      timeRow(options, [&] { return peer.run(name, dt, t_end, false, 1, options.heartbeat).wall_seconds; }, &row,
+              result);
       result->rows.push_back(row);
     }
   }
@@ -324,19 +334,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       // Timing runs: diagnostics off, repeated; the median is reported.
       o.diagnostics = false;
       o.invariant_sink = nullptr;
-      std::vector<double> times;
-      double spent = 0.0;
-      while (static_cast<int>(times.size()) < options.max_repeats &&
-             (static_cast<int>(times.size()) < options.min_repeats || spent < options.min_timing_seconds)) {
-        const SimulationResult timed = sim.run(o);
-        times.push_back(timed.wall_seconds);
-        spent += timed.wall_seconds;
-      }
-      std::sort(times.begin(), times.end());
-      if (spent < options.min_timing_seconds) ++result.capped_timings;
-      row.repeats = static_cast<int>(times.size());
-      row.wall_seconds = times[times.size() / 2];
-      row.ns_per_step = row.steps > 0 ? 1e9 * row.wall_seconds / static_cast<double>(row.steps) : 0.0;
+      timeRow(options, [&] { return sim.run(o).wall_seconds; }, &row, &result);
       result.rows.push_back(row);
     }
   }

@@ -179,23 +179,15 @@ def main(out, paper):
     drift_cost(summary, paper)
 
     zero_g = rows(os.path.join(out, "drift-zero-g", "summary.csv"))
-    lines = equal_time_table(f"Long runs in free fall ({t_drift})", summary) + [""] + \
-        equal_time_table(f"Long runs without gravity ({t_drift})", zero_g)
-    lines += ["", "Work-precision over 1 s (the torso's orientation at t = 1 s against "
-              f"{study[0]['reference']}):", "",
-              "| MuJoCo run | time [s] | error [rad] | lieflow's lowest error at that time |", "| --- | --- | --- | --- |"]
-    for r in study:
-        if not peer(r["integrator"]):
-            continue
-        name = f"{label(r['integrator'])} h={fmt(num(r['dt']))}"
-        if r["failed"] == "true":
-            lines.append(f"| {name} | | failed: {r['failure']} | |")
-            continue
-        wall = num(r["wall_seconds"])
-        best, who = best_lieflow(study, wall, "orientation_error")
-        lines.append(f"| {name} | {fmt(wall)} | {fmt(num(r['orientation_error']))} | " +
-                     (f"{fmt(best)} ({who['integrator']} h={fmt(num(who['dt']))})" if who
-                      else "n/a (no lieflow run that fast)") + " |")
+    drifts = [("L_com drift", "L_com_drift"), ("energy+W drift", "energy_balance_drift")]
+    lines = equal_time_table(f"Long runs in free fall ({t_drift}), each engine measuring its own run; equal run "
+                             "time: lieflow's lowest drift among its runs that took at most as long as MuJoCo's.",
+                             summary, drifts) + [""] + \
+        equal_time_table(f"Long runs without gravity ({t_drift}), the same.", zero_g, drifts)
+    lines += [""] + equal_time_table(
+        "Work-precision over 1 s: the torso's orientation at t = 1 s against " + study[0]["reference"] +
+        "; equal run time: lieflow's lowest error among its runs that took at most as long as MuJoCo's.",
+        study, [("error [rad]", "orientation_error")])
     generated = "\n".join(lines)
     splice_readme(os.path.join(paper, "README.md"), generated)
 
@@ -207,25 +199,25 @@ def main(out, paper):
     print(generated)
 
 
-def equal_time_table(title, summary):
-    lines = [f"{title}, each engine measuring its own run; equal run time: lieflow's lowest drift among its runs "
-             "that took at most as long as MuJoCo's.", "",
-             "| MuJoCo run | time [s] | L_com drift | lieflow's lowest at that time | energy+W drift | "
-             "lieflow's lowest at that time |", "| --- | --- | --- | --- | --- | --- |"]
-    for r in summary:
+def equal_time_table(intro, runs, columns):
+    """A markdown table of MuJoCo's runs: each column (header, CSV key) and,
+    beside it, the lowest value of a lieflow run that took at most as long."""
+    lines = [intro, "", "| MuJoCo run | time [s] | " +
+             " | ".join(f"{header} | lieflow's lowest at that time" for header, _ in columns) + " |",
+             "| --- " * (2 + 2 * len(columns)) + "|"]
+    for r in runs:
         if not peer(r["integrator"]):
             continue
         name = f"{label(r['integrator'])} h={fmt(num(r['dt']))}"
         if r["failed"] == "true":
-            lines.append(f"| {name} | | failed: {r['failure']} | | | |")
+            lines.append(f"| {name} | | failed: {r['failure']} |" + " |" * (2 * len(columns) - 1))
             continue
         wall = num(r["wall_seconds"])
         cells = []
-        for key in ("L_com_drift", "energy_balance_drift"):
-            best, who = best_lieflow(summary, wall, key)
+        for _, key in columns:
+            best, who = best_lieflow(runs, wall, key)
             cells += [fmt(num(r[key])), f"{fmt(best)} ({who['integrator']} h={fmt(num(who['dt']))}, "
-                      f"{fmt(num(who['wall_seconds']))} s)"
-                      if who else "n/a (no lieflow run that fast)"]
+                      f"{fmt(num(who['wall_seconds']))} s)" if who else "n/a (no lieflow run that fast)"]
         lines.append(f"| {name} | {fmt(wall)} | " + " | ".join(cells) + " |")
     return lines
 
