@@ -266,7 +266,7 @@ std::vector<std::string> Simulation::columns(bool imu) const {
 std::vector<std::string> Simulation::invariantNames() const { return model_->invariants.names(); }
 
 bool runsInJointCoordinates(const std::string& integrator) {
-  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "genalpha"})
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi", "genalpha"})
     if (integrator == name) return true;
   return false;
 }
@@ -287,11 +287,15 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
       if (why) *why = "joint coordinates cannot represent this scene: " + *why;
       return false;
     }
+    if (integrator == "lgvi" && !model_->articulated->system->variationalCovers(why)) {
+      if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
+      return false;
+    }
     if (runsInJointCoordinates(integrator)) return true;
     if (why)
       *why = "'" + integrator +
-             "' is not available in joint coordinates (lgvi and splitting are written for bodies in maximal "
-             "coordinates; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 genalpha)";
+             "' is not available in joint coordinates (splitting is written for bodies in maximal coordinates; "
+             "available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi genalpha)";
     return false;
   }
   if (model_->multibody) {

@@ -1,4 +1,5 @@
 // Running a scene in joint coordinates (--formulation joint).
+#include "integrators/joint_space_variational.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_unconstrained.hpp"
@@ -9,9 +10,20 @@ namespace lieflow {
 SimulationResult runArticulated(const Simulation::Model& model, const SimulationOptions& o,
                                 const std::vector<std::string>& columns,
                                 const std::function<void(const std::vector<double>&)>& row) {
-  if (auto result = simulation_detail::runUnconstrained(model, *model.articulated->system, model.articulated->y0, o,
-                                                        columns, row))
-    return *result;
+  const articulated::ArticulatedSystem& system = *model.articulated->system;
+  const articulated::ArticulatedState& y0 = model.articulated->y0;
+  if (auto result = simulation_detail::runUnconstrained(model, system, y0, o, columns, row)) return *result;
+  if (o.integrator == "lgvi") {
+    // The variational integrator on the joint angles (a vector space: no
+    // rotation map to choose; Simulation::supports checks that it covers the tree).
+    if (simulation_detail::option(o, "cayley", 0.0) != 0.0)
+      throw InvalidInput("cayley", "has no meaning in joint coordinates (the joint angles need no rotation map)");
+    JointSpaceVariationalOptions v;
+    v.tolerance = simulation_detail::option(o, "tolerance", v.tolerance);
+    v.max_iterations = static_cast<int>(simulation_detail::option(o, "max_iterations", v.max_iterations));
+    return simulation_detail::runFixedStep(model, system, y0, o, columns, row,
+                                           JointSpaceVariationalStepper<articulated::ArticulatedSystem>(v));
+  }
   throw InvalidInput("--integrator", "'" + o.integrator + "' is not available in joint coordinates");
 }
 

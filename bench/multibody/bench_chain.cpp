@@ -40,6 +40,7 @@
 #include "joints/multibody/constrained_acceleration.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
 #include "integrators/generalized_alpha.hpp"
+#include "integrators/joint_space_variational.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/articulated_scene.hpp"
 #include "joints/multibody/multibody_system.hpp"
@@ -101,9 +102,11 @@ void timedSteps(benchmark::State& st, Stepper& stepper, const System& system, co
   const double h = bench::kChainStep;
   StepReport report;
   long steps = 0;
+  double iterations = 0.0;
   for (auto _ : st) {
     *y = stepper.step(system, *t, *y, h, &report);
     *t += h;
+    iterations += report.newton_iterations;
     if (!report.converged) {
       st.SkipWithError(report.failure);
       break;
@@ -115,6 +118,8 @@ void timedSteps(benchmark::State& st, Stepper& stepper, const System& system, co
       st.ResumeTiming();
     }
   }
+  // Mean iterations per step of an implicit stepper (0 for explicit ones).
+  if (steps > 0) st.counters["iterations"] = iterations / static_cast<double>(steps);
 }
 
 /// One full step of `stepper` on the chain (h = 1e-3), state carried over.
@@ -198,6 +203,11 @@ void BM_ChainStep_joint_genalpha(benchmark::State& st) {
 }
 BENCHMARK(BM_ChainStep_joint_genalpha)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Unit(benchmark::kMicrosecond);
 
+void BM_ChainStep_joint_lgvi(benchmark::State& st) {
+  chainJointSteps(st, JointSpaceVariationalStepper<articulated::ArticulatedSystem>(JointSpaceVariationalOptions{}));
+}
+BENCHMARK(BM_ChainStep_joint_lgvi)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
 class SummaryReporter : public benchmark::ConsoleReporter {
@@ -280,6 +290,7 @@ int main(int argc, char** argv) {
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_rk4"},  {"BM_ChainStep_cf4", "BM_ChainStep_mujoco_rk4"},
       {"BM_ChainStep_joint_rkmk4", "BM_ChainStep_mujoco_rk4"}, {"BM_ChainStep_joint_cf4", "BM_ChainStep_mujoco_rk4"},
       {"BM_ChainStep_rkmk4", "BM_ChainStep_mujoco_euler"}, {"BM_ChainStep_lgvi", "BM_ChainStep_mujoco_euler"},
+      {"BM_ChainStep_joint_lgvi", "BM_ChainStep_mujoco_euler"},
       {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"},
       {"BM_ChainStep_joint_genalpha", "BM_ChainStep_mujoco_implicit"},
       {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"}};

@@ -8,53 +8,18 @@
 namespace lieflow {
 namespace articulated {
 
-namespace {
-
-EIGEN_ALWAYS_INLINE Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
-/// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ.
-EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
-  const double c = std::cos(phi), s = std::sin(phi);
-  Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
-  m.diagonal().array() += c;
-  m(0, 1) -= s * a.z();
-  m(1, 0) += s * a.z();
-  m(0, 2) += s * a.y();
-  m(2, 0) -= s * a.y();
-  m(1, 2) -= s * a.x();
-  m(2, 1) += s * a.x();
-  return m;
-}
-
-/// The unit rotation twist about the line through x with direction A.
-EIGEN_ALWAYS_INLINE Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
-  Vector6 s;
-  s << A, x.cross(A);
-  return s;
-}
-
-/// V ×ₘ m (motion cross product).
-EIGEN_ALWAYS_INLINE Vector6 crossMotion(const Vector6& V, const Vector6& m) {
-  Vector6 r;
-  r << V.head<3>().cross(m.head<3>()), V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
-  return r;
-}
-
-/// V ×_f h (force cross product).
-EIGEN_ALWAYS_INLINE Vector6 crossForce(const Vector6& V, const Vector6& h) {
-  Vector6 r;
-  r << V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>()), V.head<3>().cross(h.tail<3>());
-  return r;
-}
-
-}  // namespace
-
 ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
-    : model_(std::move(model)), data_(model_.bodies.size()), udot_(model_.dofs()) {}
+    : model_(std::move(model)), data_(model_.bodies.size()), udot_(model_.dofs()) {
+  rotation_basis_.resize(model_.bodies.size());
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kSpherical) continue;
+    const Eigen::Matrix3d aa = b.axis1 * b.axis1.transpose();
+    rotation_basis_[i].A = (Eigen::Matrix3d::Identity() - aa) * b.R_ref;
+    rotation_basis_[i].B = hat(b.axis1) * b.R_ref;
+    rotation_basis_[i].C = aa * b.R_ref;
+  }
+}
 
 void ArticulatedSystem::setUserTorque(int i, UserTorque torque) {
   LIEFLOW_ASSERT(i >= 0 && i < bodyCount(), "setUserTorque: no such body");
@@ -69,7 +34,8 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     const ArticulatedBody& b = model_.bodies[i];
     BodyData& d = data_[i];
     const bool grounded = b.parent == kGround;
-    const Eigen::Matrix3d& Rp = grounded ? Eigen::Matrix3d::Identity() : data_[b.parent].R;
+    static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();  // (no copy of the parent's R)
+    const Eigen::Matrix3d& Rp = grounded ? kIdentity : data_[b.parent].R;
     const Vector6& Vp = grounded ? zero : data_[b.parent].V;
     const double sigma = b.parent_is_main ? 1.0 : -1.0;
     d.x = grounded ? b.anchor_parent : Eigen::Vector3d(data_[b.parent].c + Rp * b.anchor_parent);
@@ -104,8 +70,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
           d.phiddot[k] = 0.0;
         }
       }
-      Eigen::Matrix3d M = rotationAbout(b.axis1, d.phi[0]) * b.R_ref;
-      if (nc == 2) M = M * rotationAbout(b.axis2, d.phi[1]);
+      const Eigen::Matrix3d M = jointRotation(i, d.phi);
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
       const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;

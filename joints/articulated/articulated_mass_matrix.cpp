@@ -5,18 +5,6 @@
 namespace lieflow {
 namespace articulated {
 
-namespace {
-
-/// Pᵀ X for a rotation-only body at c, P (ω, v) = (ω, c × ω): the force
-/// (n, f) becomes its moment about c, (n − c × f, 0).
-Vector6 projectForce(const Eigen::Vector3d& c, const Vector6& f) {
-  Vector6 r;
-  r << f.head<3>() - c.cross(f.tail<3>()), Eigen::Vector3d::Zero();
-  return r;
-}
-
-}  // namespace
-
 void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::MatrixXd* M, Eigen::VectorXd* g,
                                          Eigen::MatrixXd* Ct, Eigen::MatrixXd* Kt) const {
   const int n = dofs();
@@ -46,7 +34,7 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
       for (int l = 0; l < nf; ++l) (*M)(row, d.free_u[l]) = d.S.col(l).dot(F);
       int below = i;
       for (int j = b.parent; j != kGround; below = j, j = model_.bodies[j].parent) {
-        if (model_.bodies[below].rotation_only) F = projectForce(data_[below].c, F);
+        if (model_.bodies[below].rotation_only) F = heldForce(data_[below].c, F);
         const BodyData& dj = data_[j];
         for (int l = 0; l < dj.free; ++l) {
           const double m = dj.S.col(l).dot(F);

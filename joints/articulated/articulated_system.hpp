@@ -51,21 +51,10 @@
 
 #include "joints/articulated/articulated_model.hpp"
 #include "joints/articulated/articulated_state.hpp"
+#include "joints/articulated/spatial_algebra.hpp"
 
 namespace lieflow {
 namespace articulated {
-
-using Vector6 = Eigen::Matrix<double, 6, 1>;
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-/// P (ω, v) = (ω, c × ω) as a 6 × 6 matrix [I 0; [c]× 0]: the motion of a
-/// rotation-only body held at c (file comment).
-inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
-  Matrix6 P = Matrix6::Zero();
-  P.topLeftCorner<3, 3>().setIdentity();
-  P.bottomLeftCorner<3, 3>() << 0.0, -c.z(), c.y(), c.z(), 0.0, -c.x(), -c.y(), c.x(), 0.0;
-  return P;
-}
 
 /// One joint's outputs (CSV `J.phi, J.phidot, J.moment`): angles, rates and
 /// the moment the joint exerts on its main body about each axis (the same
@@ -163,6 +152,54 @@ class ArticulatedSystem {
   /// (t, y): the moment includes what prescribed motion needs).
   void jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const;
 
+  /// What the joint-space variational integrator (integrators/
+  /// joint_space_variational.hpp) reads at one configuration q: per body its
+  /// pose and motion subspace S (world, free columns), and — when factored —
+  /// the articulated-body factorization of the mass matrix M(q) (U = I_A S,
+  /// D⁻¹ = (Sᵀ I_A S)⁻¹; Featherstone 2008, §7.3), with which M(q)⁻¹ τ costs
+  /// two O(n) passes and no 6 × 6 product.
+  /// Sized once; reused step after step (nothing allocated per step).
+  struct Frame {
+    Eigen::Matrix3d R, Dinv;
+    Eigen::Vector3d c;
+    Eigen::Matrix<double, 6, 3> S, U;
+    std::array<double, 2> phi{{0.0, 0.0}};
+    int free = 0;
+    std::array<int, 3> free_u{{0, 0, 0}};
+  };
+  struct Frames {
+    std::vector<Frame> bodies;
+    bool factored = false;
+  };
+
+  /// Whether the variational integrator covers this tree: its configuration
+  /// space must be a vector space of angles (revolute and universal joints;
+  /// no spherical joint, explicit or the implicit one of a rotation-only
+  /// root) and time-independent (no prescribed coordinate). If not, `why`
+  /// names the body and the reason.
+  bool variationalCovers(std::string* why) const;
+  /// The frames at the angles y.q (factored when `factor`).
+  void frames(double t, const State& y, bool factor, Frames* f) const;
+  /// x = M(q)⁻¹ rhs with the factorization in f (f.factored).
+  void solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
+  /// For the rates v at the configuration of f: the momenta M(q) v, and
+  /// ∂T/∂q (q, v) of the kinetic energy T = ½ vᵀ M(q) v at fixed v. Each
+  /// coordinate's column S_k turns everything beyond it, so ∂V_b/∂φ_k =
+  /// S_k ×ₘ (V_b − V_k⁻) for every body b beyond it (V_k⁻ the twist before
+  /// the column), and with the turn of b's inertia the terms in V_b cancel:
+  ///   ∂T/∂φ_k = (V_k⁻ ×ₘ S_k)ᵀ H_k,   M(q) v|_k = S_kᵀ H_k,
+  /// H_k the spatial momentum of the subtree (through Pᵀ past a rotation-only
+  /// body): one pass out and one back, O(n).
+  void kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
+  /// The frames at y.q (not factored) into *f and kinetic() there, in one pass.
+  void kineticAt(double t, const State& y, const Eigen::VectorXd& v, Frames* f, Eigen::VectorXd* Mv,
+                 Eigen::VectorXd* dTdq) const;
+  /// The generalized forces Q(t, q, u) at the configuration of f: the joints'
+  /// springs, dashpots and moments, gravity and the program's body torques.
+  void generalizedForces(double t, const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* Q) const;
+  /// Whether Q depends on the rates (dashpots, or torques from a program).
+  bool hasVelocityDependentForces() const;
+
  private:
   struct BodyData {
     Eigen::Matrix3d R;            ///< world orientation
@@ -197,6 +234,33 @@ class ArticulatedSystem {
   /// Composite inertias of the mass matrix (sized at its first use).
   mutable std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> composite_;
   mutable Eigen::VectorXd udot_;
+  /// Scratch of the variational passes (kinetic, solveMass, forces, frames).
+  mutable std::vector<Vector6> twist_, accumulated_, before_;
+  mutable std::vector<Matrix6> articulated_;
+  /// exp(φ a) R_ref = cos φ A + sin φ B + C with A = (I − a aᵀ) R_ref,
+  /// B = [a]× R_ref, C = a aᵀ R_ref (Rodrigues' formula times R_ref), per
+  /// body with a revolute or universal joint: its relative rotation costs a
+  /// sine, a cosine and 27 multiply-adds.
+  struct RotationBasis {
+    Eigen::Matrix3d A, B, C;
+  };
+  std::vector<RotationBasis> rotation_basis_;
+  /// The relative rotation M (main → secondary) of body i's revolute or
+  /// universal joint at the angles φ (articulated_model.hpp):
+  /// exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
+  Eigen::Matrix3d jointRotation(int i, const std::array<double, 2>& phi) const {
+    const RotationBasis& r = rotation_basis_[i];
+    const double c = std::cos(phi[0]), s = std::sin(phi[0]);
+    Eigen::Matrix3d M = c * r.A + s * r.B + r.C;
+    if (model_.bodies[i].kind == JointKind::kUniversal) M = M * rotationAbout(model_.bodies[i].axis2, phi[1]);
+    return M;
+  }
+  /// The variational passes' steps: body i's pose at q from its parent's in
+  /// *f; its twist, momentum and the twist before its columns at rates v
+  /// (twist_, accumulated_, before_); the backward pass over all bodies.
+  void poseInto(int i, const Eigen::VectorXd& q, Frames* f) const;
+  void momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const;
+  void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };
 
 }  // namespace articulated

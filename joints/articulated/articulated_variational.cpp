@@ -1,0 +1,292 @@
+// ArticulatedSystem: what the joint-space variational integrator reads
+// (integrators/joint_space_variational.hpp) — frames and the factored mass
+// matrix at a configuration, M(q) v and ∂T/∂q, M(q)⁻¹ τ, the generalized
+// forces. articulated_system.hpp states the conventions and the equations.
+#include <sstream>
+
+#include "joints/articulated/articulated_system.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+bool ArticulatedSystem::variationalCovers(std::string* why) const {
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    std::string reason;
+    if (b.kind == JointKind::kSpherical)
+      reason = b.scene_joint < 0 ? "is a rotation-only root, which turns on SO(3) about its centre of mass"
+                                 : "hangs on a spherical joint, whose configuration is a rotation (SO(3))";
+    for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
+      if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
+    if (reason.empty()) continue;
+    if (why) {
+      std::ostringstream s;
+      s << "body '" << model_.names[i] << "' " << reason
+        << "; in joint coordinates lgvi is the variational integrator on the joint angles (a vector space), "
+           "written for revolute and universal joints without prescribed motion";
+      *why = s.str();
+    }
+    return false;
+  }
+  return true;
+}
+
+bool ArticulatedSystem::hasVelocityDependentForces() const {
+  if (has_user_torques_) return true;
+  for (int i = 0; i < bodyCount(); ++i)
+    for (int k = 0; k < model_.bodies[i].coordinates(); ++k) {
+      const multibody::CoordinateDrive& d = model_.drives[i][k];
+      if (d.damping != 0.0 || d.user_moment) return true;
+    }
+  return false;
+}
+
+void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, Frames* f) const {
+  // The ABA's pass 1 kinematics for a revolute or universal joint without
+  // prescribed motion (variationalCovers()): pose, free columns, angles.
+  const ArticulatedBody& b = model_.bodies[i];
+  LIEFLOW_ASSERT(b.kind != JointKind::kSpherical, "ArticulatedSystem: a spherical joint (see variationalCovers)");
+  Frame& fr = f->bodies[i];
+  const bool grounded = b.parent == kGround;
+  static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d& Rp = grounded ? kIdentity : f->bodies[b.parent].R;
+  const double sigma = b.parent_is_main ? 1.0 : -1.0;
+  const Eigen::Vector3d x = grounded ? b.anchor_parent : Eigen::Vector3d(f->bodies[b.parent].c + Rp * b.anchor_parent);
+  const Eigen::Vector3d& line = b.rotation_only ? b.fixed_position : x;
+  const int nc = b.coordinates();
+  for (int k = 0; k < nc; ++k) {
+    fr.phi[k] = q[b.q_begin + k];
+    fr.free_u[k] = b.u_begin + k;
+  }
+  fr.free = nc;
+  const Eigen::Matrix3d M = jointRotation(i, fr.phi);
+  fr.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
+  fr.S.col(0) = sigma * lineTwist((b.parent_is_main ? Rp : fr.R) * b.axis1, line);
+  if (nc == 2) fr.S.col(1) = sigma * lineTwist((b.parent_is_main ? fr.R : Rp) * b.axis2, line);
+  fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
+}
+
+void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) const {
+  const int n = bodyCount();
+  f->bodies.resize(n);
+  f->factored = factor;
+  for (int i = 0; i < n; ++i) poseInto(i, y.q, f);
+  if (!factor) return;
+  // The ABA's pass 2 without bias forces, leaves to root: from the rigid
+  // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
+  // −m [c]×, m I], the articulated inertias I_A, U = I_A S, D = Sᵀ U and
+  // I_a = I_A − U D⁻¹ Uᵀ added to the parent's (Pᵀ I_a P past a held body).
+  articulated_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    const Frame& fr = f->bodies[i];
+    Matrix6& I = articulated_[i];
+    const Eigen::Matrix3d cx = hat(fr.c);
+    I.topLeftCorner<3, 3>().noalias() = fr.R * b.inertia * fr.R.transpose();
+    I.topLeftCorner<3, 3>().noalias() -= b.mass * (fr.c * fr.c.transpose());
+    I.topLeftCorner<3, 3>().diagonal().array() += b.mass * fr.c.squaredNorm();
+    I.topRightCorner<3, 3>() = b.mass * cx;
+    I.bottomLeftCorner<3, 3>() = -b.mass * cx;
+    I.bottomRightCorner<3, 3>() = b.mass * Eigen::Matrix3d::Identity();
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    Frame& fr = f->bodies[i];
+    const Matrix6& I = articulated_[i];
+    Matrix6 Ia;
+    if (fr.free == 1) {
+      fr.U.col(0).noalias() = I * fr.S.col(0);
+      fr.Dinv(0, 0) = 1.0 / fr.S.col(0).dot(fr.U.col(0));
+      if (b.parent == kGround) continue;
+      Ia = I;
+      Ia.noalias() -= (fr.Dinv(0, 0) * fr.U.col(0)) * fr.U.col(0).transpose();
+    } else {
+      fr.U.leftCols<2>().noalias() = I * fr.S.leftCols<2>();
+      const Eigen::Matrix2d D = fr.S.leftCols<2>().transpose() * fr.U.leftCols<2>();
+      fr.Dinv.topLeftCorner<2, 2>() = D.inverse();
+      if (b.parent == kGround) continue;
+      Ia = I;
+      Ia.noalias() -= fr.U.leftCols<2>() * fr.Dinv.topLeftCorner<2, 2>() * fr.U.leftCols<2>().transpose();
+    }
+    if (b.rotation_only) {
+      const Matrix6 P = rotationOnlyMap(fr.c);
+      articulated_[b.parent].noalias() += P.transpose() * Ia * P;
+    } else {
+      articulated_[b.parent] += Ia;
+    }
+  }
+}
+
+void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
+  // The ABA's passes 2 and 3 at zero rates and without forces but τ = rhs
+  // (Featherstone 2008, Table 7.1): the bias forces p_A of each subtree
+  // leaves to root, then the accelerations root to leaves.
+  const int n = bodyCount();
+  accumulated_.assign(n, Vector6::Zero());  // p_A
+  twist_.resize(n);                         // the accelerations a
+  x->resize(dofs());
+  double* out = x->data();
+  for (int i = n - 1; i >= 0; --i) {
+    const Frame& fr = f.bodies[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6& pA = accumulated_[i];
+    // u = τ − Sᵀ p_A, kept in x for pass 3; p_a = p_A + U D⁻¹ u to the parent.
+    if (fr.free == 1) {
+      const double u = rhs[fr.free_u[0]] - fr.S.col(0).dot(pA);
+      out[fr.free_u[0]] = u;
+      pA.noalias() += (fr.Dinv(0, 0) * u) * fr.U.col(0);
+    } else {
+      const Eigen::Vector2d u(rhs[fr.free_u[0]] - fr.S.col(0).dot(pA), rhs[fr.free_u[1]] - fr.S.col(1).dot(pA));
+      out[fr.free_u[0]] = u[0];
+      out[fr.free_u[1]] = u[1];
+      pA.noalias() += fr.U.leftCols<2>() * (fr.Dinv.topLeftCorner<2, 2>() * u);
+    }
+    if (b.parent == kGround) continue;
+    Vector6& parent = accumulated_[b.parent];
+    if (b.rotation_only) {
+      parent.head<3>() += pA.head<3>() - fr.c.cross(pA.tail<3>());  // Pᵀ p_a
+    } else {
+      parent += pA;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const Frame& fr = f.bodies[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6& a = twist_[i];
+    if (b.parent == kGround) {
+      a.setZero();
+    } else if (b.rotation_only) {
+      a.head<3>() = twist_[b.parent].head<3>();
+      a.tail<3>() = fr.c.cross(a.head<3>());
+    } else {
+      a = twist_[b.parent];
+    }
+    if (fr.free == 1) {
+      const double qdd = fr.Dinv(0, 0) * (out[fr.free_u[0]] - fr.U.col(0).dot(a));
+      a.noalias() += qdd * fr.S.col(0);
+      out[fr.free_u[0]] = qdd;
+    } else {
+      const Eigen::Vector2d r(out[fr.free_u[0]] - fr.U.col(0).dot(a), out[fr.free_u[1]] - fr.U.col(1).dot(a));
+      const Eigen::Vector2d qdd = fr.Dinv.topLeftCorner<2, 2>() * r;
+      a.noalias() += fr.S.leftCols<2>() * qdd;
+      out[fr.free_u[0]] = qdd[0];
+      out[fr.free_u[1]] = qdd[1];
+    }
+  }
+}
+
+void ArticulatedSystem::momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const {
+  // V_b = (P) V_parent + S v; the body's momentum about the origin,
+  // h = (R J Rᵀ ω + c × m v_c, m v_c), v_c = v_O + ω × c (zero for a held body).
+  const ArticulatedBody& b = model_.bodies[i];
+  Vector6& V = twist_[i];
+  if (b.parent == kGround)
+    before_[i].setZero();
+  else
+    before_[i] = b.rotation_only ? heldMotion(fr.c, twist_[b.parent]) : twist_[b.parent];
+  V = before_[i];
+  for (int k = 0; k < fr.free; ++k) V += v[fr.free_u[k]] * fr.S.col(k);
+  const Eigen::Vector3d w = V.head<3>();
+  const Eigen::Vector3d mvc = b.mass * (V.tail<3>() + w.cross(fr.c));
+  accumulated_[i] << fr.R * (b.inertia * (fr.R.transpose() * w)) + fr.c.cross(mvc), mvc;
+}
+
+void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
+                                     Eigen::VectorXd* dTdq) const {
+  // The subtree momenta H; M v = Sᵀ H and ∂T/∂φ = (V⁻ ×ₘ S)ᵀ H per column,
+  // V⁻ the twist before the column: a universal joint's column fixed in the
+  // parent comes first (s₁ when the parent is the main body), and the other
+  // column sees it turn.
+  Mv->resize(dofs());
+  if (dTdq) dTdq->resize(dofs());
+  for (int i = bodyCount() - 1; i >= 0; --i) {
+    const Frame& fr = f.bodies[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    const Vector6& H = accumulated_[i];
+    for (int k = 0; k < fr.free; ++k) (*Mv)[fr.free_u[k]] = fr.S.col(k).dot(H);
+    if (dTdq) {
+      if (fr.free == 1) {
+        (*dTdq)[fr.free_u[0]] = crossMotion(before_[i], fr.S.col(0)).dot(H);
+      } else if (fr.free == 2) {
+        const int first = b.parent_is_main ? 0 : 1, second = 1 - first;
+        const Vector6 V_mid = before_[i] + v[fr.free_u[first]] * fr.S.col(first);
+        (*dTdq)[fr.free_u[first]] = crossMotion(before_[i], fr.S.col(first)).dot(H);
+        (*dTdq)[fr.free_u[second]] = crossMotion(V_mid, fr.S.col(second)).dot(H);
+      }
+    }
+    if (b.parent != kGround) accumulated_[b.parent] += b.rotation_only ? heldForce(fr.c, H) : H;
+  }
+}
+
+void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
+                                Eigen::VectorXd* dTdq) const {
+  const int n = bodyCount();
+  twist_.resize(n);
+  before_.resize(n);
+  accumulated_.resize(n);
+  for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], v);
+  momentumBack(f, v, Mv, dTdq);
+}
+
+void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd& v, Frames* f, Eigen::VectorXd* Mv,
+                                  Eigen::VectorXd* dTdq) const {
+  const int n = bodyCount();
+  f->bodies.resize(n);
+  f->factored = false;
+  twist_.resize(n);
+  before_.resize(n);
+  accumulated_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    poseInto(i, y.q, f);
+    momentumOut(i, f->bodies[i], v);
+  }
+  momentumBack(*f, v, Mv, dTdq);
+}
+
+void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen::VectorXd& u,
+                                          Eigen::VectorXd* Q) const {
+  const int n = bodyCount();
+  accumulated_.resize(n);
+  twist_.resize(n);
+  Q->resize(dofs());
+  // The bodies' external wrenches about the origin: gravity (c × m g, m g) on
+  // each body that translates, the program's torques (R τ, 0).
+  for (int i = 0; i < n; ++i) {
+    const Frame& fr = f.bodies[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6& F = accumulated_[i];
+    if (b.rotation_only) {
+      F.setZero();
+    } else {
+      const Eigen::Vector3d mg = b.mass * model_.gravity;
+      F << fr.c.cross(mg), mg;
+    }
+    if (!has_user_torques_) continue;
+    Vector6& V = twist_[i];
+    if (b.parent == kGround)
+      V.setZero();
+    else
+      V = b.rotation_only ? heldMotion(fr.c, twist_[b.parent]) : twist_[b.parent];
+    for (int k = 0; k < fr.free; ++k) V += u[fr.free_u[k]] * fr.S.col(k);
+    if (!user_torques_[i]) continue;
+    const Eigen::Vector3d w = V.head<3>();
+    const Eigen::Vector3d vc = V.tail<3>() + w.cross(fr.c);
+    F.head<3>() += fr.R * user_torques_[i](t, Eigen::Quaterniond(fr.R), fr.c, fr.R.transpose() * w, vc);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const Frame& fr = f.bodies[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    for (int k = 0; k < fr.free; ++k) {
+      const int j = fr.free_u[k];
+      double q = fr.S.col(k).dot(accumulated_[i]);
+      if (b.has_force[k]) q += model_.drives[i][k].momentAt(t, fr.phi[k], u[j]);
+      (*Q)[j] = q;
+    }
+    if (b.parent != kGround)
+      accumulated_[b.parent] += b.rotation_only ? heldForce(fr.c, accumulated_[i]) : accumulated_[i];
+  }
+}
+
+}  // namespace articulated
+}  // namespace lieflow

@@ -1,0 +1,84 @@
+/// \file
+/// Spatial vector algebra of the joint formulation (Featherstone, "Rigid Body
+/// Dynamics Algorithms", 2008, ch. 2), in world axes about the world origin:
+/// a motion V = (ω, v_O), a force (n_O, f). The small inline operations
+/// every pass of the articulated-body code uses, in one place.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+namespace lieflow {
+namespace articulated {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// [v]×, the cross-product matrix.
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+/// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ.
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
+  const double c = std::cos(phi), s = std::sin(phi);
+  Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
+  m.diagonal().array() += c;
+  m(0, 1) -= s * a.z();
+  m(1, 0) += s * a.z();
+  m(0, 2) += s * a.y();
+  m(2, 0) -= s * a.y();
+  m(1, 2) -= s * a.x();
+  m(2, 1) += s * a.x();
+  return m;
+}
+
+/// The unit rotation twist about the line through x with direction A: (A, x × A).
+EIGEN_ALWAYS_INLINE Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
+  Vector6 s;
+  s << A, x.cross(A);
+  return s;
+}
+
+/// V ×ₘ m (motion cross product).
+EIGEN_ALWAYS_INLINE Vector6 crossMotion(const Vector6& V, const Vector6& m) {
+  Vector6 r;
+  r << V.head<3>().cross(m.head<3>()), V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
+  return r;
+}
+
+/// V ×_f h (force cross product).
+EIGEN_ALWAYS_INLINE Vector6 crossForce(const Vector6& V, const Vector6& h) {
+  Vector6 r;
+  r << V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>()), V.head<3>().cross(h.tail<3>());
+  return r;
+}
+
+/// A rotation-only body held at c moves as P (ω, v) = (ω, c × ω): P as a
+/// 6 × 6 matrix [I 0; [c]× 0].
+inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
+  Matrix6 P = Matrix6::Zero();
+  P.topLeftCorner<3, 3>().setIdentity();
+  P.bottomLeftCorner<3, 3>() = hat(c);
+  return P;
+}
+
+/// P V without the matrix: (ω, c × ω).
+EIGEN_ALWAYS_INLINE Vector6 heldMotion(const Eigen::Vector3d& c, const Vector6& V) {
+  Vector6 r;
+  r << V.head<3>(), c.cross(V.head<3>());
+  return r;
+}
+
+/// Pᵀ F: the force (n, f) on a body held at c as its moment about c, (n − c × f, 0).
+EIGEN_ALWAYS_INLINE Vector6 heldForce(const Eigen::Vector3d& c, const Vector6& F) {
+  Vector6 r;
+  r << F.head<3>() - c.cross(F.tail<3>()), Eigen::Vector3d::Zero();
+  return r;
+}
+
+}  // namespace articulated
+}  // namespace lieflow
