@@ -51,6 +51,7 @@ nlohmann::ordered_json statsJson(const SimulationResult& r) {
   j["failed"] = r.failed;
   j["failure"] = r.failure;
   if (r.rejected_steps > 0) j["rejected_steps"] = r.rejected_steps;
+  if (r.substepped_steps > 0) j["substepped_steps"] = r.substepped_steps;
   return j;
 }
 

@@ -20,6 +20,8 @@ struct RunSummary {
   long steps = 0;
   long rejected_steps = 0;
   long newton_iterations = 0;
+  /// Steps a stepper took as substeps (StepReport::substeps).
+  long substepped_steps = 0;
   bool failed = false;
   /// The run stopped at its step limit (a failure, `failure` says where).
   bool step_limit_reached = false;
@@ -61,6 +63,7 @@ RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename 
     y = stepper.step(system, Scalar(t), y, Scalar(t_next - t), &report);
     summary.steps = k + 1;
     summary.newton_iterations += report.newton_iterations;
+    if (report.substeps > 0) ++summary.substepped_steps;
     if (!report.converged) {
       std::ostringstream why;
       why << report.failure << (report.detail.empty() ? "" : ": ") << report.detail << " at t = " << t << " (step " << k + 1 << ", residual "

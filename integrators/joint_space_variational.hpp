@@ -83,6 +83,10 @@ struct JointSpaceVariationalOptions {
   double tolerance = 1e-14;
   /// Passes allowed per step (each iteration).
   int max_iterations = 50;
+  /// When the iteration does not converge, the step is taken as 2, 4, …,
+  /// 2^max_halvings steps of h/2^k (the composition of symmetric symplectic
+  /// steps is one); 0: fail at once.
+  int max_halvings = 4;
 };
 
 template <typename System>
@@ -112,6 +116,44 @@ class JointSpaceVariationalStepper {
     StepReport& rep = report ? *report : local;
     rep = StepReport{};
     if (h == 0.0) return y;
+    if (stepOnce(system, t, y, h, &rep)) return result_;
+    // Substeps: 2^k steps of h/2^k, until they all converge.
+    Work& w = work_;
+    for (int k = 1; k <= options_.max_halvings; ++k) {
+      const long m = 1L << k;
+      const double hs = h / static_cast<double>(m);
+      w.substep = y;
+      StepReport sub;
+      int passes = 0;
+      bool ok = true;
+      for (long i = 0; i < m && ok; ++i) {
+        ok = stepOnce(system, t + static_cast<double>(i) * hs, w.substep, hs, &sub);
+        passes += sub.newton_iterations;
+        if (ok && i + 1 < m) w.substep = result_;
+      }
+      if (ok) {
+        rep = sub;
+        rep.newton_iterations = passes;
+        rep.substeps = static_cast<int>(m);
+        return result_;
+      }
+      rep = sub;
+    }
+    if (options_.max_halvings > 0) {
+      std::ostringstream s;
+      s << rep.detail << "; nor in " << (1L << options_.max_halvings) << " substeps of h/"
+        << (1L << options_.max_halvings);
+      rep.detail = s.str();
+    }
+    return y;
+  }
+
+ private:
+  /// One step of size h (the file comment) into result_; false, with the
+  /// report saying why, when an iteration does not converge.
+  bool stepOnce(const System& system, double t, const State& y, double h, StepReport* report) const {
+    StepReport& rep = *report;
+    rep = StepReport{};
     Work& w = work_;
     // M(q₀) factored: reuse the end of the last step when this one starts there.
     const bool continues = w.end_valid && w.end_system == &system && w.end_q.size() == y.q.size() && w.end_q == y.q;
@@ -138,42 +180,13 @@ class JointSpaceVariationalStepper {
     else
       w.v = y.u;
     w.mid = y;
-    double previous = std::numeric_limits<double>::infinity();
-    int stalls = 0;
-    for (int it = 1;; ++it) {
-      w.mid.q = y.q + (0.5 * h) * w.v;
-      system.kineticAt(t + 0.5 * h, w.mid, w.v, &w.midframes, &w.Mv, &w.dT);
-      w.r = w.b + (0.5 * h) * w.dT - w.Mv;
-      system.solveMass(w.start, w.r, &w.dv);
-      // Sizes in the kinetic-energy norm: ‖Δv‖ = √(Δvᵀ M(q₀) Δv) = √(Δvᵀ r),
-      // ‖v‖ = √(vᵀ M(q_m) v). (In the max norm the rounding of r, relative to
-      // the heavy coordinates' momenta, shows through M⁻¹ in the light ones
-      // amplified by the condition number of M: 1e5 on chain-100.)
-      const double change = std::sqrt(std::max(0.0, w.dv.dot(w.r)));
-      const double bound = options_.tolerance * std::sqrt(std::max(0.0, w.v.dot(w.Mv)));
-      w.v += w.dv;
-      rep.newton_iterations = it;
-      rep.residual = change;
-      // Converged: the change, or what the next changes would add up to at
-      // the rate ρ of the last two (ρ/(1 − ρ) · change), is within the bound;
-      // or the rounding floor is reached.
-      const double rate = it >= 2 ? change / previous : 1.0;
-      if (change <= bound || (rate < 0.5 && change * rate / (1.0 - rate) <= bound) ||
-          (!(change < previous) && change <= 1e3 * bound))
-        break;
-      // Not contracting: two passes in a row without a decrease.
-      stalls = change < previous ? 0 : stalls + 1;
-      if (!std::isfinite(change) || stalls >= 2 || it == options_.max_iterations) {
-        rep.fail("lgvi (joint coordinates): the iteration for the mid-step rates did not converge", change);
-        std::ostringstream s;
-        s << "last change of the rates " << change << " (bound " << bound << ") after " << it << " passes; "
-          << (it == options_.max_iterations && change < previous
-                  ? "max_iterations reached"
-                  : "not contracting: h times the joint rates is too large at h = " + std::to_string(h));
-        rep.detail = s.str();
-        return y;
-      }
-      previous = change;
+    if (!quasiNewton(system, t, y, h, &rep)) {
+      rep.fail("lgvi (joint coordinates): the iteration for the mid-step rates did not converge", rep.residual);
+      std::ostringstream s;
+      s << "last change of the rates " << rep.residual << " (kinetic-energy norm) after " << rep.newton_iterations
+        << " passes: the quasi-Newton iteration does not contract at h = " << h;
+      rep.detail = s.str();
+      return false;
     }
 
     // (2): q₁, p₁* = p₀ + (h/2) Q₀ + h ∂T/∂q(q_m, v), q̇₁.
@@ -184,8 +197,7 @@ class JointSpaceVariationalStepper {
     w.p1 = w.b + h * w.dT;
     y1.u = w.v;  // the start of the dashpot fixed point
     const bool implicit_forces = system.hasVelocityDependentForces();
-    double change = std::numeric_limits<double>::infinity();
-    previous = change;
+    double change = std::numeric_limits<double>::infinity(), previous = change;
     for (int pass = 1;; ++pass) {
       system.generalizedForces(t + h, w.end, y1.u, &w.Q);
       w.r = w.p1 + (0.5 * h) * w.Q;
@@ -207,12 +219,12 @@ class JointSpaceVariationalStepper {
         s << "last change of the rates " << change << " after " << pass
           << " passes; h c / (2 I) of a damped joint coordinate is too large at h = " << h;
         rep.detail = s.str();
-        return y;
+        return false;
       }
     }
     if (!y1.q.allFinite() || !y1.u.allFinite()) {
       rep.fail("lgvi (joint coordinates): the state became non-finite", std::numeric_limits<double>::infinity());
-      return y;
+      return false;
     }
     w.end_q = y1.q;
     w.end_system = &system;
@@ -225,14 +237,70 @@ class JointSpaceVariationalStepper {
     w.history = std::min(w.history + 1, 3);
     std::swap(w.p_end, w.r);  // p₁ = p₁* + (h/2) Q₁
     std::swap(w.Q_end, w.Q);
-    return y1;
+    return true;
   }
 
- private:
+  /// r(v) = p₀ + (h/2)(Q₀ + ∂T/∂q(q_m, v)) − M(q_m) v, q_m = q₀ + (h/2) v, into
+  /// *r (with M(q_m) v and ∂T/∂q into *Mv, *dT).
+  void residual(const System& system, double t, const State& y, double h, const Eigen::VectorXd& v,
+                Eigen::VectorXd* Mv, Eigen::VectorXd* dT, Eigen::VectorXd* r) const {
+    Work& w = work_;
+    w.mid.q = y.q + (0.5 * h) * v;
+    system.kineticAt(t + 0.5 * h, w.mid, v, &w.midframes, Mv, dT);
+    *r = w.b + (0.5 * h) * *dT - *Mv;
+  }
+
+  /// Whether a change meets the bound: itself, or with the changes to come
+  /// at the rate of the last two (ρ/(1 − ρ) · change); or, no longer
+  /// decreasing, within 1000 × the bound (the rounding floor).
+  static bool converged(double change, double previous, double bound) {
+    const double rate = change / previous;  // 0 on the first pass (previous = ∞)
+    return change <= bound || (previous < std::numeric_limits<double>::infinity() && rate < 0.5 &&
+                               change * rate / (1.0 - rate) <= bound) ||
+           (!(change < previous) && change <= 1e3 * bound);
+  }
+
+  /// The quasi-Newton iteration over v (file comment) from w.v; false when
+  /// it does not contract (no new smallest change in four passes) or
+  /// reaches max_iterations — w.v is then its best iterate.
+  bool quasiNewton(const System& system, double t, const State& y, double h, StepReport* rep) const {
+    Work& w = work_;
+    double previous = std::numeric_limits<double>::infinity(), best = previous;
+    int stalls = 0;
+    for (int it = 1;; ++it) {
+      residual(system, t, y, h, w.v, &w.Mv, &w.dT, &w.r);
+      system.solveMass(w.start, w.r, &w.dv);
+      // Sizes in the kinetic-energy norm: ‖Δv‖ = √(Δvᵀ M(q₀) Δv) = √(Δvᵀ r),
+      // ‖v‖ = √(vᵀ M(q_m) v). (In the max norm the rounding of r, relative to
+      // the heavy coordinates' momenta, shows through M⁻¹ in the light ones
+      // amplified by the condition number of M: 1e5 on chain-100.)
+      const double change = std::sqrt(std::max(0.0, w.dv.dot(w.r)));
+      const double bound = options_.tolerance * std::sqrt(std::max(0.0, w.v.dot(w.Mv)));
+      rep->newton_iterations = it;
+      rep->residual = change;
+      if (change < best) {
+        best = change;
+        stalls = 0;
+        w.v_best = w.v;
+      } else {
+        ++stalls;
+      }
+      w.v += w.dv;
+      if (converged(change, previous, bound)) return true;
+      if (!std::isfinite(change) || stalls >= 4 || it == options_.max_iterations) {
+        w.v = w.v_best;
+        return false;
+      }
+      previous = change;
+    }
+  }
+
   /// The step's vectors and frames, kept from step to step.
   struct Work {
     Frames start, end, midframes;
     Eigen::VectorXd p_end, Q_end, Q, b, v, Mv, dT, r, dv, p1, end_q;
+    Eigen::VectorXd v_best;
+    State substep;  ///< the start of the next substep (see step())
     State mid;
     const System* end_system = nullptr;
     bool end_valid = false;

@@ -19,6 +19,9 @@ struct StepReport {
   std::string detail;
   /// Final residual norm of the implicit solve (0 for explicit methods).
   double residual = 0.0;
+  /// Steps of h/substeps the stepper took in place of one whose implicit
+  /// solve failed (0: the step was taken whole).
+  int substeps = 0;
 
   void fail(const char* why, double final_residual) {
     converged = false;

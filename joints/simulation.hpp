@@ -85,6 +85,9 @@ struct SimulationResult {
   std::vector<std::pair<std::string, double>> invariants;
   bool implicit = false;
   double newton_iterations_mean = 0.0;
+  /// Steps taken as substeps because their implicit solve failed whole
+  /// (lgvi in joint coordinates; --stats `substepped_steps` when > 0).
+  long substepped_steps = 0;
   bool failed = false;
   std::string failure;
   /// The last row (time t_reached), whatever `every` is.

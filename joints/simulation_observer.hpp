@@ -329,6 +329,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.rejected_steps = summary.rejected_steps;
   result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
   result.newton_iterations_mean = summary.newtonIterationsMean();
+  result.substepped_steps = summary.substepped_steps;
   rows(system, t_last, last, &result.final_row);
   if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
   result.failed = summary.failed || !stop_reason.empty();
