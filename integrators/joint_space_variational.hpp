@@ -59,7 +59,8 @@
 ///   void frames(t, y, bool factor, Frames*);        (at y.q)
 ///   void solveMass(const Frames&, rhs, x*);          (x = M(q)⁻¹ rhs)
 ///   void kinetic(const Frames&, v, Mv*, dTdq*);      (M(q) v, ∂T/∂q(q, v))
-///   void kineticAt(t, y, v, Frames*, Mv*, dTdq*);    (frames at y.q, then kinetic, in one pass)
+///   void kineticAt(t, y, v, near, Frames*, Mv*, dTdq*); (frames at y.q, then kinetic, in one pass;
+///                                                     near: frames at a nearby configuration)
 ///   void generalizedForces(t, const Frames&, u, Q*);
 ///   bool hasVelocityDependentForces();
 #pragma once
@@ -173,7 +174,11 @@ class JointSpaceVariationalStepper {
     // (error O(h³)), after one step 2 q̇₀ − v₋₁ (O(h²)), else q̇₀ (O(h)). The
     // start only sets how many passes the iteration takes.
     if (!(continues && h == w.h_last)) w.history = 0;
-    if (w.history >= 3)
+    if (w.history >= 5)
+      w.v = 5.0 * (w.v1 - w.v4) + 10.0 * (w.v3 - w.v2) + w.v5;
+    else if (w.history >= 4)
+      w.v = 4.0 * (w.v1 + w.v3) - 6.0 * w.v2 - w.v4;
+    else if (w.history >= 3)
       w.v = 3.0 * (w.v1 - w.v2) + w.v3;
     else if (w.history >= 1)
       w.v = 2.0 * y.u - w.v1;
@@ -231,10 +236,12 @@ class JointSpaceVariationalStepper {
     w.end_valid = true;
     w.h_last = h;
     w.t_end = t + h;
+    std::swap(w.v5, w.v4);
+    std::swap(w.v4, w.v3);
     std::swap(w.v3, w.v2);
     std::swap(w.v2, w.v1);
     w.v1 = w.v;
-    w.history = std::min(w.history + 1, 3);
+    w.history = std::min(w.history + 1, 5);
     std::swap(w.p_end, w.r);  // p₁ = p₁* + (h/2) Q₁
     std::swap(w.Q_end, w.Q);
     return true;
@@ -246,7 +253,7 @@ class JointSpaceVariationalStepper {
                 Eigen::VectorXd* Mv, Eigen::VectorXd* dT, Eigen::VectorXd* r) const {
     Work& w = work_;
     w.mid.q = y.q + (0.5 * h) * v;
-    system.kineticAt(t + 0.5 * h, w.mid, v, &w.midframes, Mv, dT);
+    system.kineticAt(t + 0.5 * h, w.mid, v, w.start, &w.midframes, Mv, dT);
     *r = w.b + (0.5 * h) * *dT - *Mv;
   }
 
@@ -305,7 +312,7 @@ class JointSpaceVariationalStepper {
     const System* end_system = nullptr;
     bool end_valid = false;
     double h_last = 0.0, t_end = 0.0;
-    Eigen::VectorXd v1, v2, v3;  ///< the last steps' mid-step rates, newest first
+    Eigen::VectorXd v1, v2, v3, v4, v5;  ///< the last steps' mid-step rates, newest first
     int history = 0;             ///< how many of them continue into this step
   };
 

@@ -70,7 +70,9 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
           d.phiddot[k] = 0.0;
         }
       }
-      const Eigen::Matrix3d M = jointRotation(i, d.phi);
+      const std::array<double, 2> cos_phi{{std::cos(d.phi[0]), nc == 2 ? std::cos(d.phi[1]) : 1.0}};
+      const std::array<double, 2> sin_phi{{std::sin(d.phi[0]), nc == 2 ? std::sin(d.phi[1]) : 0.0}};
+      const Eigen::Matrix3d M = jointRotation(i, cos_phi, sin_phi);
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
       const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;

@@ -163,7 +163,7 @@ class ArticulatedSystem {
     Eigen::Matrix3d R, Dinv;
     Eigen::Vector3d c;
     Eigen::Matrix<double, 6, 3> S, U;
-    std::array<double, 2> phi{{0.0, 0.0}};
+    std::array<double, 2> phi{{0.0, 0.0}}, cos_phi{{1.0, 1.0}}, sin_phi{{0.0, 0.0}};
     int free = 0;
     std::array<int, 3> free_u{{0, 0, 0}};
   };
@@ -191,9 +191,11 @@ class ArticulatedSystem {
   /// H_k the spatial momentum of the subtree (through Pᵀ past a rotation-only
   /// body): one pass out and one back, O(n).
   void kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
-  /// The frames at y.q (not factored) into *f and kinetic() there, in one pass.
-  void kineticAt(double t, const State& y, const Eigen::VectorXd& v, Frames* f, Eigen::VectorXd* Mv,
-                 Eigen::VectorXd* dTdq) const;
+  /// The frames at y.q (not factored) into *f and kinetic() there, in one
+  /// pass; `near`, frames at angles close to y.q, lends the sines and cosines
+  /// of its angles (sinCosNear).
+  void kineticAt(double t, const State& y, const Eigen::VectorXd& v, const Frames& near, Frames* f,
+                 Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
   /// The generalized forces Q(t, q, u) at the configuration of f: the joints'
   /// springs, dashpots and moments, gravity and the program's body torques.
   void generalizedForces(double t, const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* Q) const;
@@ -246,19 +248,18 @@ class ArticulatedSystem {
   };
   std::vector<RotationBasis> rotation_basis_;
   /// The relative rotation M (main → secondary) of body i's revolute or
-  /// universal joint at the angles φ (articulated_model.hpp):
-  /// exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
-  Eigen::Matrix3d jointRotation(int i, const std::array<double, 2>& phi) const {
+  /// universal joint from the cosines and sines of its angles φ
+  /// (articulated_model.hpp): exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
+  Eigen::Matrix3d jointRotation(int i, const std::array<double, 2>& c, const std::array<double, 2>& s) const {
     const RotationBasis& r = rotation_basis_[i];
-    const double c = std::cos(phi[0]), s = std::sin(phi[0]);
-    Eigen::Matrix3d M = c * r.A + s * r.B + r.C;
-    if (model_.bodies[i].kind == JointKind::kUniversal) M = M * rotationAbout(model_.bodies[i].axis2, phi[1]);
+    Eigen::Matrix3d M = c[0] * r.A + s[0] * r.B + r.C;
+    if (model_.bodies[i].kind == JointKind::kUniversal) M = M * rotationAbout(model_.bodies[i].axis2, c[1], s[1]);
     return M;
   }
   /// The variational passes' steps: body i's pose at q from its parent's in
   /// *f; its twist, momentum and the twist before its columns at rates v
   /// (twist_, accumulated_, before_); the backward pass over all bodies.
-  void poseInto(int i, const Eigen::VectorXd& q, Frames* f) const;
+  void poseInto(int i, const Eigen::VectorXd& q, const Frames* near, Frames* f) const;
   void momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };

@@ -42,7 +42,7 @@ bool ArticulatedSystem::hasVelocityDependentForces() const {
   return false;
 }
 
-void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, Frames* f) const {
+void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, const Frames* near, Frames* f) const {
   // The ABA's pass 1 kinematics for a revolute or universal joint without
   // prescribed motion (variationalCovers()): pose, free columns, angles.
   const ArticulatedBody& b = model_.bodies[i];
@@ -58,9 +58,16 @@ void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, Frames* f) con
   for (int k = 0; k < nc; ++k) {
     fr.phi[k] = q[b.q_begin + k];
     fr.free_u[k] = b.u_begin + k;
+    if (near) {
+      const Frame& n = near->bodies[i];
+      sinCosNear(fr.phi[k], n.phi[k], n.cos_phi[k], n.sin_phi[k], &fr.cos_phi[k], &fr.sin_phi[k]);
+    } else {
+      fr.cos_phi[k] = std::cos(fr.phi[k]);
+      fr.sin_phi[k] = std::sin(fr.phi[k]);
+    }
   }
   fr.free = nc;
-  const Eigen::Matrix3d M = jointRotation(i, fr.phi);
+  const Eigen::Matrix3d M = jointRotation(i, fr.cos_phi, fr.sin_phi);
   fr.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
   fr.S.col(0) = sigma * lineTwist((b.parent_is_main ? Rp : fr.R) * b.axis1, line);
   if (nc == 2) fr.S.col(1) = sigma * lineTwist((b.parent_is_main ? fr.R : Rp) * b.axis2, line);
@@ -71,7 +78,7 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
   const int n = bodyCount();
   f->bodies.resize(n);
   f->factored = factor;
-  for (int i = 0; i < n; ++i) poseInto(i, y.q, f);
+  for (int i = 0; i < n; ++i) poseInto(i, y.q, nullptr, f);
   if (!factor) return;
   // The ABA's pass 2 without bias forces, leaves to root: from the rigid
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
@@ -229,8 +236,8 @@ void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen
   momentumBack(f, v, Mv, dTdq);
 }
 
-void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd& v, Frames* f, Eigen::VectorXd* Mv,
-                                  Eigen::VectorXd* dTdq) const {
+void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd& v, const Frames& near, Frames* f,
+                                  Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const {
   const int n = bodyCount();
   f->bodies.resize(n);
   f->factored = false;
@@ -238,7 +245,7 @@ void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd&
   before_.resize(n);
   accumulated_.resize(n);
   for (int i = 0; i < n; ++i) {
-    poseInto(i, y.q, f);
+    poseInto(i, y.q, &near, f);
     momentumOut(i, f->bodies[i], v);
   }
   momentumBack(*f, v, Mv, dTdq);

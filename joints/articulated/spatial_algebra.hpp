@@ -22,9 +22,9 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
   return m;
 }
 
-/// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ.
-EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
-  const double c = std::cos(phi), s = std::sin(phi);
+/// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ,
+/// from c = cos φ and s = sin φ.
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double c, double s) {
   Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
   m.diagonal().array() += c;
   m(0, 1) -= s * a.z();
@@ -34,6 +34,30 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, doub
   m(1, 2) -= s * a.x();
   m(2, 1) += s * a.x();
   return m;
+}
+EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
+  return rotationAbout(a, std::cos(phi), std::sin(phi));
+}
+
+/// Below this |φ − φ₀| sinCosNear uses the addition formulas.
+constexpr double kNearAngle = 0.05;
+
+/// cos φ and sin φ from those of a nearby φ₀ (c₀, s₀): the addition formulas
+/// with the Taylor series of δ = φ − φ₀ to δ⁹ and δ¹⁰, whose first terms left
+/// out are below 1e-21 for |δ| < kNearAngle (the libm call costs as much as
+/// the rest of a joint's pose); std::cos and std::sin beyond.
+EIGEN_ALWAYS_INLINE void sinCosNear(double phi, double phi0, double c0, double s0, double* c, double* s) {
+  const double d = phi - phi0;
+  if (!(std::abs(d) < kNearAngle)) {
+    *c = std::cos(phi);
+    *s = std::sin(phi);
+    return;
+  }
+  const double d2 = d * d;
+  const double sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+  const double cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
+  *c = c0 * cd - s0 * sd;
+  *s = s0 * cd + c0 * sd;
 }
 
 /// The unit rotation twist about the line through x with direction A: (A, x × A).
