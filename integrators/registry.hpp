@@ -92,7 +92,8 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
         {"cayley", 0, 0, 1, true, false, "1: Cayley map instead of exp"}},
        "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian; "
        "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit",
-       true, "RATTLE with the constraint impulses"},
+       true, "RATTLE with the constraint impulses; in joint coordinates the variational integrator on the joint "
+             "angles (midpoint kinetic, trapezoidal potential energy; revolute and universal joints)"},
       {"splitting", 2, false, true, true, false, {},
        "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques",
        false, "no: its sub-flows are each body's free rotation, which leaves the joints; the splitting that keeps "

@@ -63,21 +63,24 @@ EIGEN_ALWAYS_INLINE void sinCosNear(double phi, double phi0, double c0, double s
 /// The unit rotation twist about the line through x with direction A: (A, x × A).
 EIGEN_ALWAYS_INLINE Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
   Vector6 s;
-  s << A, x.cross(A);
+  s.head<3>() = A;
+  s.tail<3>() = x.cross(A);
   return s;
 }
 
 /// V ×ₘ m (motion cross product).
 EIGEN_ALWAYS_INLINE Vector6 crossMotion(const Vector6& V, const Vector6& m) {
   Vector6 r;
-  r << V.head<3>().cross(m.head<3>()), V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
+  r.head<3>() = V.head<3>().cross(m.head<3>());
+  r.tail<3>() = V.head<3>().cross(m.tail<3>()) + V.tail<3>().cross(m.head<3>());
   return r;
 }
 
 /// V ×_f h (force cross product).
 EIGEN_ALWAYS_INLINE Vector6 crossForce(const Vector6& V, const Vector6& h) {
   Vector6 r;
-  r << V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>()), V.head<3>().cross(h.tail<3>());
+  r.head<3>() = V.head<3>().cross(h.head<3>()) + V.tail<3>().cross(h.tail<3>());
+  r.tail<3>() = V.head<3>().cross(h.tail<3>());
   return r;
 }
 
@@ -93,14 +96,16 @@ inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
 /// P V without the matrix: (ω, c × ω).
 EIGEN_ALWAYS_INLINE Vector6 heldMotion(const Eigen::Vector3d& c, const Vector6& V) {
   Vector6 r;
-  r << V.head<3>(), c.cross(V.head<3>());
+  r.head<3>() = V.head<3>();
+  r.tail<3>() = c.cross(V.head<3>());
   return r;
 }
 
 /// Pᵀ F: the force (n, f) on a body held at c as its moment about c, (n − c × f, 0).
 EIGEN_ALWAYS_INLINE Vector6 heldForce(const Eigen::Vector3d& c, const Vector6& F) {
   Vector6 r;
-  r << F.head<3>() - c.cross(F.tail<3>()), Eigen::Vector3d::Zero();
+  r.head<3>() = F.head<3>() - c.cross(F.tail<3>());
+  r.tail<3>().setZero();
   return r;
 }
 
