@@ -8,7 +8,11 @@
 //    position and velocity projections; lgvi: the RATTLE step; genalpha: the
 //    stabilized index-2 generalized-α step at ρ∞ = 1, the defaults, and
 //    genalpha_index3 at ρ∞ = 0.9, since ρ∞ = 1 is unstable at index 3 on
-//    chains). Every kResetSteps steps (1 s) the chain starts
+//    chains); BM_ChainStep_joint_<integrator>: the same chain in joint
+//    coordinates (the articulated-body algorithm; joint_lgvi the variational
+//    integrator on the joint angles, integrators/joint_space_variational.hpp;
+//    the counter `iterations` is the mean passes of an implicit step's
+//    iteration). Every kResetSteps steps (1 s) the chain starts
 //    again from rest, outside the timing, as the MuJoCo runs do.
 //
 // After the benchmarks, prints time(1000)/time(100) for each family against
