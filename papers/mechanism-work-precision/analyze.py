@@ -31,6 +31,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from paper_common import splice_readme  # noqa: E402
 
 LEVELS = [10.0 ** -k for k in range(3, 10)]
+# MuJoCo's first-order Euler reaches 1e-4 at best within the study's steps.
+EULER_LEVELS = [10.0 ** -k for k in range(1, 5)]
 
 
 def label(r):
@@ -127,15 +129,22 @@ def main(out_dir, paper_dir):
                 continue
             ratios.append(level / e)
             table.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | {lf} | {e:.3g} | {level / e:.3g} |")
-        for level in LEVELS:
+        lgvi = s.get("lieflow lgvi (joint)", [])
+        for level in EULER_LEVELS:
             t, _ = fastest_mujoco(s, level, only="MuJoCo Euler")
             e = best_lieflow(s, t, only="lieflow lgvi (joint)")[0] if t is not None else None
             if t is None:
                 pairs.append(f"| {scene} | {level:.0e} | not reached | | |")
-            elif e is None:
-                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
-            else:
+            elif e is not None:
                 pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e:.3g} | {level / e:.3g} |")
+            elif lgvi and t > lgvi[-1][0]:
+                # Euler needs longer than lgvi's longest run: that run, shorter
+                # and more accurate, bounds the ratio from below.
+                t_l, e_l = lgvi[-1]
+                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e_l:.3g} in {t_l:.3g} s (its longest run) "
+                             f"| ≥ {level / e_l:.3g} |")
+            else:
+                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
         if ratios:
             summary.append(f"{scene}: lieflow's best error at MuJoCo's run time is {min(ratios):.3g}x to "
                            f"{max(ratios):.3g}x lower over the MuJoCo error levels it could be evaluated at "
