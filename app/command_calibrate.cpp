@@ -61,7 +61,8 @@ constexpr const char* kUsage =
     "             on a scene of several bodies (a tree of revolute/universal joints) every\n"
     "             sprung or damped coordinate at once: coordinates [{joint, coordinate,\n"
     "             stiffness, damping, rest_angle, _sigma}], from the joint angles or the\n"
-    "             bodies' gyroscopes, started at the scene's values\n"
+    "             bodies' gyroscopes, started from the inverse dynamics of the recorded\n"
+    "             angles (or at the scene's values: --start)\n"
     "Always: rms_residual, iterations, converged, message; axis sigmas are 1-sigma RMS angles.\n"
     "With both bodies' accelerometers (B.ax,B.ay,B.az) and gyroscopes, hinge and universal\n"
     "also give the joint centre from each body's sensor point, in its axes: anchor_main,\n"
@@ -110,6 +111,8 @@ constexpr const char* kUsage =
     "                            axis_sigma_deg per coordinate; the mechanism fit, any scene)\n"
     "  --data auto|angles|gyroscopes  a mechanism's data (default: the angles J.phi.. if all\n"
     "                            are recorded, else every body's gyroscopes)\n"
+    "  --start auto|scene|inverse-dynamics  a mechanism's start (default: the inverse dynamics\n"
+    "                            of the recorded angles when all are, else the scene's values)\n"
     "all:\n"
     "  --max-input-mb N, --max-rows N  largest recording read (default 1024 MiB, 1e7 rows)\n"
     "  --verbose                 show the solver's (Ceres') own log lines on stderr\n"
@@ -357,10 +360,11 @@ CommandOutcome runMechanismSprings(const Arguments& args, const SceneDescription
     if (args.has(flag))
       throw UsageError(std::string(flag) + " is an option of the one-joint spring fit; on a mechanism (" +
                        std::to_string(scene.bodies.size()) +
-                       " bodies, or --fit-axis) every sprung or damped coordinate is fitted, started at the scene's "
-                       "values");
+                       " bodies, or --fit-axis) every sprung or damped coordinate is fitted, started from the "
+                       "inverse dynamics of the recorded angles or at the scene's values (--start)");
   calibration::MechanismSpringOptions o;
   o.data = calibration::parseMechanismData(args.value("--data", "auto"), "--data");
+  o.start = calibration::parseMechanismStart(args.value("--start", "auto"), "--start");
   o.fit_rest_angle = args.has("--fit-rest-angle");
   o.fit_axis = args.has("--fit-axis");
   o.segments = args.has("--segments") ? args.positiveInt("--segments", 1) : 0;
@@ -406,7 +410,8 @@ CommandOutcome runMechanismSprings(const Arguments& args, const SceneDescription
     j["message"] = fit.message;
     j["samples"] = fit.samples;
     j["held_fixed"] = fit.held_fixed;
-    j["start"] = "the scene's springs and dashpots";
+    j["start"] = fit.start;
+    if (!fit.start_note.empty()) j["start_note"] = fit.start_note;
     j["segments"] = fit.segments;
     j["integrator"] = "rk4 in joint coordinates";
     j["substeps"] = fit.substeps;
@@ -449,7 +454,9 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   const SceneDescription scene = loadScene(args.value("--scene", ""), limits);
   if (scene.bodies.size() > 1 || args.has("--fit-axis"))
     return runMechanismSprings(args, scene, recording_path, limits, interrupted);
-  if (args.has("--data")) throw UsageError("--data is an option of the mechanism spring fit (a scene of several bodies)");
+  for (const char* flag : {"--data", "--start"})
+    if (args.has(flag))
+      throw UsageError(std::string(flag) + " is an option of the mechanism spring fit (a scene of several bodies)");
   const GroundedJointScene joint = groundedJointScene(
       scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
   if (o.coordinate >= joint.coordinates)
@@ -514,7 +521,7 @@ const std::set<std::string>& calibrateValueFlags() {
       "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",      "--joint",
       "--coordinate",    "--stiffness-start", "--damping-start", "--rest-angle-start", "--shooting", "--segments",
       "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows",
-      "--estimator",     "--data"};
+      "--estimator",     "--data",          "--start"};
   return flags;
 }
 
@@ -559,7 +566,8 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   if (kind == "spring") return runSpring(args, pos[1], interrupted);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
-                           "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies", "--fit-axis", "--data"})
+                           "--fit-rest-angle", "--hold-damping", "--max-substeps", "--max-bodies", "--fit-axis", "--data",
+                           "--start"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   AxisFitOptions options = fitOptions(args);
   options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);

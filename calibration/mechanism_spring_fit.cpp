@@ -14,6 +14,7 @@
 #include "calibration/solver_options.hpp"
 #include "calibration/mechanism_dynamics.hpp"
 #include "calibration/mechanism_spring_residuals.hpp"
+#include "calibration/mechanism_spring_start.hpp"
 #include "calibration/spring_data.hpp"
 #include "calibration/unit_axis.hpp"
 #include "joints/articulated_scene.hpp"
@@ -88,6 +89,13 @@ MechanismData parseMechanismData(const std::string& text, const std::string& fie
   for (MechanismData d : {MechanismData::kAuto, MechanismData::kAngles, MechanismData::kGyroscopes})
     if (text == mechanismDataName(d)) return d;
   throw InvalidInput(field, "unknown data '" + text + "' (auto, angles, gyroscopes)");
+}
+
+MechanismStartFrom parseMechanismStart(const std::string& text, const std::string& field) {
+  if (text == "auto") return MechanismStartFrom::kAuto;
+  if (text == "scene") return MechanismStartFrom::kScene;
+  if (text == "inverse-dynamics") return MechanismStartFrom::kInverseDynamics;
+  throw InvalidInput(field, "unknown start '" + text + "' (auto, scene, inverse-dynamics)");
 }
 
 MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Recording& recording,
@@ -192,8 +200,45 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
     throw NotIdentifiable(std::to_string(n) + " samples; at least " +
                           std::to_string(std::max(o.min_samples, free_parameters + 2)) + " are needed");
 
+  // --- Start ------------------------------------------------------------------
+  MechanismForces<double> start_forces = p.scene_forces;
+  out.start = "the scene's springs and dashpots";
+  if (o.start == MechanismStartFrom::kInverseDynamics && !missing_angles.empty())
+    throw InvalidInput("--start", "inverse-dynamics needs every joint angle in the recording (missing: " +
+                                      list(missing_angles) + ")");
+  if (o.start == MechanismStartFrom::kInverseDynamics ||
+      (o.start == MechanismStartFrom::kAuto && missing_angles.empty())) {
+    std::vector<StartCoordinate> coordinates;
+    for (std::size_t f = 0; f < fitted.size(); ++f)
+      coordinates.push_back({p.fitted[f], fitted[f].stiffness_fitted, fitted[f].damping_fitted,
+                             o.fit_rest_angle && fitted[f].stiffness_fitted, fitted[f].rest_angle});
+    const MechanismStart s = inverseDynamicsStart(model, p.time, p.angles, coordinates);
+    std::string kept;
+    for (std::size_t f = 0; f < fitted.size(); ++f) {
+      CoordinateSpring& c = fitted[f];
+      const std::string name = c.joint + "." + std::to_string(c.coordinate);
+      if (c.stiffness_fitted && s.stiffness_usable[f]) {
+        c.start_stiffness = s.stiffness[f];
+        c.rest_angle = s.rest_angle[f];
+      } else if (c.stiffness_fitted) {
+        kept += (kept.empty() ? "" : "; ") + name + " stiffness (estimate " + formatNumber(s.stiffness[f]) + ")";
+      }
+      if (c.damping_fitted && s.damping_usable[f])
+        c.start_damping = s.damping[f];
+      else if (c.damping_fitted)
+        kept += (kept.empty() ? "" : "; ") + name + " damping (estimate " + formatNumber(s.damping[f]) + ")";
+      const std::size_t j = static_cast<std::size_t>(p.fitted[f]);
+      start_forces.stiffness[j] = c.start_stiffness;
+      start_forces.damping[j] = c.start_damping;
+      start_forces.rest_angle[j] = c.rest_angle;
+    }
+    out.start = "inverse dynamics of the recorded angles (local cubics over +-" + std::to_string(s.half_width) +
+                " samples)";
+    if (!kept.empty()) out.start_note = "not positive, left at the scene's value: " + kept;
+  }
+
   // --- Steps and segments ----------------------------------------------------
-  const double omega = fastestFrequency(model, p.scene_forces, tree->y0.q);
+  const double omega = fastestFrequency(model, start_forces, tree->y0.q);
   const double duration = p.time.back() - p.time.front();
   double max_interval = 0.0;
   for (int i = 0; i + 1 < n; ++i) max_interval = std::max(max_interval, p.time[i + 1] - p.time[i]);
@@ -250,7 +295,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
       }
       if (i + 1 == n) break;
       const double h = (p.time[i + 1] - p.time[i]) / p.substeps;
-      for (int m = 0; m < p.substeps; ++m) rk4Step(dynamics, p.scene_forces, p.time[i] + m * h, h, &q, &v);
+      for (int m = 0; m < p.substeps; ++m) rk4Step(dynamics, start_forces, p.time[i] + m * h, h, &q, &v);
     }
   }
 

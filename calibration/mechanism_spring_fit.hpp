@@ -17,9 +17,11 @@
 /// gyroscopes are recorded), then single shooting from its result — the
 /// maximum-likelihood estimate for white noise on what is recorded — whose
 /// covariance (ceres::Covariance, scaled by σ̂² = 2·cost/(m − p)) gives σ. The
-/// starts are the scene's values of the fitted coordinates. The bodies'
-/// inertias, the geometry and gravity come from the scene (free motion
-/// identifies stiffness and damping relative to them).
+/// start is the inverse dynamics of the recorded angles when they are all
+/// recorded (mechanism_spring_start.hpp: linear least squares, no use of the
+/// scene's values), else the scene's values of the fitted coordinates. The
+/// bodies' inertias, the geometry and gravity come from the scene (free
+/// motion identifies stiffness and damping relative to them).
 #pragma once
 
 #include <string>
@@ -40,8 +42,15 @@ enum class MechanismData { kAuto, kAngles, kGyroscopes };
 const char* mechanismDataName(MechanismData d);
 MechanismData parseMechanismData(const std::string& text, const std::string& field);
 
+/// Where the fit starts: the inverse dynamics of the recorded angles
+/// (mechanism_spring_start.hpp), the scene's values, or (auto) the first
+/// when every joint angle is recorded, else the second.
+enum class MechanismStartFrom { kAuto, kScene, kInverseDynamics };
+MechanismStartFrom parseMechanismStart(const std::string& text, const std::string& field);
+
 struct MechanismSpringOptions {
   MechanismData data = MechanismData::kAuto;
+  MechanismStartFrom start = MechanismStartFrom::kAuto;
   bool fit_rest_angle = false;
   /// Fit the axis of every sprung or damped revolute joint too (unit, in the
   /// joint's main body's frame, started at the scene's).
@@ -99,6 +108,9 @@ struct MechanismSpringFit {
   bool converged = false;
   std::string message;
   std::vector<std::string> held_fixed;
+  /// Where the start came from, and which of its values were left at the
+  /// scene's (an inverse-dynamics estimate that was not positive).
+  std::string start, start_note;
   double seconds = 0.0;
 };
 

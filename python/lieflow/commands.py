@@ -461,19 +461,20 @@ _SPRING_FIT = {"scene": ("--scene", _text), "joint": ("--joint", _text), "main":
                "min_samples": ("--min-samples", _integer), "max_substeps": ("--max-substeps", _integer),
                "max_input_mb": ("--max-input-mb", _integer), "max_bodies": ("--max-bodies", _integer),
                "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None), "data": ("--data", _text),
-               "fit_axis": ("--fit-axis", None)}
+               "fit_axis": ("--fit-axis", None), "start": ("--start", _text)}
 
 
 def calibrate_spring(recording, scene, joint=None, main=None, secondary=None, coordinate=None,
                      fit_rest_angle=False, hold_damping=False, stiffness_start=None, damping_start=None,
                      rest_angle_start=None, shooting=None, segments=None, integrator=None, substeps=None,
                      max_iterations=None, min_samples=None, max_substeps=None, max_input_mb=None, max_bodies=None,
-                     max_rows=None, verbose=False, data=None, fit_axis=False, partial=False):
+                     max_rows=None, verbose=False, data=None, fit_axis=False, start=None, partial=False):
     """Stiffness, damping and rest angle of a joint coordinate, as ``lieflow
     calibrate spring RECORDING --scene SCENE`` (scene: a file or built-in
     name). On a scene of several bodies every sprung or damped coordinate is
     fitted ("coordinates" in the result; data="angles" or "gyroscopes";
-    fit_axis=True fits the sprung revolute joints' axes too, on any scene).
+    fit_axis=True fits the sprung revolute joints' axes too, on any scene;
+    start="inverse-dynamics" or "scene", default from the angles when recorded).
     Returns the command's JSON object as a dict; errors as calibrate_hinge."""
     if isinstance(scene, dict):
         raise InputError("scene: calibrate_spring takes a scene file or a built-in name")
@@ -482,5 +483,6 @@ def calibrate_spring(recording, scene, joint=None, main=None, secondary=None, co
                   damping_start=damping_start, rest_angle_start=rest_angle_start, shooting=shooting,
                   segments=segments, integrator=integrator, substeps=substeps, max_iterations=max_iterations,
                   min_samples=min_samples, max_substeps=max_substeps, max_input_mb=max_input_mb,
-                  max_bodies=max_bodies, max_rows=max_rows, verbose=verbose, data=data, fit_axis=fit_axis)
+                  max_bodies=max_bodies, max_rows=max_rows, verbose=verbose, data=data, fit_axis=fit_axis,
+                  start=start)
     return _calibrate("spring", recording, _SPRING_FIT, values, partial)

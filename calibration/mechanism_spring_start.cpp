@@ -1,0 +1,131 @@
+// The inverse-dynamics start of the mechanism spring fit
+// (mechanism_spring_start.hpp states the method).
+#include "calibration/mechanism_spring_start.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "calibration/mechanism_dynamics.hpp"
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+namespace {
+
+/// Bounds of the local cubics' half width w.
+constexpr int kMinHalfWidth = 3;
+constexpr int kMaxHalfWidth = 40;
+/// w Δt ≈ (shortest period seen) / kSamplesPerPeriodWindow.
+constexpr double kSamplesPerPeriodWindow = 16.0;
+/// Crossings count when an angle passes its mean ± this many standard
+/// deviations (hysteresis: the noise about the mean does not count).
+constexpr double kCrossingBand = 0.25;
+
+/// The shortest period the angles show: twice the duration over the number
+/// of crossings of each angle's mean (with hysteresis, kCrossingBand; 0 when
+/// none crosses twice).
+double shortestPeriod(const std::vector<double>& time, const std::vector<const std::vector<double>*>& angles,
+                      const std::vector<StartCoordinate>& fitted) {
+  const double duration = time.back() - time.front();
+  double shortest = 0.0;
+  for (const StartCoordinate& c : fitted) {
+    const std::vector<double>& x = *angles[static_cast<std::size_t>(c.coordinate)];
+    double mean = 0.0, square = 0.0;
+    for (double v : x) mean += v;
+    mean /= static_cast<double>(x.size());
+    for (double v : x) square += (v - mean) * (v - mean);
+    const double band = kCrossingBand * std::sqrt(square / static_cast<double>(x.size()));
+    int crossings = 0, side = 0;  // side: +1 above mean + band, −1 below mean − band
+    for (double v : x) {
+      const int now = v > mean + band ? 1 : v < mean - band ? -1 : 0;
+      if (now != 0 && side != 0 && now != side) ++crossings;
+      if (now != 0) side = now;
+    }
+    if (crossings >= 2) {
+      const double period = 2.0 * duration / crossings;
+      shortest = shortest > 0.0 ? std::min(shortest, period) : period;
+    }
+  }
+  return shortest;
+}
+
+}  // namespace
+
+MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, const std::vector<double>& time,
+                                    const std::vector<const std::vector<double>*>& angles,
+                                    const std::vector<StartCoordinate>& fitted) {
+  const int n = static_cast<int>(time.size());
+  const int dofs = model.scalar_coordinates;
+  MechanismStart out;
+  const double dt = (time.back() - time.front()) / std::max(1, n - 1);
+  const double period = shortestPeriod(time, angles, fitted);
+  out.half_width = period > 0.0 ? static_cast<int>(std::lround(period / (kSamplesPerPeriodWindow * dt))) : 10;
+  out.half_width = std::clamp(out.half_width, kMinHalfWidth, kMaxHalfWidth);
+  const int w = out.half_width;
+  if (n < 2 * w + 1 + 3)
+    throw InvalidInput("t", "the inverse-dynamics start needs at least " + std::to_string(2 * w + 4) + " samples, got " +
+                                std::to_string(n));
+
+  // Per fitted coordinate: the normal equations of y = A x over the samples,
+  // x = (k, c, k q₀) for the elements it has.
+  const std::size_t m = fitted.size();
+  std::vector<Eigen::Matrix3d> AtA(m, Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Vector3d> Aty(m, Eigen::Vector3d::Zero());
+  const MechanismDynamics<double> dynamics(model);
+  Eigen::VectorXd q(dofs), qd(dofs), qdd(dofs);
+  for (int k = w; k + w < n; ++k) {
+    // The local cubic x(t_k + s) ≈ a₀ + a₁ s + a₂ s² + a₃ s³ of every angle.
+    Eigen::Matrix4d G = Eigen::Matrix4d::Zero();
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(4, dofs);
+    for (int i = k - w; i <= k + w; ++i) {
+      const double s = time[static_cast<std::size_t>(i)] - time[static_cast<std::size_t>(k)];
+      const Eigen::Vector4d p(1.0, s, s * s, s * s * s);
+      G.noalias() += p * p.transpose();
+      for (int j = 0; j < dofs; ++j) B.col(j) += (*angles[static_cast<std::size_t>(j)])[static_cast<std::size_t>(i)] * p;
+    }
+    const Eigen::MatrixXd a = G.ldlt().solve(B);
+    for (int j = 0; j < dofs; ++j) {
+      q[j] = a(0, j);
+      qd[j] = a(1, j);
+      qdd[j] = 2.0 * a(2, j);
+    }
+    const Eigen::VectorXd tau = dynamics.inverseDynamics(q, qd, qdd);
+    for (std::size_t f = 0; f < m; ++f) {
+      const StartCoordinate& c = fitted[f];
+      const int j = c.coordinate;
+      double y = tau[j];
+      // Applied moments M(t) supply part of τ.
+      for (int b = 0; b < model.bodyCount(); ++b) {
+        const articulated::ArticulatedBody& body = model.bodies[static_cast<std::size_t>(b)];
+        if (j < body.q_begin || j >= body.q_begin + body.coordinates()) continue;
+        const auto& drive = model.drives[static_cast<std::size_t>(b)][static_cast<std::size_t>(j - body.q_begin)];
+        if (drive.moment) y -= (*drive.moment)(time[static_cast<std::size_t>(k)]);
+      }
+      const Eigen::Vector3d row(c.stiffness ? -(c.rest_angle_fitted ? q[j] : q[j] - c.rest_angle) : 0.0,
+                                c.damping ? -qd[j] : 0.0, c.stiffness && c.rest_angle_fitted ? 1.0 : 0.0);
+      AtA[f].noalias() += row * row.transpose();
+      Aty[f] += row * y;
+    }
+  }
+  for (std::size_t f = 0; f < m; ++f) {
+    const StartCoordinate& c = fitted[f];
+    // Unknowns the coordinate does not have get a unit diagonal (x = 0).
+    for (int u = 0; u < 3; ++u)
+      if (AtA[f](u, u) == 0.0) AtA[f](u, u) = 1.0;
+    const Eigen::Vector3d x = AtA[f].ldlt().solve(Aty[f]);
+    const bool k_ok = c.stiffness && std::isfinite(x[0]) && x[0] > 0.0;
+    const bool c_ok = c.damping && std::isfinite(x[1]) && x[1] > 0.0;
+    out.stiffness.push_back(c.stiffness ? x[0] : 0.0);
+    out.damping.push_back(c.damping ? x[1] : 0.0);
+    out.rest_angle.push_back(k_ok && c.rest_angle_fitted ? x[2] / x[0] : c.rest_angle);
+    out.stiffness_usable.push_back(k_ok);
+    out.damping_usable.push_back(c_ok);
+  }
+  return out;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

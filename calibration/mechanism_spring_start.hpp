@@ -1,0 +1,59 @@
+/// \file
+/// A start for the mechanism spring fit (mechanism_spring_fit.hpp) from the
+/// recorded joint angles alone, not from the scene's springs and dashpots:
+/// inverse dynamics, linear in the unknowns.
+///
+/// Along the recorded motion the joints transmit τ(q, q̇, q̈) (recursive
+/// Newton–Euler of the scene's bodies and gravity, mechanism_dynamics.hpp),
+/// and the joints' springs, dashpots and applied moments M(t) supply it:
+///   τ_j(t) − M_j(t) = −k_j (q_j − q₀ⱼ) − c_j q̇_j,
+/// linear in (k_j, c_j, k_j q₀ⱼ): the inverse-dynamics identification of
+/// parameters that enter linearly (Atkeson, An & Hollerbach, "Estimation of
+/// inertial parameters of manipulator loads and links", IJRR 5 (1986)
+/// 101–119), here one least-squares regression per fitted coordinate over the
+/// samples, with regressors −q (or −(q − q₀) when the rest angle is the
+/// scene's), −q̇ and 1 for the elements the coordinate has. q, q̇ and q̈ at
+/// each sample come from the cubic fitted to the angles over ±w samples
+/// (Savitzky–Golay, any spacing), w about 1/16 of the shortest period seen
+/// in the recording (from the crossings of each angle's mean), at least 3.
+///
+/// The angles' noise enters q̈ amplified by about 1/(w Δt)² and, through the
+/// regressors, biases k and c towards zero (errors in variables): a start,
+/// not an estimate — the fit that follows is maximum likelihood. A parameter
+/// whose estimate is not positive is left at the scene's value and named.
+#pragma once
+
+#include <vector>
+
+#include "joints/articulated/articulated_model.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// One fitted coordinate: which elements it has and, for the rest angle,
+/// whether it is estimated or the scene's (`rest_angle`).
+struct StartCoordinate {
+  int coordinate = 0;  ///< index in the model's joint coordinates
+  bool stiffness = true, damping = true, rest_angle_fitted = false;
+  double rest_angle = 0.0;
+};
+
+struct MechanismStart {
+  /// Per StartCoordinate: the estimates (0 for an element it does not have;
+  /// the rest angle the scene's unless estimated with a usable stiffness).
+  std::vector<double> stiffness, damping, rest_angle;
+  /// Per StartCoordinate: whether the stiffness / damping estimate is usable
+  /// (finite and positive); when not, the caller keeps the scene's.
+  std::vector<bool> stiffness_usable, damping_usable;
+  int half_width = 0;  ///< w of the local cubics
+};
+
+/// The inverse-dynamics start (file comment) from the angles of every joint
+/// coordinate (`angles[j]`, sampled at `time`). Throws InvalidInput when
+/// fewer than 2w + 1 + (unknowns) samples are recorded.
+MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, const std::vector<double>& time,
+                                    const std::vector<const std::vector<double>*>& angles,
+                                    const std::vector<StartCoordinate>& fitted);
+
+}  // namespace calibration
+}  // namespace lieflow
