@@ -208,6 +208,19 @@ def test_calibrate_spring_of_a_mechanism_equals_the_command(tmp_path, run_comman
         assert fit[key] == command[key], key
     assert [c["joint"] for c in fit["coordinates"]] == ["shoulder", "elbow"]
     assert abs(fit["coordinates"][0]["stiffness"] - 8.0) < 5 * fit["coordinates"][0]["stiffness_sigma"] + 0.01
+    # The recording has the angles too: the start is their inverse dynamics
+    # unless --start scene asks for the scene's values.
+    assert "inverse dynamics" in fit["start"]
+    status, out, err = run_command("calibrate", "spring", tmp_path / "rec.csv", "--scene", path, "--data",
+                                   "gyroscopes", "--start", "scene")
+    assert status == 0, err
+    command = json.loads(out)
+    assert command["start"] == "the scene's springs and dashpots"
+    fit = lieflow.calibrate_spring(str(tmp_path / "rec.csv"), scene=str(path), data="gyroscopes", start="scene")
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+    status, _, err = run_command("calibrate", "spring", tmp_path / "rec.csv", "--scene", path, "--start", "guess")
+    assert status == 2 and "--start" in err and "inverse-dynamics" in err, err
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
