@@ -16,32 +16,14 @@
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {
 namespace {
 
-struct Trajectory {
-  std::vector<std::string> columns;
-  std::vector<double> first, last;
-  SimulationResult result;
-};
-
-Trajectory simulate(const Simulation& sim, const std::string& formulation, const std::string& integrator, double dt,
-             double t_end) {
-  SimulationOptions o;
-  o.integrator = integrator;
-  o.formulation = formulation;
-  o.dt = dt;
-  o.t_end = t_end;
-  Trajectory r;
-  r.columns = sim.columns();
-  r.result = sim.run(o, [&](const std::vector<double>& row) {
-    if (r.first.empty()) r.first = row;
-    r.last = row;
-  });
-  return r;
-}
+using scene_testing::RunEnds;
+using scene_testing::runEnds;
 
 /// Largest difference between two rows' columns; `where` names the column.
 /// Quaternions are compared as they are: both formulations write the sign
@@ -60,8 +42,8 @@ double rowDifference(const std::vector<std::string>& cols, const std::vector<dou
 }
 
 void expectSameMotion(const Simulation& sim, double t_end, double tolerance) {
-  const Trajectory maximal = simulate(sim, "maximal", "rkmk4", 1e-3, t_end);
-  const Trajectory joint = simulate(sim, "joint", "rkmk4", 1e-3, t_end);
+  const RunEnds maximal = runEnds(sim, "maximal", "rkmk4", 1e-3, t_end);
+  const RunEnds joint = runEnds(sim, "joint", "rkmk4", 1e-3, t_end);
   ASSERT_FALSE(maximal.result.failed) << maximal.result.failure;
   ASSERT_FALSE(joint.result.failed) << joint.result.failure;
   EXPECT_EQ(joint.result.formulation, "joint");
@@ -129,10 +111,10 @@ TEST(Articulated, MixedTreeFollowsTheMaximalFormulation) {
 
 TEST(Articulated, Rkmk4ConvergesAtOrderFour) {
   const Simulation sim(parseScene(kMixedTree, "mixed-tree.json"));
-  const Trajectory reference = simulate(sim, "joint", "rkmk4", 1.25e-4, 0.5);
+  const RunEnds reference = runEnds(sim, "joint", "rkmk4", 1.25e-4, 0.5);
   std::vector<double> hs, errors;
   for (double h : {4e-3, 2e-3, 1e-3}) {
-    const Trajectory r = simulate(sim, "joint", "rkmk4", h, 0.5);
+    const RunEnds r = runEnds(sim, "joint", "rkmk4", h, 0.5);
     std::string where;
     hs.push_back(h);
     errors.push_back(rowDifference(r.columns, r.last, reference.last, &where));
@@ -146,7 +128,7 @@ TEST(Articulated, GeneralizedAlphaConvergesAtOrderTwo) {
   // No constraints in joint coordinates: second order in positions at ρ∞ = 1
   // and 0.8 (Arnold & Brüls 2007), against rkmk4 at a small step.
   const Simulation sim(parseScene(kMixedTree, "mixed-tree.json"));
-  const Trajectory reference = simulate(sim, "joint", "rkmk4", 1e-4, 0.5);
+  const RunEnds reference = runEnds(sim, "joint", "rkmk4", 1e-4, 0.5);
   for (double rho : {1.0, 0.8}) {
     std::vector<double> hs, errors;
     for (double h : {4e-3, 2e-3, 1e-3}) {
@@ -192,7 +174,7 @@ TEST(Articulated, GeneralizedAlphaRunsLongAtRhoInfOne) {
 TEST(Articulated, ConservesEnergyWithoutForceElements) {
   // chain-10 under gravity, no springs or dashpots: energy drift O(h⁴).
   const Simulation sim(loadScene("chain-10"));
-  const Trajectory r = simulate(sim, "joint", "rkmk4", 5e-4, 1.0);
+  const RunEnds r = runEnds(sim, "joint", "rkmk4", 5e-4, 1.0);
   ASSERT_FALSE(r.result.failed) << r.result.failure;
   EXPECT_LT(r.result.energy_drift, 1e-7);
   EXPECT_EQ(r.result.constraint_error, 0.0);
@@ -200,8 +182,8 @@ TEST(Articulated, ConservesEnergyWithoutForceElements) {
 
 TEST(Articulated, AdaptiveRunsInJointCoordinates) {
   const Simulation sim(loadScene("double-pendulum"));
-  const Trajectory coarse = simulate(sim, "joint", "rkmk45", 0.01, 1.0);
-  const Trajectory fine = simulate(sim, "joint", "rkmk4", 1e-4, 1.0);
+  const RunEnds coarse = runEnds(sim, "joint", "rkmk45", 0.01, 1.0);
+  const RunEnds fine = runEnds(sim, "joint", "rkmk4", 1e-4, 1.0);
   ASSERT_FALSE(coarse.result.failed) << coarse.result.failure;
   std::string where;
   EXPECT_LT(rowDifference(coarse.columns, coarse.last, fine.last, &where), 1e-5) << where;

@@ -18,6 +18,7 @@
 #include "joints/articulated_scene.hpp"
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
+#include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {
@@ -149,22 +150,8 @@ INSTANTIATE_TEST_SUITE_P(Trees, VariationalPasses,
                            return s;
                          });
 
-struct RunRows {
-  std::vector<double> last;
-  SimulationResult result;
-};
-
-RunRows simulate(const Simulation& sim, const std::string& formulation, const std::string& integrator, double dt,
-             double t_end) {
-  SimulationOptions o;
-  o.integrator = integrator;
-  o.formulation = formulation;
-  o.dt = dt;
-  o.t_end = t_end;
-  RunRows r;
-  r.result = sim.run(o, [&](const std::vector<double>& row) { r.last = row; });
-  return r;
-}
+using scene_testing::RunEnds;
+using scene_testing::runEnds;
 
 double maxDifference(const std::vector<double>& a, const std::vector<double>& b) {
   double worst = 0.0;
@@ -178,10 +165,10 @@ TEST(JointLgvi, ConvergesAtOrderTwo) {
   // pendulum.
   for (const char* name : {"variational-tree", "double-pendulum"}) {
     const Simulation sim(sceneNamed(name));
-    const RunRows reference = simulate(sim, "joint", "rkmk4", 1e-4, 0.5);
+    const RunEnds reference = runEnds(sim, "joint", "rkmk4", 1e-4, 0.5);
     std::vector<double> hs, errors;
     for (double h : {4e-3, 2e-3, 1e-3}) {
-      const RunRows r = simulate(sim, "joint", "lgvi", h, 0.5);
+      const RunEnds r = runEnds(sim, "joint", "lgvi", h, 0.5);
       ASSERT_FALSE(r.result.failed) << name << ": " << r.result.failure;
       EXPECT_EQ(r.result.formulation, "joint");
       hs.push_back(h);
@@ -198,8 +185,8 @@ TEST(JointLgvi, KeepsTheEnergyBoundedWithoutDrift) {
   // at O(h²) and does not grow (measured max |ΔE|/|E₀| over 20 s and over
   // 200 s at h = 5e-3 below).
   const Simulation sim(loadScene("double-pendulum"));
-  const RunRows short_run = simulate(sim, "joint", "lgvi", 5e-3, 20.0);
-  const RunRows long_run = simulate(sim, "joint", "lgvi", 5e-3, 200.0);
+  const RunEnds short_run = runEnds(sim, "joint", "lgvi", 5e-3, 20.0);
+  const RunEnds long_run = runEnds(sim, "joint", "lgvi", 5e-3, 200.0);
   ASSERT_FALSE(long_run.result.failed) << long_run.result.failure;
   EXPECT_LT(short_run.result.energy_drift, 2e-3);
   EXPECT_LT(long_run.result.energy_drift, 1.5 * short_run.result.energy_drift)
@@ -244,7 +231,7 @@ TEST(JointLgvi, RunsAHundredBodyChainAtAMillisecond) {
   // chain-100 falling for 3 s at h = 1e-3 (measured: 4.05 passes per step,
   // no substeps, energy within 1.2 %).
   const Simulation sim(loadScene("chain-100"));
-  const RunRows r = simulate(sim, "joint", "lgvi", 1e-3, 3.0);
+  const RunEnds r = runEnds(sim, "joint", "lgvi", 1e-3, 3.0);
   ASSERT_FALSE(r.result.failed) << r.result.failure;
   EXPECT_EQ(r.result.steps, 3000);
   EXPECT_LT(r.result.energy_drift, 0.02);
@@ -264,10 +251,10 @@ TEST(JointLgvi, TakesAStepItCannotSolveWholeAsSubsteps) {
     scene.bodies[i].has_velocity = true;
   }
   const Simulation sim(scene);
-  const RunRows coarse = simulate(sim, "joint", "lgvi", 0.1, 0.5);
+  const RunEnds coarse = runEnds(sim, "joint", "lgvi", 0.1, 0.5);
   ASSERT_FALSE(coarse.result.failed) << coarse.result.failure;
   EXPECT_GT(coarse.result.substepped_steps, 0);
-  const RunRows fine = simulate(sim, "joint", "lgvi", 1e-3, 0.5);
+  const RunEnds fine = runEnds(sim, "joint", "lgvi", 1e-3, 0.5);
   ASSERT_FALSE(fine.result.failed) << fine.result.failure;
   EXPECT_EQ(fine.result.substepped_steps, 0);
 }

@@ -59,6 +59,31 @@ inline Trajectory simulate(const SceneDescription& scene, const std::string& int
   return out;
 }
 
+/// The ends of a run in a formulation ("maximal", "joint" or "" for the
+/// default): its columns, first and last rows and summary (not checked here:
+/// tests of failures read `result`).
+struct RunEnds {
+  std::vector<std::string> columns;
+  std::vector<double> first, last;
+  SimulationResult result;
+};
+
+inline RunEnds runEnds(const Simulation& sim, const std::string& formulation, const std::string& integrator,
+                       double dt, double t_end) {
+  SimulationOptions o;
+  o.integrator = integrator;
+  o.formulation = formulation;
+  o.dt = dt;
+  o.t_end = t_end;
+  RunEnds r;
+  r.columns = sim.columns();
+  r.result = sim.run(o, [&](const std::vector<double>& row) {
+    if (r.first.empty()) r.first = row;
+    r.last = row;
+  });
+  return r;
+}
+
 inline std::string num(double x) {
   std::ostringstream s;
   s.precision(17);
