@@ -181,10 +181,10 @@ class JointSpaceVariationalStepper {
     }
     w.b = w.p_end + (0.5 * h) * w.Q_end;  // p₀ + (h/2) Q₀
 
-    // (1): v from the mid-step rates v₋₁, v₋₂, v₋₃ of the steps this one
-    // continues (same h): their quadratic extrapolation 3 v₋₁ − 3 v₋₂ + v₋₃
-    // (error O(h³)), after one step 2 q̇₀ − v₋₁ (O(h²)), else q̇₀ (O(h)). The
-    // start only sets how many passes the iteration takes.
+    // (1): v from the mid-step rates v₋₁ … v₋₅ of the steps this one
+    // continues (same h), extrapolated by the polynomial through as many as
+    // there are (quartic: error O(h⁵)); after one step 2 q̇₀ − v₋₁ (O(h²));
+    // else q̇₀ (O(h)). The start only sets how many passes the iteration takes.
     if (!(continues && h == w.h_last)) w.history = 0;
     if (w.history >= 5)
       w.v = 5.0 * (w.v1 - w.v4) + 10.0 * (w.v3 - w.v2) + w.v5;
