@@ -207,7 +207,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
     throw InvalidInput("--start", "inverse-dynamics needs every joint angle in the recording (missing: " +
                                       list(missing_angles) + ")");
   if (o.start == MechanismStartFrom::kInverseDynamics ||
-      (o.start == MechanismStartFrom::kAuto && missing_angles.empty())) {
+      (o.start == MechanismStartFrom::kAuto && missing_angles.empty() && n >= kInverseDynamicsMinSamples)) {
     std::vector<StartCoordinate> coordinates;
     for (std::size_t f = 0; f < fitted.size(); ++f)
       coordinates.push_back({p.fitted[f], fitted[f].stiffness_fitted, fitted[f].damping_fitted,

@@ -44,7 +44,8 @@ MechanismData parseMechanismData(const std::string& text, const std::string& fie
 
 /// Where the fit starts: the inverse dynamics of the recorded angles
 /// (mechanism_spring_start.hpp), the scene's values, or (auto) the first
-/// when every joint angle is recorded, else the second.
+/// when every joint angle is recorded (and kInverseDynamicsMinSamples
+/// samples), else the second.
 enum class MechanismStartFrom { kAuto, kScene, kInverseDynamics };
 MechanismStartFrom parseMechanismStart(const std::string& text, const std::string& field);
 

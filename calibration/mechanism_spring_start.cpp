@@ -15,8 +15,8 @@ namespace calibration {
 
 namespace {
 
-/// Bounds of the local cubics' half width w.
-constexpr int kMinHalfWidth = 3;
+/// Largest half width w of the local cubics (the smallest is
+/// kInverseDynamicsMinHalfWidth).
 constexpr int kMaxHalfWidth = 40;
 /// w Δt ≈ (shortest period seen) / kSamplesPerPeriodWindow.
 constexpr double kSamplesPerPeriodWindow = 16.0;
@@ -63,11 +63,12 @@ MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, 
   const double dt = (time.back() - time.front()) / std::max(1, n - 1);
   const double period = shortestPeriod(time, angles, fitted);
   out.half_width = period > 0.0 ? static_cast<int>(std::lround(period / (kSamplesPerPeriodWindow * dt))) : 10;
-  out.half_width = std::clamp(out.half_width, kMinHalfWidth, kMaxHalfWidth);
+  // At least 4 samples beyond one window (a regression of up to 3 unknowns).
+  out.half_width = std::clamp(std::min(out.half_width, (n - 4) / 2), kInverseDynamicsMinHalfWidth, kMaxHalfWidth);
   const int w = out.half_width;
-  if (n < 2 * w + 1 + 3)
-    throw InvalidInput("t", "the inverse-dynamics start needs at least " + std::to_string(2 * w + 4) + " samples, got " +
-                                std::to_string(n));
+  if (n < kInverseDynamicsMinSamples)
+    throw InvalidInput("t", "the inverse-dynamics start needs at least " + std::to_string(kInverseDynamicsMinSamples) +
+                                " samples, got " + std::to_string(n));
 
   // Per fitted coordinate: the normal equations of y = A x over the samples,
   // x = (k, c, k q₀) for the elements it has.

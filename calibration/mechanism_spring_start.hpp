@@ -30,6 +30,11 @@
 namespace lieflow {
 namespace calibration {
 
+/// The local cubics' smallest half width, and the fewest samples the start
+/// takes (one window and four more).
+constexpr int kInverseDynamicsMinHalfWidth = 3;
+constexpr int kInverseDynamicsMinSamples = 2 * kInverseDynamicsMinHalfWidth + 5;
+
 /// One fitted coordinate: which elements it has and, for the rest angle,
 /// whether it is estimated or the scene's (`rest_angle`).
 struct StartCoordinate {
@@ -49,8 +54,8 @@ struct MechanismStart {
 };
 
 /// The inverse-dynamics start (file comment) from the angles of every joint
-/// coordinate (`angles[j]`, sampled at `time`). Throws InvalidInput when
-/// fewer than 2w + 1 + (unknowns) samples are recorded.
+/// coordinate (`angles[j]`, sampled at `time`; w is reduced to fit a short
+/// recording). Throws InvalidInput below kInverseDynamicsMinSamples samples.
 MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, const std::vector<double>& time,
                                     const std::vector<const std::vector<double>*>& angles,
                                     const std::vector<StartCoordinate>& fitted);

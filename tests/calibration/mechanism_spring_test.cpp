@@ -204,7 +204,9 @@ TEST(CalibMechanismSprings, InverseDynamicsStartFromTheAngles) {
       EXPECT_TRUE(s.damping_usable[f]);
       EXPECT_NEAR(s.stiffness[f], truth[f][0], 0.1 * truth[f][0]);
       EXPECT_NEAR(s.rest_angle[f], truth[f][2], 0.02);
-      if (*noise == '\0') EXPECT_NEAR(s.damping[f], truth[f][1], 0.2 * truth[f][1]);
+      if (*noise == '\0') {
+        EXPECT_NEAR(s.damping[f], truth[f][1], 0.2 * truth[f][1]);
+      }
     }
   }
 }

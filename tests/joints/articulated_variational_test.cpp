@@ -18,6 +18,7 @@
 #include "joints/articulated_scene.hpp"
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
+#include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"
 
@@ -223,6 +224,24 @@ TEST(JointLgvi, KeepsTheMomentumOfAFreeFirstAxisToRoundOff) {
     worst = std::max(worst, std::abs(firstMomentum(y) - p0));
   }
   EXPECT_LT(worst, 1e-13 * std::abs(p0) * 100) << "p0 = " << p0;
+}
+
+TEST(JointLgvi, RefusesTheCayleyOption) {
+  // The joint angles need no rotation map: cayley=1 is refused, naming it.
+  const Simulation sim(loadScene("double-pendulum"));
+  SimulationOptions o;
+  o.integrator = "lgvi";
+  o.formulation = "joint";
+  o.dt = 1e-3;
+  o.t_end = 0.01;
+  o.integrator_options = {{"cayley", 1.0}};
+  try {
+    sim.run(o);
+    ADD_FAILURE() << "cayley = 1 was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(e.field().find("cayley"), std::string::npos) << e.field();
+    EXPECT_NE(e.reason().find("no meaning in joint coordinates"), std::string::npos) << e.reason();
+  }
 }
 
 TEST(JointLgvi, RunsAHundredBodyChainAtAMillisecond) {
