@@ -70,8 +70,8 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
           d.phiddot[k] = 0.0;
         }
       }
-      const std::array<double, 2> cos_phi{{std::cos(d.phi[0]), nc == 2 ? std::cos(d.phi[1]) : 1.0}};
-      const std::array<double, 2> sin_phi{{std::sin(d.phi[0]), nc == 2 ? std::sin(d.phi[1]) : 0.0}};
+      std::array<double, 2> cos_phi{{1.0, 1.0}}, sin_phi{{0.0, 0.0}};
+      for (int k = 0; k < nc; ++k) sinCos(d.phi[k], &cos_phi[k], &sin_phi[k]);
       const Eigen::Matrix3d M = jointRotation(i, cos_phi, sin_phi);
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
@@ -113,8 +113,9 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     if (b.rotation_only) {
       // P (ω, v) = (ω, c × ω) on the parent's motion and on the bias.
       d.c = b.fixed_position;
-      d.V << Vp.head<3>() + Su.head<3>(), d.c.cross(Vp.head<3>() + Su.head<3>());
-      d.bias.tail<3>() = d.c.cross(d.bias.head<3>());
+      d.V.head<3>() = Vp.head<3>() + Su.head<3>();
+      d.V.tail<3>() = cross3(d.c, d.V.head<3>());
+      d.bias.tail<3>() = cross3(d.c, d.bias.head<3>());
     } else {
       d.V = Vp + Su;
       d.c = d.x - d.R * b.anchor_child;
@@ -135,13 +136,14 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     }
     // Bias force V ×_f (I V) − f_ext, gravity m g at c among the external forces.
     const Eigen::Vector3d w = d.V.head<3>();
-    const Eigen::Vector3d vc = d.V.tail<3>() + w.cross(d.c);
+    const Eigen::Vector3d vc = d.V.tail<3>() + cross3(w, d.c);
     Vector6 h;
-    h << Jw * w + d.c.cross(b.mass * vc), b.mass * vc;
+    h.head<3>() = Jw * w + cross3(d.c, b.mass * vc);
+    h.tail<3>() = b.mass * vc;
     d.pA = crossForce(d.V, h);
     if (!b.rotation_only) {
       const Eigen::Vector3d mg = b.mass * model_.gravity;
-      d.pA.head<3>() -= d.c.cross(mg);
+      d.pA.head<3>() -= cross3(d.c, mg);
       d.pA.tail<3>() -= mg;
     }
     if (has_user_torques_ && user_torques_[i]) {
@@ -216,7 +218,8 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
       d.a = a0 + d.bias;
     } else if (b.rotation_only) {
       const Eigen::Vector3d alpha = data_[p].a.head<3>();
-      d.a << alpha, d.c.cross(alpha);
+      d.a.head<3>() = alpha;
+      d.a.tail<3>() = cross3(d.c, alpha);
       d.a += d.bias;
     } else {
       d.a = data_[p].a + d.bias;

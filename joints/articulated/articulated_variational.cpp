@@ -62,8 +62,7 @@ void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, const Frames* 
       const Frame& n = near->bodies[i];
       sinCosNear(fr.phi[k], n.phi[k], n.cos_phi[k], n.sin_phi[k], &fr.cos_phi[k], &fr.sin_phi[k]);
     } else {
-      fr.cos_phi[k] = std::cos(fr.phi[k]);
-      fr.sin_phi[k] = std::sin(fr.phi[k]);
+      sinCos(fr.phi[k], &fr.cos_phi[k], &fr.sin_phi[k]);
     }
   }
   fr.free = nc;
@@ -73,11 +72,11 @@ void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, const Frames* 
   // temporary stalled store-to-load forwarding: 14 % of this function).
   const Eigen::Vector3d A0 = sigma * ((b.parent_is_main ? Rp : fr.R) * b.axis1);
   fr.S.col(0).head<3>() = A0;
-  fr.S.col(0).tail<3>() = line.cross(A0);
+  fr.S.col(0).tail<3>() = cross3(line, A0);
   if (nc == 2) {
     const Eigen::Vector3d A1 = sigma * ((b.parent_is_main ? fr.R : Rp) * b.axis2);
     fr.S.col(1).head<3>() = A1;
-    fr.S.col(1).tail<3>() = line.cross(A1);
+    fr.S.col(1).tail<3>() = cross3(line, A1);
   }
   fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
 }
@@ -163,7 +162,7 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
     Vector6& parent = accumulated_[b.parent];
     if (b.rotation_only) {
       const Vector6 pa = pA + Ug;
-      parent.head<3>() += pa.head<3>() - fr.c.cross(pa.tail<3>());  // Pᵀ p_a
+      parent.head<3>() += pa.head<3>() - cross3(fr.c, pa.tail<3>());  // Pᵀ p_a
     } else {
       parent += pA + Ug;
     }
@@ -176,7 +175,7 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
       a.setZero();
     } else if (b.rotation_only) {
       a.head<3>() = twist_[b.parent].head<3>();
-      a.tail<3>() = fr.c.cross(a.head<3>());
+      a.tail<3>() = cross3(fr.c, a.head<3>());
     } else {
       a = twist_[b.parent];
     }
@@ -206,8 +205,8 @@ void ArticulatedSystem::momentumOut(int i, const Frame& fr, const Eigen::VectorX
   V = before_[i];
   for (int k = 0; k < fr.free; ++k) V += v[fr.free_u[k]] * fr.S.col(k);
   const Eigen::Vector3d w = V.head<3>();
-  const Eigen::Vector3d mvc = b.mass * (V.tail<3>() + w.cross(fr.c));
-  accumulated_[i].head<3>() = fr.R * (b.inertia * (fr.R.transpose() * w)) + fr.c.cross(mvc);
+  const Eigen::Vector3d mvc = b.mass * (V.tail<3>() + cross3(w, fr.c));
+  accumulated_[i].head<3>() = fr.R * (b.inertia * (fr.R.transpose() * w)) + cross3(fr.c, mvc);
   accumulated_[i].tail<3>() = mvc;
 }
 
@@ -279,7 +278,8 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
       F.setZero();
     } else {
       const Eigen::Vector3d mg = b.mass * model_.gravity;
-      F << fr.c.cross(mg), mg;
+      F.head<3>() = cross3(fr.c, mg);
+      F.tail<3>() = mg;
     }
     if (!has_user_torques_) continue;
     Vector6& V = twist_[i];
@@ -290,7 +290,7 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     for (int k = 0; k < fr.free; ++k) V += u[fr.free_u[k]] * fr.S.col(k);
     if (!user_torques_[i]) continue;
     const Eigen::Vector3d w = V.head<3>();
-    const Eigen::Vector3d vc = V.tail<3>() + w.cross(fr.c);
+    const Eigen::Vector3d vc = V.tail<3>() + cross3(w, fr.c);
     F.head<3>() += fr.R * user_torques_[i](t, Eigen::Quaterniond(fr.R), fr.c, fr.R.transpose() * w, vc);
   }
   for (int i = n - 1; i >= 0; --i) {
