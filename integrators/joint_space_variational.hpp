@@ -154,8 +154,8 @@ class JointSpaceVariationalStepper {
     }
     if (options_.max_halvings > 0) {
       std::ostringstream s;
-      s << rep.detail << "; nor in " << (1L << options_.max_halvings) << " substeps of h/"
-        << (1L << options_.max_halvings);
+      s << rep.detail << " (the step h = " << h << " failed whole and in 2 to " << (1L << options_.max_halvings)
+        << " substeps)";
       rep.detail = s.str();
     }
     return y;
@@ -201,7 +201,9 @@ class JointSpaceVariationalStepper {
       rep.fail("lgvi (joint coordinates): the iteration for the mid-step rates did not converge", rep.residual);
       std::ostringstream s;
       s << "last change of the rates " << rep.residual << " (kinetic-energy norm) after " << rep.newton_iterations
-        << " passes: the quasi-Newton iteration does not contract at h = " << h;
+        << " passes at h = " << h << ": "
+        << (rep.newton_iterations >= options_.max_iterations ? "max_iterations reached"
+                                                              : "the quasi-Newton iteration does not contract");
       rep.detail = s.str();
       return false;
     }

@@ -244,6 +244,23 @@ TEST(JointLgvi, RefusesTheCayleyOption) {
   }
 }
 
+TEST(JointLgvi, SaysWhyAStepFailed) {
+  // One pass allowed: every step fails whole and in every substep; the run
+  // fails saying which limit and which step.
+  const Simulation sim(loadScene("double-pendulum"));
+  SimulationOptions o;
+  o.integrator = "lgvi";
+  o.formulation = "joint";
+  o.dt = 1e-3;
+  o.t_end = 0.01;
+  o.integrator_options = {{"max_iterations", 1.0}};
+  const SimulationResult r = sim.run(o);
+  ASSERT_TRUE(r.failed);
+  EXPECT_NE(r.failure.find("max_iterations reached"), std::string::npos) << r.failure;
+  EXPECT_NE(r.failure.find("the step h = 0.001 failed whole and in 2 to 16 substeps"), std::string::npos)
+      << r.failure;
+}
+
 TEST(JointLgvi, RunsAHundredBodyChainAtAMillisecond) {
   // The check: no step-size restriction from the iteration on a long
   // chain (the RATTLE of the maximal formulation stops there at h ≥ 5e-4):
