@@ -226,17 +226,22 @@ TEST(JointLgvi, KeepsTheMomentumOfAFreeFirstAxisToRoundOff) {
   EXPECT_LT(worst, 1e-13 * std::abs(p0) * 100) << "p0 = " << p0;
 }
 
-TEST(JointLgvi, RefusesTheCayleyOption) {
-  // The joint angles need no rotation map: cayley=1 is refused, naming it.
-  const Simulation sim(loadScene("double-pendulum"));
+/// lgvi in joint coordinates for 0.01 s at h = 1e-3 with one integrator option.
+SimulationOptions jointLgviWith(const std::string& key, double value) {
   SimulationOptions o;
   o.integrator = "lgvi";
   o.formulation = "joint";
   o.dt = 1e-3;
   o.t_end = 0.01;
-  o.integrator_options = {{"cayley", 1.0}};
+  o.integrator_options = {{key, value}};
+  return o;
+}
+
+TEST(JointLgvi, RefusesTheCayleyOption) {
+  // The joint angles need no rotation map: cayley=1 is refused, naming it.
+  const Simulation sim(loadScene("double-pendulum"));
   try {
-    sim.run(o);
+    sim.run(jointLgviWith("cayley", 1.0));
     ADD_FAILURE() << "cayley = 1 was accepted";
   } catch (const InvalidInput& e) {
     EXPECT_NE(e.field().find("cayley"), std::string::npos) << e.field();
@@ -248,13 +253,7 @@ TEST(JointLgvi, SaysWhyAStepFailed) {
   // One pass allowed: every step fails whole and in every substep; the run
   // fails saying which limit and which step.
   const Simulation sim(loadScene("double-pendulum"));
-  SimulationOptions o;
-  o.integrator = "lgvi";
-  o.formulation = "joint";
-  o.dt = 1e-3;
-  o.t_end = 0.01;
-  o.integrator_options = {{"max_iterations", 1.0}};
-  const SimulationResult r = sim.run(o);
+  const SimulationResult r = sim.run(jointLgviWith("max_iterations", 1.0));
   ASSERT_TRUE(r.failed);
   EXPECT_NE(r.failure.find("max_iterations reached"), std::string::npos) << r.failure;
   EXPECT_NE(r.failure.find("the step h = 0.001 failed whole and in 2 to 16 substeps"), std::string::npos)
