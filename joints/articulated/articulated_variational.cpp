@@ -136,6 +136,7 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
   // The ABA's passes 2 and 3 at zero rates and without forces but τ = rhs
   // (Featherstone 2008, Table 7.1): the bias forces p_A of each subtree
   // leaves to root, then the accelerations root to leaves.
+  LIEFLOW_ASSERT(f.factored, "ArticulatedSystem::solveMass: frames without the factorization (frames(..., true, ...))");
   const int n = bodyCount();
   accumulated_.assign(n, Vector6::Zero());  // p_A
   twist_.resize(n);                         // the accelerations a
