@@ -3,6 +3,7 @@
 #include <deque>
 #include <unordered_map>
 
+#include "joints/multibody_scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -13,6 +14,11 @@ using articulated::JointKind;
 
 namespace {
 
+/// The initial projection onto the loops' rows stops at this max |Φ|
+/// (metres, radians), as the maximal assembly's.
+constexpr double kInitialProjectionTolerance = 1e-13;
+constexpr int kInitialProjectionIterations = 20;
+
 /// exp(φ a) as a matrix, a unit.
 Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
   return Eigen::AngleAxisd(phi, a).toRotationMatrix();
@@ -22,11 +28,25 @@ std::string label(const SceneDescription& scene, std::size_t k) {
   return scene.source + ": joints[" + std::to_string(k) + "] (" + scene.joints[k].name + ")";
 }
 
+/// A scene joint's force elements or prescribed motion, if any ("" if none).
+std::string driveOf(const SceneDescription& scene, const JointDescription& j) {
+  if (scene.user_loads.joint_moments.count(j.name)) return "a moment from the program";
+  for (const CoordinateDescription& cd : j.coordinates) {
+    if (cd.prescribed) return "prescribed motion";
+    if (cd.stiffness != 0.0) return "a spring";
+    if (cd.damping != 0.0) return "a dashpot";
+    if (cd.moment) return "a moment";
+  }
+  return "";
+}
+
 /// The tree: for each body (scene index) the joint to its parent and the
 /// parent (scene index, −1 ground), bodies in the order they are reached
-/// from the ground. False with `why` when the joints do not form such a tree.
+/// from the ground (breadth first, joints in scene order); the joints that
+/// close loops in `cuts`. False with `why` when the joints do not form such
+/// a tree or a loop-closing joint cannot be imposed as one.
 bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vector<int>* joint_of,
-               std::vector<int>* parent_of, std::string* why) {
+               std::vector<int>* parent_of, std::vector<int>* cuts, std::string* why) {
   const int nb = static_cast<int>(scene.bodies.size());
   const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
@@ -54,6 +74,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
     at[b < 0 ? nb : b].push_back(static_cast<int>(k));
   }
   order->clear();
+  cuts->clear();
   joint_of->assign(nb, -1);
   parent_of->assign(nb, -1);
   std::vector<bool> placed(nb, false), used(scene.joints.size(), false);
@@ -82,8 +103,15 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       const int a = body(j.main), b = body(j.secondary);
       const int c = a == p ? b : a;
       if (c < 0 || placed[c]) {
-        *why = label(scene, k) + " closes a loop: a closed chain needs multipliers";
-        return false;
+        // A loop: this joint is imposed with multipliers on the tree's poses.
+        const std::string drive = driveOf(scene, j);
+        if (!drive.empty()) {
+          *why = label(scene, k) + " closes a loop and carries " + drive +
+                 ": a loop-closing joint has no coordinate of its own in joint coordinates";
+          return false;
+        }
+        cuts->push_back(static_cast<int>(k));
+        continue;
       }
       // A rotation-only child turns about its held centre of mass: its joint
       // may constrain only rotations (the maximal formulation's point rows
@@ -118,18 +146,18 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
 }  // namespace
 
 bool articulatedCovers(const SceneDescription& scene, std::string* why) {
-  std::vector<int> order, joint_of, parent_of;
+  std::vector<int> order, joint_of, parent_of, cuts;
   if (scene.joints.empty()) {
     *why = scene.source + " has no joints";
     return false;
   }
-  return buildTree(scene, &order, &joint_of, &parent_of, why);
+  return buildTree(scene, &order, &joint_of, &parent_of, &cuts, why);
 }
 
 std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& scene) {
-  std::vector<int> order, joint_of, parent_of;
+  std::vector<int> order, joint_of, parent_of, cuts;
   std::string why;
-  if (!articulatedCovers(scene, &why) || !buildTree(scene, &order, &joint_of, &parent_of, &why))
+  if (!articulatedCovers(scene, &why) || !buildTree(scene, &order, &joint_of, &parent_of, &cuts, &why))
     throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +
                                             " (run it with --formulation maximal)");
   ArticulatedModel model;
@@ -227,6 +255,28 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   }
   model.scalar_coordinates = nq;
   model.rotations = ns;
+  // The loop-closing joints: the maximal formulation's constraints, assembled
+  // at the scene's poses (the tree reproduces them at y0).
+  for (int k : cuts) {
+    const JointDescription& j = scene.joints[k];
+    const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
+    const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
+    auto pose = [&](int i) {
+      return i < 0 ? constraints::groundPose<double>()
+                   : constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()),
+                                                   scene.bodies[i].position};
+    };
+    articulated::ArticulatedClosure c;
+    c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), pose(a), pose(b));
+    c.main = a < 0 ? articulated::kGround : model.tree_index[a];
+    c.secondary = b < 0 ? articulated::kGround : model.tree_index[b];
+    c.scene_joint = k;
+    c.label = label(scene, static_cast<std::size_t>(k));
+    c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};
+    c.row_begin = model.closure_rows;
+    model.closure_rows += c.rows();
+    model.closures.push_back(std::move(c));
+  }
   auto out = std::make_unique<ArticulatedScene>();
   out->system = std::make_unique<articulated::ArticulatedSystem>(std::move(model));
   articulated::ArticulatedSystem& sys = *out->system;
@@ -247,7 +297,15 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     omega[t] = bd.angular_velocity;
     v[t] = bd.velocity;
   }
+  if (sys.hasClosures()) {
+    // As the maximal assembly: onto the loops' position rows, then (below)
+    // the velocities onto their velocity rows in the mass metric.
+    int iterations = 0;
+    if (!sys.projectPositions(0.0, &y0, kInitialProjectionTolerance, kInitialProjectionIterations, &iterations, &why))
+      throw InvalidInput("--formulation", scene.source + ": the loops do not close at t = 0: " + why);
+  }
   sys.projectVelocities(0.0, omega, v, &y0);
+  sys.projectVelocities(0.0, &y0, &why);
   out->y0 = std::move(y0);
   return out;
 }

@@ -72,6 +72,63 @@ void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
 
 }  // namespace
 
+multibody::JointConstraint sceneJointConstraint(const SceneDescription& scene, std::size_t k,
+                                                const constraints::BodyPose<double>& pa,
+                                                const constraints::BodyPose<double>& pb) {
+  const JointDescription& j = scene.joints[k];
+  const std::string prefix = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
+  const int a = body(j.main), b = body(j.secondary);
+  multibody::JointConstraint c;
+  if (j.type == "spherical") {
+    c = constraints::makeSphericalJoint<double>(j.anchor_main, j.anchor_secondary, prefix);
+  } else if (j.type == "prismatic") {
+    for (const auto& [side, i] : {std::pair<const char*, int>{"main", a}, {"secondary", b}})
+      if (i != kGround && scene.bodies[i].rotation_only)
+        throw InvalidInput(prefix + "." + side, "'" + scene.bodies[i].name +
+                                                   "' is rotation_only: a prismatic joint's bodies need "
+                                                   "translational coordinates");
+    c = constraints::assemblePrismaticJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, prefix);
+  } else if (j.type == "fixed") {
+    c = constraints::assembleFixedJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, prefix);
+  } else if (j.type == "revolute") {
+    const Eigen::Vector3d axis_b =
+        j.has_axis_secondary ? j.axis_secondary
+                             : Eigen::Vector3d(pb.R.inverse() * (pa.R * j.axis_main.normalized()));
+    c = constraints::assembleRevoluteJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, axis_b,
+                                                   j.initial_angles[0], prefix);
+  } else if (j.type == "gimbal") {
+    c = constraints::assembleGimbalJoint(pa, pb, j.anchor_main, j.anchor_secondary,
+                                         {{j.axis_main, j.axis2_main, j.axis3_main}}, j.initial_angles, prefix);
+  } else if (j.offset) {
+    c = constraints::assembleOffsetUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
+                                                          j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
+                                                          prefix);
+  } else {
+    c = constraints::assembleUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
+                                                    j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
+                                                    prefix);
+  }
+  // The anchors must coincide at t = 0 (a prismatic joint's lie on its axis).
+  const Eigen::Vector3d xa = pa.toWorld(j.anchor_main), xb = pb.toWorld(j.anchor_secondary);
+  const double length = std::max({1.0, j.anchor_main.norm(), j.anchor_secondary.norm()});
+  if (j.type == "prismatic") {
+    const Eigen::Vector3d axis = pa.R * j.axis_main.normalized();
+    const Eigen::Vector3d off_axis = (xb - xa) - (xb - xa).dot(axis) * axis;
+    if (off_axis.norm() > kAssemblyTolerance * std::max(length, (xb - xa).norm()))
+      throw InvalidInput(prefix + ".anchor_secondary",
+                         "the anchors are not on the slide axis at t = 0: anchor_secondary at " + fmt(xb) +
+                             " is " + fmt(off_axis) + " off the line through anchor_main at " + fmt(xa) +
+                             " along axis_main " + fmt(axis) + " (world)");
+  } else if (!j.offset && (xa - xb).norm() > kAssemblyTolerance * length)
+    throw InvalidInput(prefix + ".anchor_secondary",
+                       "the anchors do not coincide at t = 0: anchor_main is at " + fmt(xa) +
+                           " and anchor_secondary at " + fmt(xb) +
+                           " in the world (the bodies' positions must satisfy the joint)");
+  return c;
+}
+
 std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene) {
   auto out = std::make_unique<MultibodyScene>();
   multibody::MultibodyModel model;
@@ -123,53 +180,7 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
       continue;
     }
     const int a = body(j.main), b = body(j.secondary);
-    const constraints::BodyPose<double> pa = pose(a), pb = pose(b);
-    multibody::JointConstraint c;
-    if (j.type == "spherical") {
-      c = constraints::makeSphericalJoint<double>(j.anchor_main, j.anchor_secondary, prefix);
-    } else if (j.type == "prismatic") {
-      for (const auto& [side, i] : {std::pair<const char*, int>{"main", a}, {"secondary", b}})
-        if (i != kGround && scene.bodies[i].rotation_only)
-          throw InvalidInput(prefix + "." + side, "'" + scene.bodies[i].name +
-                                                     "' is rotation_only: a prismatic joint's bodies need "
-                                                     "translational coordinates");
-      c = constraints::assemblePrismaticJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, prefix);
-    } else if (j.type == "fixed") {
-      c = constraints::assembleFixedJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, prefix);
-    } else if (j.type == "revolute") {
-      const Eigen::Vector3d axis_b =
-          j.has_axis_secondary ? j.axis_secondary
-                               : Eigen::Vector3d(pb.R.inverse() * (pa.R * j.axis_main.normalized()));
-      c = constraints::assembleRevoluteJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main, axis_b,
-                                                     j.initial_angles[0], prefix);
-    } else if (j.type == "gimbal") {
-      c = constraints::assembleGimbalJoint(pa, pb, j.anchor_main, j.anchor_secondary,
-                                           {{j.axis_main, j.axis2_main, j.axis3_main}}, j.initial_angles, prefix);
-    } else if (j.offset) {
-      c = constraints::assembleOffsetUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
-                                                            j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
-                                                            prefix);
-    } else {
-      c = constraints::assembleUniversalJoint<double>(pa, pb, j.anchor_main, j.anchor_secondary, j.axis_main,
-                                                      j.axis_secondary, j.initial_angles[0], j.initial_angles[1],
-                                                      prefix);
-    }
-    // The anchors must coincide at t = 0 (a prismatic joint's lie on its axis).
-    const Eigen::Vector3d xa = pa.toWorld(j.anchor_main), xb = pb.toWorld(j.anchor_secondary);
-    const double length = std::max({1.0, j.anchor_main.norm(), j.anchor_secondary.norm()});
-    if (j.type == "prismatic") {
-      const Eigen::Vector3d axis = pa.R * j.axis_main.normalized();
-      const Eigen::Vector3d off_axis = (xb - xa) - (xb - xa).dot(axis) * axis;
-      if (off_axis.norm() > kAssemblyTolerance * std::max(length, (xb - xa).norm()))
-        throw InvalidInput(prefix + ".anchor_secondary",
-                           "the anchors are not on the slide axis at t = 0: anchor_secondary at " + fmt(xb) +
-                               " is " + fmt(off_axis) + " off the line through anchor_main at " + fmt(xa) +
-                               " along axis_main " + fmt(axis) + " (world)");
-    } else if (!j.offset && (xa - xb).norm() > kAssemblyTolerance * length)
-      throw InvalidInput(prefix + ".anchor_secondary",
-                         "the anchors do not coincide at t = 0: anchor_main is at " + fmt(xa) +
-                             " and anchor_secondary at " + fmt(xb) +
-                             " in the world (the bodies' positions must satisfy the joint)");
+    const multibody::JointConstraint c = sceneJointConstraint(scene, k, pose(a), pose(b));
     multibody::Joint joint{j.name, a, b, c};
     joint.label = label;
     model.addJoint(joint);

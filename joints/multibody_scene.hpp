@@ -48,4 +48,12 @@ bool needsMultibody(const SceneDescription& scene);
 /// with the reason for bad joint input.
 std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene);
 
+/// The constraint of scene joint k (not a gear-type joint) between bodies at
+/// the poses pa, pb (main, secondary; groundPose() for the ground), assembled
+/// there as assembleMultibody does (the same checks and InvalidInput fields):
+/// the joint-coordinate formulation imposes a loop-closing joint with it.
+multibody::JointConstraint sceneJointConstraint(const SceneDescription& scene, std::size_t k,
+                                                const constraints::BodyPose<double>& pa,
+                                                const constraints::BodyPose<double>& pb);
+
 }  // namespace lieflow

@@ -1,5 +1,6 @@
 // Running a scene in joint coordinates (--formulation joint).
 #include "integrators/joint_space_variational.hpp"
+#include "integrators/projected_stepper.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_unconstrained.hpp"
@@ -7,11 +8,48 @@
 
 namespace lieflow {
 
+bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string* why) {
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"})
+    if (integrator == name) return true;
+  if (why) {
+    if (integrator == "rkmk45")
+      *why = "'rkmk45' has no projection onto a loop's rows (its error estimate would see the projection's jumps)";
+    else if (integrator == "lgvi")
+      *why = "'lgvi' in joint coordinates has no multipliers for loop-closing joints";
+    else if (integrator == "genalpha")
+      *why = "'genalpha' in joint coordinates has no multipliers for loop-closing joints";
+    else
+      *why = "'" + integrator + "' is not available in joint coordinates";
+    *why += "; a scene with a closed loop runs in joint coordinates with rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3 "
+            "or cf4, or in maximal coordinates with every integrator (--formulation maximal)";
+  }
+  return false;
+}
+
 SimulationResult runArticulated(const Simulation::Model& model, const SimulationOptions& o,
                                 const std::vector<std::string>& columns,
                                 const std::function<void(const std::vector<double>&)>& row) {
   const articulated::ArticulatedSystem& system = *model.articulated->system;
   const articulated::ArticulatedState& y0 = model.articulated->y0;
+  if (system.hasClosures()) {
+    // Loops: the explicit steppers in index-1 form, projected onto the
+    // closing joints' rows after every step (as in maximal coordinates).
+    using State = articulated::ArticulatedState;
+    const std::string& name = o.integrator;
+    auto projected = [&](auto inner) {
+      return simulation_detail::runFixedStep(model, system, y0, o, columns, row,
+                                             ProjectedStepper<decltype(inner)>(std::move(inner)));
+    };
+    if (name == "rkmk-euler") return projected(RkmkStepper<State>(ButcherTableau::euler()));
+    if (name == "rkmk-heun") return projected(RkmkStepper<State>(ButcherTableau::heun()));
+    if (name == "rkmk3") return projected(RkmkStepper<State>(ButcherTableau::kutta3()));
+    if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
+    if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
+    if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+    std::string why;
+    runsWithLoopsInJointCoordinates(name, &why);
+    throw InvalidInput("--integrator", why);
+  }
   if (auto result = simulation_detail::runUnconstrained(model, system, y0, o, columns, row)) return *result;
   if (o.integrator == "lgvi") {
     // The variational integrator on the joint angles (a vector space: no

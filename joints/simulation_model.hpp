@@ -44,6 +44,10 @@ struct Simulation::Model {
 
 /// Runs a scene in joint coordinates (simulation_articulated.cpp): the
 /// explicit Lie-group steppers and rkmk45 on ArticulatedSystem.
+/// Whether `integrator` runs a tree with loops in joint coordinates (the
+/// explicit steppers, projected); if not, `why` says why.
+bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string* why);
+
 SimulationResult runArticulated(const Simulation::Model& model, const SimulationOptions& options,
                                 const std::vector<std::string>& columns,
                                 const std::function<void(const std::vector<double>&)>& row);

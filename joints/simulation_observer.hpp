@@ -119,7 +119,8 @@ struct RowBuilder {
   }
 
   /// Joint coordinates: the same columns, bodies and joints in scene order;
-  /// the joints hold by construction (constraint_error 0).
+  /// the tree's joints hold by construction, constraint_error is the loops'
+  /// (0 without loops).
   void operator()(const articulated::ArticulatedSystem& sys, double t, const articulated::ArticulatedState& y,
                   std::vector<double>* row) const {
     row->clear();
@@ -152,7 +153,7 @@ struct RowBuilder {
         row->insert(row->end(), {o.phi[0], o.phi[1], o.phidot[0], o.phidot[1], o.moment[0], o.moment[1]});
     }
     const Eigen::Vector3d L = sys.angularMomentum(t, y);
-    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), 0.0});
+    row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), sys.constraintError(t, y)});
   }
 
   mutable std::vector<articulated::ArticulatedJointOutput> joint_outputs;
@@ -178,6 +179,10 @@ double constraintErrorOf(const System&, double, const State&) {
 }
 inline double constraintErrorOf(const multibody::MultibodySystem& sys, double t,
                                 const multibody::MultibodyGroupState& y) {
+  return sys.constraintError(t, y);
+}
+inline double constraintErrorOf(const articulated::ArticulatedSystem& sys, double t,
+                                const articulated::ArticulatedState& y) {
   return sys.constraintError(t, y);
 }
 

@@ -19,6 +19,19 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     rotation_basis_[i].B = hat(b.axis1) * b.R_ref;
     rotation_basis_[i].C = aa * b.R_ref;
   }
+  if (hasClosures()) {
+    const int m = model_.closure_rows, n = dofs();
+    closure_G_.setZero(m, n);
+    closure_Y_.setZero(n, m);
+    closure_A_.setZero(m, m);
+    closure_r_.setZero(m);
+    closure_lambda_.setZero(m);
+    closure_s_.setZero(m);
+    closure_tau_.setZero(n);
+    closure_x_.setZero(n);
+    closure_perm_.assign(m, 0);
+    for (const ArticulatedClosure& c : model_.closures) closure_phi_.push_back(c.initial_angles);
+  }
 }
 
 void ArticulatedSystem::setUserTorque(int i, UserTorque torque) {
@@ -248,6 +261,7 @@ void ArticulatedSystem::accelerations(double t, const State& y, Eigen::VectorXd*
     for (int k = 0; k < b.coordinates(); ++k)
       if (b.prescribed(k)) (*udot)[b.u_begin + k] = data_[i].phiddot[k];
   }
+  if (hasClosures()) closureAccelerations(udot);
 }
 
 void ArticulatedSystem::velocity(double t, const State& y, Tangent* F) const {

@@ -5,7 +5,7 @@
 ///
 /// Each body has exactly one joint to its parent (the ground or a body met
 /// earlier in the body order), so the joints' coordinates are the whole
-/// configuration and no constraint is left to enforce: a revolute joint is
+/// configuration of the tree: a revolute joint is
 /// one angle φ (ℝ, unwrapped), a universal joint two angles (φ₁, φ₂), a
 /// spherical joint a rotation N ∈ SO(3) of the child relative to its parent.
 ///
@@ -16,6 +16,10 @@
 ///   universal  M = exp(φ₁ a₁) R_ref exp(φ₂ a₂),
 /// a, a₁ in the main body's frame, a₂ in the secondary's, R_ref the relative
 /// rotation at zero angles. The anchors coincide: c_b + R_b s_b = c_a + R_a s_a.
+///
+/// A joint that closes a loop (ArticulatedClosure) adds constraint rows on
+/// top of the tree, imposed with multipliers: the configuration is then the
+/// subset of the coordinates where they hold.
 #pragma once
 
 #include <array>
@@ -83,6 +87,26 @@ struct ArticulatedBody {
   bool prescribed(int i) const { return is_prescribed[i]; }
 };
 
+/// A joint that closes a loop of the tree (the tree's joints are the bodies'
+/// joints to their parents; every other joint of the scene closes a loop):
+/// imposed with multipliers, as a constraint of the maximal formulation
+/// (joints/constraints/) on the poses of its two bodies, which the tree
+/// gives as functions of the joint coordinates (articulated_closures.cpp).
+/// It carries no force element and no prescribed motion (the assembly
+/// refuses those: they would act on a coordinate the state does not have).
+struct ArticulatedClosure {
+  multibody::JointConstraint constraint;
+  int main = kGround;       ///< tree index of the joint's main body, or kGround
+  int secondary = kGround;  ///< tree index of its secondary body, or kGround
+  int scene_joint = -1;     ///< index in SceneDescription::joints
+  std::string label;        ///< "SOURCE: joints[k] (name)", for messages
+  int row_begin = 0;        ///< its first row among all closure rows
+  /// Its angles at t = 0 (the scene's initial_angle(s)): where the outputs'
+  /// unwrapping starts.
+  std::array<double, 2> initial_angles{{0.0, 0.0}};
+  int rows() const { return multibody::constraintRows(constraint); }
+};
+
 /// The model: bodies in tree order (every parent before its children).
 struct ArticulatedModel {
   std::vector<ArticulatedBody> bodies;
@@ -97,6 +121,9 @@ struct ArticulatedModel {
   std::vector<int> tree_index;
   /// How many joints the scene has (the joint outputs are by scene joint).
   int scene_joints = 0;
+  /// The loop-closing joints and their rows in all (Σ rows()).
+  std::vector<ArticulatedClosure> closures;
+  int closure_rows = 0;
 
   int dofs() const { return scalar_coordinates + 3 * rotations; }
   int bodyCount() const { return static_cast<int>(bodies.size()); }

@@ -73,6 +73,13 @@ double ArticulatedSystem::dissipatedPower(double t, const State& y) const {
 
 void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const {
   accelerations(t, y, &udot_);
+  if (hasClosures()) {
+    // The ABA again with the loops' forces among the external ones: its
+    // transmitted forces (below) then include them.
+    forwardPass(t, y, true, true);
+    applyClosureForces();
+    solve(Vector6::Zero(), &udot_);
+  }
   out->assign(model_.scene_joints, ArticulatedJointOutput());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
@@ -96,6 +103,7 @@ void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<Artic
       o.moment[k] = on_main.dot(d.axis[k]);
     }
   }
+  if (hasClosures()) closureOutputs(t, out);
 }
 
 }  // namespace articulated

@@ -148,8 +148,34 @@ class ArticulatedSystem {
   double dissipatedPower(double t, const State& y) const;
   void setConservesAngularMomentum(bool conserved) { conserves_momentum_ = conserved; }
 
+  /// Loops (ArticulatedClosure; articulated_closures.cpp). The closing joints'
+  /// rows Φ(q) = 0 are imposed with multipliers λ on top of the ABA:
+  ///   M u̇ = Q + Gᵀ λ,   G u̇ + γ = 0  (Φ̈ = 0),
+  /// G = ∂Φ̇/∂u the rows on the free velocities. With u̇₀ the ABA's answer
+  /// without λ and Y = M⁻¹ Gᵀ (m solves with the ABA's factorization, O(n)
+  /// each), G Y λ = −Φ̈(u̇₀) and u̇ = u̇₀ + Y λ (the Schur complement of the
+  /// saddle-point system; Featherstone 2008, §8.2). G Y is factored by
+  /// Cholesky with diagonal pivoting and a rank threshold: rows a loop repeats (the point
+  /// rows of a universal joint between two bodies turning about their held
+  /// centres, the rows of a planar loop out of its plane) get no pivot and
+  /// no multiplier instead of making the system singular. accelerations(), velocity() and jointOutputs() include λ; the
+  /// explicit steppers run in index-1 form with ProjectedStepper
+  /// (integrators/projected_stepper.hpp) keeping Φ = 0 and Φ̇ = 0.
+  bool hasClosures() const { return !model_.closures.empty(); }
+  /// max |Φ| over the closing joints' rows at (t, y) (metres, radians).
+  double constraintError(double t, const State& y) const;
+  /// Moves y's coordinates onto Φ = 0 by Gauss–Newton steps in the mass
+  /// metric, δ = Y λ with G Y λ = −Φ, until max |Φ| ≤ tolerance (false with `why`
+  /// after max_iterations, or if a step does not reduce Φ).
+  bool projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
+                        std::string* why) const;
+  /// Removes from y.u its part that violates Φ̇ = 0, in the mass metric:
+  /// u ← u + Y λ with G Y λ = −Φ̇ (prescribed rates stay).
+  bool projectVelocities(double t, State* y, std::string* why) const;
+
   /// The joints' outputs by scene joint index (from a full dynamics solve at
-  /// (t, y): the moment includes what prescribed motion needs).
+  /// (t, y): the moment includes what prescribed motion needs and, in a
+  /// loop, the closing joints' forces).
   void jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const;
 
   /// What the joint-space variational integrator (integrators/
@@ -227,6 +253,36 @@ class ArticulatedSystem {
   /// Adds a child's I_a, p_a to its parent's I_A, p_A (Pᵀ · P for a
   /// rotation-only child).
   void passToParent(int i, const Matrix6& Ia, const Vector6& pa) const;
+
+  /// The loops' terms at the kinematics in data_ (articulated_closures.cpp):
+  /// G into closure_G_ and, by `level`, Φ, Φ̇ or Φ̈ (at the accelerations in
+  /// data_[i].a) into closure_r_.
+  enum class ClosureLevel { kPosition, kVelocity, kAcceleration };
+  void closureTerms(ClosureLevel level) const;
+  /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve(), and the
+  /// rank-revealing factorization of G Y; then closure_lambda_ solves
+  /// G Y λ = −closure_r_ on the rows that have a pivot.
+  void closureMultipliers() const;
+  /// x = M⁻¹ τ (free entries) with the factorization of the last solve().
+  void solveFactored(const double* tau, double* x) const;
+  /// The closing joints' constraint forces W_aᵀ λ, W_bᵀ λ taken off the bias
+  /// forces p_A of their bodies (as external forces), before solve().
+  void applyClosureForces() const;
+
+  /// After the ABA's u̇₀ in *udot: the multipliers and u̇ = u̇₀ + Y λ, and the
+  /// bodies' accelerations in data_ moved by the same increment.
+  void closureAccelerations(Eigen::VectorXd* udot) const;
+  /// The closing joints' outputs (angles from the poses, moments from λ).
+  void closureOutputs(double t, std::vector<ArticulatedJointOutput>* out) const;
+
+  /// Loop workspace, sized at construction (m closure rows, n dofs): G (m × n),
+  /// Y = M⁻¹ Gᵀ (n × m), G Y and its factorization, Φ or its
+  /// derivatives (m), λ (m), a scratch m-vector, solve scratch (n).
+  mutable Eigen::MatrixXd closure_G_, closure_Y_, closure_A_;
+  mutable Eigen::VectorXd closure_r_, closure_lambda_, closure_s_, closure_tau_, closure_x_;
+  mutable std::vector<int> closure_perm_;  ///< the pivoted Cholesky's row order
+  /// The closing joints' last output angles (unwrapping; reset at t = 0).
+  mutable std::vector<std::array<double, 2>> closure_phi_;
 
   ArticulatedModel model_;
   std::vector<UserTorque> user_torques_;

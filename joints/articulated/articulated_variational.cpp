@@ -29,6 +29,12 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
     }
     return false;
   }
+  if (hasClosures()) {
+    if (why)
+      *why = model_.closures.front().label +
+             " closes a loop: lgvi in joint coordinates has no multipliers for loop-closing joints";
+    return false;
+  }
   return true;
 }
 

@@ -1,0 +1,367 @@
+// ArticulatedSystem: loops closed with multipliers on top of the
+// articulated-body algorithm (articulated_system.hpp states the equations).
+//
+// A closing joint's rows come from the maximal formulation's constraint
+// library (joints/constraints/): Φ(pose_a, pose_b), its blocks J = [J_v J_ω]
+// on a body's (v_c world, ω body) and its convective term c = Φ̈ − J q̈.
+// Here the bodies' motions are the tree's spatial twists V = (ω, v_O)
+// (world, reference point the origin), so a block becomes the row
+//   W = [−J_v [c]× + J_ω Rᵀ,  J_v]   on (ω, v_O):
+// v_c = v_O + ω × c and ω_body = Rᵀ ω give J (v_c, ω_b) = W V, and with
+// a_c = a_O + α × c + ω × v_c, ω̇_b = Rᵀ α,
+//   Φ̈ = Σ_bodies (W a + J_v (ω × v_c)) + c.
+// The twist of a body is the sum of the columns S of the joints on its path
+// to the ground, each passed through P (ω, v) = (ω, c × ω) of the deepest
+// rotation-only body below it: W P = [W_ω + W_v [c]×, 0].
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+
+#include "joints/articulated/articulated_system.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+namespace {
+
+/// Pivots of G M⁻¹ Gᵀ below this fraction of its largest diagonal entry are
+/// taken as zero: rows a loop repeats (their pivots are
+/// rounding, ~1e-16 of the largest) drop out. A genuine row weaker than this
+/// is a loop within 1e-10 of a singular configuration.
+constexpr double kClosureRankTolerance = 1e-10;
+
+}  // namespace
+
+void ArticulatedSystem::closureTerms(ClosureLevel level) const {
+  closure_G_.setZero();
+  closure_r_.setZero();
+  for (const ArticulatedClosure& closure : model_.closures) {
+    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
+    std::array<constraints::BodyPose<double>, 2> pose;
+    std::array<constraints::BodyVelocity<double>, 2> vel;
+    for (int side = 0; side < 2; ++side) {
+      const int i = bodies[side];
+      if (i == kGround) {
+        pose[side] = constraints::groundPose<double>();
+        continue;
+      }
+      pose[side] = constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
+      if (level != ClosureLevel::kPosition)
+        vel[side] = constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)};
+    }
+    std::visit(
+        [&](const auto& joint) {
+          using C = std::decay_t<decltype(joint)>;
+          constexpr int R = C::kRows;
+          const int r0 = closure.row_begin;
+          if (level == ClosureLevel::kPosition) closure_r_.segment<R>(r0) = joint.residual(pose[0], pose[1]);
+          if (level == ClosureLevel::kAcceleration)
+            closure_r_.segment<R>(r0) = joint.convective(pose[0], pose[1], vel[0], vel[1]);
+          const auto J = joint.jacobians(pose[0], pose[1]);
+          for (int side = 0; side < 2; ++side) {
+            const int i = bodies[side];
+            if (i == kGround) continue;
+            const BodyData& d = data_[i];
+            Eigen::Matrix<double, R, 6> W;
+            W.template leftCols<3>() =
+                J[side].template rightCols<3>() * d.R.transpose() - J[side].template leftCols<3>() * hat(d.c);
+            W.template rightCols<3>() = J[side].template leftCols<3>();
+            if (level == ClosureLevel::kVelocity) closure_r_.segment<R>(r0) += W * d.V;
+            if (level == ClosureLevel::kAcceleration)
+              closure_r_.segment<R>(r0) +=
+                  W * d.a + J[side].template leftCols<3>() * cross3(d.V.template head<3>(), velocityOfCentre(i));
+            // The columns on the path to the ground.
+            for (int k = i; k != kGround; k = model_.bodies[k].parent) {
+              const BodyData& dk = data_[k];
+              for (int f = 0; f < dk.free; ++f)
+                closure_G_.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
+              if (model_.bodies[k].rotation_only) {
+                // Past a held body: W P (the columns above move it through P).
+                W.template leftCols<3>() += W.template rightCols<3>() * hat(dk.c);
+                W.template rightCols<3>().setZero();
+              }
+            }
+          }
+        },
+        closure.constraint);
+  }
+}
+
+void ArticulatedSystem::solveFactored(const double* tau, double* x) const {
+  // The ABA's passes 2 and 3 at zero rates with generalized forces τ and the
+  // factorization (U = I_A S, D⁻¹) of the last solve(): solveMass's passes
+  // for any number of free columns (0 to 3).
+  const int n = bodyCount();
+  accumulated_.assign(n, Vector6::Zero());
+  twist_.resize(n);
+  for (int i = n - 1; i >= 0; --i) {
+    const BodyData& d = data_[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6 pa = accumulated_[i];
+    const int nf = d.free;
+    if (nf > 0) {
+      Eigen::Vector3d u = Eigen::Vector3d::Zero();
+      for (int f = 0; f < nf; ++f) {
+        u[f] = tau[d.free_u[f]] - d.S.col(f).dot(accumulated_[i]);
+        x[d.free_u[f]] = u[f];
+      }
+      pa.noalias() += d.U.leftCols(nf) * (d.Dinv.topLeftCorner(nf, nf) * u.head(nf));
+    }
+    if (b.parent == kGround) continue;
+    Vector6& parent = accumulated_[b.parent];
+    if (b.rotation_only) {
+      parent.head<3>() += pa.head<3>() - cross3(d.c, pa.tail<3>());  // Pᵀ p_a
+    } else {
+      parent += pa;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const BodyData& d = data_[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6& a = twist_[i];
+    if (b.parent == kGround) {
+      a.setZero();
+    } else if (b.rotation_only) {
+      a.head<3>() = twist_[b.parent].head<3>();
+      a.tail<3>() = cross3(d.c, a.head<3>());
+    } else {
+      a = twist_[b.parent];
+    }
+    const int nf = d.free;
+    if (nf == 0) continue;
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    for (int f = 0; f < nf; ++f) u[f] = x[d.free_u[f]] - d.U.col(f).dot(a);
+    const Eigen::Vector3d qdd = d.Dinv.topLeftCorner(nf, nf) * u.head(nf);
+    for (int f = 0; f < nf; ++f) {
+      x[d.free_u[f]] = qdd[f];
+      a += qdd[f] * d.S.col(f);
+    }
+  }
+}
+
+void ArticulatedSystem::closureMultipliers() const {
+  const int m = model_.closure_rows;
+  for (int k = 0; k < m; ++k) {
+    // A row with no free column (the point rows of a joint between two held
+    // bodies) has a zero column of Y: no solve.
+    if (closure_G_.row(k).squaredNorm() == 0.0) {
+      closure_Y_.col(k).setZero();
+      continue;
+    }
+    closure_tau_ = closure_G_.row(k).transpose();
+    closure_x_.setZero();  // the prescribed entries stay 0
+    solveFactored(closure_tau_.data(), closure_x_.data());
+    closure_Y_.col(k) = closure_x_;
+  }
+  closure_A_.noalias() = closure_G_ * closure_Y_;
+  // Cholesky with diagonal pivoting (A = P L Lᵀ Pᵀ; Higham, "Accuracy and
+  // Stability of Numerical Algorithms", §10.3, LAPACK's dpstrf), stopped at
+  // the first pivot below the threshold: the rows a loop repeats get no
+  // pivot and λ = 0, the others are solved exactly (the repeated rows'
+  // equations then hold too: they are combinations of the pivot rows).
+  Eigen::MatrixXd& A = closure_A_;
+  std::vector<int>& perm = closure_perm_;
+  for (int k = 0; k < m; ++k) perm[k] = k;
+  const double floor = kClosureRankTolerance * std::max(A.diagonal().maxCoeff(), 1e-300);
+  int rank = 0;
+  for (int k = 0; k < m; ++k) {
+    int p = k;
+    for (int i = k + 1; i < m; ++i)
+      if (A(i, i) > A(p, p)) p = i;
+    if (!(A(p, p) > floor)) break;
+    if (p != k) {
+      A.row(k).swap(A.row(p));
+      A.col(k).swap(A.col(p));
+      std::swap(perm[k], perm[p]);
+    }
+    const double l = std::sqrt(A(k, k));
+    A(k, k) = l;
+    for (int i = k + 1; i < m; ++i) A(i, k) /= l;
+    for (int j = k + 1; j < m; ++j)
+      for (int i = j; i < m; ++i) {
+        A(i, j) -= A(i, k) * A(j, k);
+        A(j, i) = A(i, j);
+      }
+    rank = k + 1;
+  }
+  // L Lᵀ x = −(P r) on the pivot rows; λ by the permutation, 0 elsewhere.
+  for (int i = 0; i < rank; ++i) {
+    double v = -closure_r_[perm[i]];
+    for (int k = 0; k < i; ++k) v -= A(i, k) * closure_s_[k];
+    closure_s_[i] = v / A(i, i);
+  }
+  for (int i = rank - 1; i >= 0; --i) {
+    double v = closure_s_[i];
+    for (int k = i + 1; k < rank; ++k) v -= A(k, i) * closure_s_[k];
+    closure_s_[i] = v / A(i, i);
+  }
+  closure_lambda_.setZero();
+  for (int i = 0; i < rank; ++i) closure_lambda_[perm[i]] = closure_s_[i];
+}
+
+void ArticulatedSystem::applyClosureForces() const {
+  for (const ArticulatedClosure& closure : model_.closures) {
+    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
+    std::array<constraints::BodyPose<double>, 2> pose;
+    for (int side = 0; side < 2; ++side)
+      pose[side] = bodies[side] == kGround
+                       ? constraints::groundPose<double>()
+                       : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[bodies[side]].R)),
+                                                       data_[bodies[side]].c};
+    std::visit(
+        [&](const auto& joint) {
+          constexpr int R = std::decay_t<decltype(joint)>::kRows;
+          const auto J = joint.jacobians(pose[0], pose[1]);
+          const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
+          for (int side = 0; side < 2; ++side) {
+            const int i = bodies[side];
+            if (i == kGround) continue;
+            BodyData& d = data_[i];
+            // Wᵀ λ = (n_O, f): f = J_vᵀ λ, n_O = R J_ωᵀ λ + c × f.
+            const Eigen::Vector3d f = J[side].template leftCols<3>().transpose() * lambda;
+            const Eigen::Vector3d n = d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
+            d.pA.head<3>() -= n;
+            d.pA.tail<3>() -= f;
+          }
+        },
+        closure.constraint);
+  }
+}
+
+void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
+  closureTerms(ClosureLevel::kAcceleration);
+  closureMultipliers();
+  // u̇ = u̇₀ + Y λ, and the bodies' accelerations by the same increment
+  // (pass 3 of the correction alone).
+  closure_x_.noalias() = closure_Y_ * closure_lambda_;
+  *udot += closure_x_;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const BodyData& d = data_[i];
+    const ArticulatedBody& b = model_.bodies[i];
+    Vector6& da = twist_[i];
+    if (b.parent == kGround) {
+      da.setZero();
+    } else if (b.rotation_only) {
+      da.head<3>() = twist_[b.parent].head<3>();
+      da.tail<3>() = cross3(d.c, da.head<3>());
+    } else {
+      da = twist_[b.parent];
+    }
+    for (int f = 0; f < d.free; ++f) da += closure_x_[d.free_u[f]] * d.S.col(f);
+    data_[i].a += da;
+  }
+}
+
+double ArticulatedSystem::constraintError(double t, const State& y) const {
+  if (!hasClosures()) return 0.0;
+  forwardPass(t, y, false, false);
+  closureTerms(ClosureLevel::kPosition);
+  return closure_r_.cwiseAbs().maxCoeff();
+}
+
+bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
+                                         std::string* why) const {
+  *iterations = 0;
+  if (!hasClosures()) return true;
+  double last = std::numeric_limits<double>::infinity();
+  for (int it = 0;; ++it) {
+    forwardPass(t, *y, false, false);  // poses only: most steps end here
+    closureTerms(ClosureLevel::kPosition);
+    const double error = closure_r_.cwiseAbs().maxCoeff();
+    *iterations = it;
+    if (error <= tolerance) return true;
+    if (it == max_iterations || !(error < last)) {
+      std::ostringstream s;
+      s << "the loops' rows stay at max |Phi| = " << error << " after " << it << " Gauss-Newton steps"
+        << (it == max_iterations ? " (max_iterations)" : " (a step did not reduce it: the loop cannot close there)");
+      *why = s.str();
+      return false;
+    }
+    last = error;
+    forwardPass(t, *y, true, false);
+    solve(Vector6::Zero(), &udot_);  // the factorization of M(q)
+    closureMultipliers();  // G Y λ = −Φ: the step δ = Y λ has G δ = −Φ
+    closure_x_.noalias() = closure_Y_ * closure_lambda_;
+    const int nq = y->scalarCount();
+    y->q += closure_x_.head(nq);
+    for (std::size_t s = 0; s < y->N.size(); ++s)
+      y->N[s] = y->N[s] * SO3d::exp(closure_x_.segment<3>(nq + 3 * static_cast<int>(s)));
+  }
+}
+
+bool ArticulatedSystem::projectVelocities(double t, State* y, std::string* why) const {
+  (void)why;
+  if (!hasClosures()) return true;
+  forwardPass(t, *y, true, true);
+  solve(Vector6::Zero(), &udot_);
+  closureTerms(ClosureLevel::kVelocity);
+  closureMultipliers();
+  y->u.noalias() += closure_Y_ * closure_lambda_;
+  return true;
+}
+
+void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOutput>* out) const {
+  // After jointOutputs' dynamics: poses, velocities and λ in data_ and
+  // closure_lambda_. The closing joint's force on its main body is W_aᵀ λ
+  // (n_O, f) (minus W_bᵀ λ on the secondary when the main is the ground), its
+  // moment about the anchor n_O − x × f, and about each axis its component
+  // (multibody::JointOutput's definition).
+  for (std::size_t c = 0; c < model_.closures.size(); ++c) {
+    const ArticulatedClosure& closure = model_.closures[c];
+    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
+    std::array<constraints::BodyPose<double>, 2> pose;
+    std::array<constraints::BodyVelocity<double>, 2> vel;
+    for (int side = 0; side < 2; ++side) {
+      const int i = bodies[side];
+      if (i == kGround) {
+        pose[side] = constraints::groundPose<double>();
+        continue;
+      }
+      pose[side] = constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
+      vel[side] = constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)};
+    }
+    if (t <= 0.0) closure_phi_[c] = closure.initial_angles;
+    ArticulatedJointOutput& o = (*out)[closure.scene_joint];
+    std::array<Eigen::Vector3d, 2> axes;
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+    if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&closure.constraint)) {
+      o.coordinates = 1;
+      o.phi[0] = constraints::revoluteAngle(*rev, pose[0], pose[1], closure_phi_[c][0]);
+      o.phidot[0] = constraints::revoluteAngleRate(*rev, pose[0], pose[1], vel[0], vel[1]);
+      axes[0] = constraints::revoluteAxisWorld(*rev, pose[0]);
+      anchor = pose[0].toWorld(rev->point.anchor_main);
+    } else if (const auto* uni = std::get_if<constraints::UniversalJoint<double>>(&closure.constraint)) {
+      o.coordinates = 2;
+      const auto angles =
+          constraints::universalAngles(*uni, pose[0], pose[1], closure_phi_[c][0], closure_phi_[c][1]);
+      const Eigen::Vector2d rates = constraints::universalAngleRates(*uni, pose[0], pose[1], vel[0], vel[1]);
+      o.phi = {{angles.phi1, angles.phi2}};
+      o.phidot = {{rates[0], rates[1]}};
+      axes = {{pose[0].R * uni->axis1_main, pose[1].R * uni->axis2_secondary}};
+      anchor = pose[0].toWorld(uni->point.anchor_main);
+    } else {
+      continue;  // spherical: no coordinate, no columns
+    }
+    closure_phi_[c] = o.phi;
+    const bool use_main = closure.main != kGround;
+    const int side = use_main ? 0 : 1;
+    const BodyData& d = data_[bodies[side]];
+    Eigen::Vector3d n = Eigen::Vector3d::Zero(), f = Eigen::Vector3d::Zero();
+    std::visit(
+        [&](const auto& joint) {
+          constexpr int R = std::decay_t<decltype(joint)>::kRows;
+          const auto J = joint.jacobians(pose[0], pose[1]);
+          const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
+          f = J[side].template leftCols<3>().transpose() * lambda;
+          n = d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
+        },
+        closure.constraint);
+    const double sign = use_main ? 1.0 : -1.0;
+    const Eigen::Vector3d moment = sign * (n - cross3(anchor, f));
+    for (int k = 0; k < o.coordinates; ++k) o.moment[k] = moment.dot(axes[k]);
+  }
+}
+
+}  // namespace articulated
+}  // namespace lieflow
