@@ -83,6 +83,13 @@ int runSimulate(int argc, char** argv) {
   if (!args.has("--quiet")) options.progress = std::ref(progress);
 
   const bool stats = args.has("--stats");
+  // An integrator the scene cannot run (in this formulation) is bad input
+  // found before a header is written.
+  std::string why;
+  if (!simulation.supports(options.integrator, &why, options.formulation)) {
+    const bool formulation = options.formulation == "joint" && !simulation.hasJointFormulation(nullptr);
+    throw InvalidInput(formulation ? "--formulation" : "--integrator", why);
+  }
   // The output file is opened (as FILE.partial) before the run: an
   // unwritable place is found before any work is done.
   std::unique_ptr<AtomicOutputFile> file;

@@ -1,0 +1,213 @@
+// Loops in joint coordinates (joints/articulated/articulated_closures.cpp):
+// a closing joint imposed with multipliers on top of the articulated-body
+// algorithm, the explicit steppers projected onto its rows. Against
+// independent references: the Cardan joint's closed form (angle, rate and
+// the moment the drive supplies, from the power balance), the maximal
+// formulation on the same scenes, measured orders, conservation of energy.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <string>
+#include <vector>
+
+#include "joints/articulated_scene.hpp"
+#include "joints/scene.hpp"
+#include "joints/simulation.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "tests/joints/scene_trajectory.hpp"
+#include "tests/order_slope.hpp"
+
+namespace lieflow {
+namespace {
+
+using scene_testing::runEnds;
+using scene_testing::RunEnds;
+
+/// A spatial four-bar under gravity (crank on a sprung hinge to the ground,
+/// coupler on a universal joint at the crank, rocker on a hinge to the
+/// ground; the coupler–rocker ball joint closes the loop: 1 degree of
+/// freedom and the coupler's spin about its own line).
+constexpr const char* kFourBar = R"({
+  "name": "four-bar",
+  "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "crank", "mass": 1.0, "inertia": [0.09, 0.09, 0.01], "position": [0, 0, 0.5],
+     "angular_velocity": [0, 3, 0]},
+    {"name": "coupler", "mass": 2.0, "inertia": [0.05, 0.9, 0.9], "position": [1.1, 0, 1.25]},
+    {"name": "rocker", "mass": 1.5, "inertia": [0.3, 0.3, 0.02], "position": [2.1, 0, 0.75]}
+  ],
+  "joints": [
+    {"name": "crank-pivot", "type": "revolute", "main": "ground", "secondary": "crank",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, -0.5], "axis_main": [0, 1, 0],
+     "spring": {"stiffness": 5, "rest_angle": 0.3}, "damper": {"damping": 0.2}},
+    {"name": "crank-coupler", "type": "universal", "main": "crank", "secondary": "coupler",
+     "anchor_main": [0, 0, 0.5], "anchor_secondary": [-1.1, 0, -0.25],
+     "axis1_main": [0, 1, 0], "axis2_secondary": [0, 0, 1]},
+    {"name": "rocker-pivot", "type": "revolute", "main": "ground", "secondary": "rocker",
+     "anchor_main": [2, 0, 0], "anchor_secondary": [-0.1, 0, -0.75], "axis_main": [0, 1, 0]},
+    {"name": "coupler-rocker", "type": "spherical", "main": "coupler", "secondary": "rocker",
+     "anchor_main": [1.1, 0, 0.25], "anchor_secondary": [0.1, 0, 0.75]}
+  ],
+  "integrator": {"name": "rkmk4", "dt": 0.001},
+  "t_end": 1.0
+})";
+
+SceneDescription fourBar() { return parseScene(kFourBar, "four-bar.json"); }
+
+/// The built-in Cardan shaft with its input free (no prescribed motion):
+/// both shafts spin, the speed ratio and the energy trade between them.
+SceneDescription freeCardanShaft() {
+  SceneDescription s = loadScene("cardan-shaft");
+  for (JointDescription& j : s.joints) j.coordinates[0].prescribed.reset();
+  s.bodies[1].inertia = Eigen::Vector3d(0.02, 0.01, 0.01).asDiagonal();
+  return s;
+}
+
+/// The largest difference of two rows over the columns whose names end in
+/// one of `suffixes` (".x": positions; "" every column).
+double largestDifference(const RunEnds& a, const RunEnds& b, const std::vector<std::string>& suffixes) {
+  double worst = 0.0;
+  for (std::size_t c = 1; c < a.columns.size(); ++c)
+    for (const std::string& s : suffixes)
+      if (a.columns[c].size() >= s.size() && a.columns[c].compare(a.columns[c].size() - s.size(), s.size(), s) == 0)
+        worst = std::max(worst, std::abs(a.last[c] - b.last[c]));
+  return worst;
+}
+
+/// Every row of a run in joint coordinates with rkmk4.
+scene_testing::Trajectory jointTrajectory(const SceneDescription& scene, double dt, double t_end) {
+  const Simulation sim(scene);
+  SimulationOptions o;
+  o.integrator = "rkmk4";
+  o.formulation = "joint";
+  o.dt = dt;
+  o.t_end = t_end;
+  scene_testing::Trajectory out;
+  out.columns = sim.columns();
+  out.result = sim.run(o, [&](const std::vector<double>& row) { out.rows.push_back(row); });
+  return out;
+}
+
+TEST(ArticulatedLoops, CardanShaftFollowsItsClosedForm) {
+  // Input at ω = 10 rad/s prescribed, shafts bent by β = 30°, the input angle
+  // φ from the plane of the shafts: tan ψ = tan φ / cos β, ψ̇ = ω cos β /
+  // (1 − sin²β cos²φ) (Hooke's joint). The output turns freely, so the drive
+  // supplies its kinetic energy's rate: M ω = −J ψ̇ ψ̈ for the moment M on the
+  // input bearing's main body (the ground); the output bearing carries none.
+  const SceneDescription scene = loadScene("cardan-shaft");
+  const scene_testing::Trajectory run = jointTrajectory(scene, 1e-3, 1.0);
+  ASSERT_FALSE(run.result.failed) << run.result.failure;
+  const double w = 10.0, c = std::cos(M_PI / 6), s2 = 0.25, J = 0.002;
+  double angle = 0, rate = 0, moment = 0, bearing = 0, rows_error = 0;
+  for (std::size_t r = 0; r < run.rows.size(); ++r) {
+    const double phi = w * run.at(r, "t"), den = 1.0 - s2 * std::cos(phi) * std::cos(phi);
+    const double psidot = w * c / den;
+    const double psiddot = -w * w * c * s2 * 2.0 * std::cos(phi) * std::sin(phi) / (den * den);
+    double psi = std::atan2(std::sin(phi), c * std::cos(phi));
+    psi += 2 * M_PI * std::round((run.at(r, "output-bearing.phi") - psi) / (2 * M_PI));
+    angle = std::max(angle, std::abs(run.at(r, "output-bearing.phi") - psi));
+    rate = std::max(rate, std::abs(run.at(r, "output-bearing.phidot") - psidot));
+    moment = std::max(moment, std::abs(run.at(r, "input-bearing.moment") * w + J * psidot * psiddot));
+    bearing = std::max(bearing, std::abs(run.at(r, "output-bearing.moment")));
+    rows_error = std::max(rows_error, run.at(r, "constraint_error"));
+  }
+  // Measured: 1.1e-12, 1.6e-12, 8.0e-13 (the power is up to 0.3 W), 3e-17;
+  // the loop's rows at 1.0e-12 (the projection's tolerance).
+  EXPECT_LT(angle, 1e-11);
+  EXPECT_LT(rate, 1e-11);
+  EXPECT_LT(moment, 1e-11);
+  EXPECT_LT(bearing, 1e-12);
+  EXPECT_LE(rows_error, 1e-12);
+}
+
+TEST(ArticulatedLoops, AgreeWithMaximalCoordinates) {
+  // The same equations in two formulations: at a small step every column
+  // (poses, rates, joint angles and moments, energy) agrees to the steps'
+  // error. Measured at h = 2e-4: four-bar 1.6e-11, free Cardan shaft 1.7e-12.
+  for (const auto& [name, scene, bound] :
+       {std::tuple<const char*, SceneDescription, double>{"four-bar", fourBar(), 2e-10},
+        {"free cardan shaft", freeCardanShaft(), 1e-10}}) {
+    SCOPED_TRACE(name);
+    const Simulation sim(scene);
+    const RunEnds joint = runEnds(sim, "joint", "rkmk4", 2e-4, 1.0);
+    const RunEnds maximal = runEnds(sim, "maximal", "rkmk4", 2e-4, 1.0);
+    ASSERT_FALSE(joint.result.failed) << joint.result.failure;
+    ASSERT_FALSE(maximal.result.failed) << maximal.result.failure;
+    ASSERT_EQ(joint.columns, maximal.columns);
+    EXPECT_LT(largestDifference(joint, maximal, {""}), bound);
+    // Same start: the joint formulation's initial projection onto the loop
+    // is the maximal one's.
+    for (std::size_t c = 1; c < joint.first.size(); ++c)
+      EXPECT_NEAR(joint.first[c], maximal.first[c], 1e-12) << joint.columns[c];
+    EXPECT_LE(joint.result.constraint_error, 1e-12);
+  }
+}
+
+TEST(ArticulatedLoops, ProjectedStepsKeepTheirOrder) {
+  // Positions at t = 1 against the same stepper at h = 1e-4: rkmk4 of order
+  // 4, rkmk3 of order 3, rkmk-heun of order 2 — the projection keeps the
+  // inner method's order (projected_stepper.hpp). Measured slopes 4.06 (errors
+  // 8.9e-8, 5.2e-9, 3.2e-10), 2.03 for rkmk-heun. (cf4 is rkmk4 here: on the
+  // angles, a vector space, the commutator-free method is classical RK4.)
+  const Simulation sim(fourBar());
+  for (const auto& [integrator, order] :
+       {std::pair<const char*, double>{"rkmk4", 4.0}, {"rkmk3", 3.0}, {"rkmk-heun", 2.0}}) {
+    SCOPED_TRACE(integrator);
+    const RunEnds reference = runEnds(sim, "joint", integrator, 1e-4, 1.0);
+    std::vector<double> h, error;
+    for (double dt : {4e-3, 2e-3, 1e-3}) {
+      const RunEnds run = runEnds(sim, "joint", integrator, dt, 1.0);
+      ASSERT_FALSE(run.result.failed) << run.result.failure;
+      h.push_back(dt);
+      error.push_back(largestDifference(run, reference, {".x", ".y", ".z"}));
+    }
+    const double slope = testing_support::logLogSlope(h, error);
+    EXPECT_GT(slope, order - 0.3);
+    EXPECT_LT(slope, order + 0.7);
+  }
+}
+
+TEST(ArticulatedLoops, FreeCardanShaftKeepsItsEnergy) {
+  // No force, no dashpot: the energy is the first integral; rkmk4's drift
+  // over 2 s at h = 1e-3 (the speed ratio swings between cos β and 1/cos β
+  // twice a turn) is its local error only. Measured 2.0e-12 relative.
+  const scene_testing::Trajectory run = jointTrajectory(freeCardanShaft(), 1e-3, 2.0);
+  ASSERT_FALSE(run.result.failed) << run.result.failure;
+  const double e0 = run.at(0, "energy");
+  double drift = 0.0, low = 1e300, high = 0.0;
+  for (std::size_t r = 0; r < run.rows.size(); ++r) {
+    drift = std::max(drift, std::abs(run.at(r, "energy") - e0) / e0);
+    const double ratio = run.at(r, "output-bearing.phidot") / run.at(r, "input-bearing.phidot");
+    low = std::min(low, ratio);
+    high = std::max(high, ratio);
+  }
+  EXPECT_LT(drift, 1e-10);
+  // The loop transmits a varying ratio (between cos β and 1/cos β for a
+  // steady input; here both shafts' speeds swing). Measured 0.866 to 1.155.
+  EXPECT_LT(low, 0.95);
+  EXPECT_GT(high, 1.05);
+}
+
+TEST(ArticulatedLoops, RefusesWhatTheLoopsCannotCarry) {
+  std::string why;
+  // The integrators without multipliers or without a projection.
+  const Simulation cardan(loadScene("cardan-shaft"));
+  for (const char* integrator : {"lgvi", "genalpha", "rkmk45"}) {
+    EXPECT_FALSE(cardan.supports(integrator, &why, "joint")) << integrator;
+    EXPECT_NE(why.find("loop"), std::string::npos) << why;
+  }
+  EXPECT_TRUE(cardan.supports("cf4", &why, "joint")) << why;
+  // A loop-closing joint with a force element has no coordinate to carry it.
+  SceneDescription driven = fourBar();
+  driven.joints[3].type = "revolute";
+  driven.joints[3].axis_main = Eigen::Vector3d::UnitY();
+  driven.joints[3].coordinates[0].stiffness = 2.0;
+  std::string reason;
+  EXPECT_FALSE(articulatedCovers(driven, &reason));
+  EXPECT_NE(reason.find("closes a loop and carries a spring"), std::string::npos) << reason;
+}
+
+}  // namespace
+}  // namespace lieflow
