@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates papers/mechanism-work-precision/: error against run time on the
-# double pendulum and chain-10, every lieflow integrator (joint and maximal
+# double pendulum, chain-10 and the free Cardan shaft, every lieflow integrator (joint and maximal
 # coordinates) beside MuJoCo's RK4, Euler and implicit integrators on the same
 # model (bench/multibody/mechanism_work_precision.cpp), then analyze.py writes
 # results.md, work_precision.png and the table between the GENERATED markers
