@@ -6,13 +6,16 @@
 /// projection, so both start from the same motion).
 ///
 /// What the joint formulation covers: scenes whose revolute, universal and
-/// spherical joints form a tree hanging from the ground (every body reached
-/// from the ground through exactly one chain of joints), with the joints'
+/// spherical joints connect every body to the ground, with the joints'
 /// springs, dashpots, moments and prescribed motion, gravity and loads from a
-/// program. Gear-type joints and closed loops need multipliers, rotation-only
-/// bodies and bodies not connected to the ground have no joint coordinate to
-/// live on: those scenes are refused (InvalidInput naming --formulation, the
-/// element and the reason) and run in maximal coordinates.
+/// program. The bodies are placed breadth first from the ground (joints in
+/// scene order); a joint met between two bodies already placed closes a loop
+/// and is kept as constraint rows with multipliers (ArticulatedClosure; it
+/// may carry no force element or prescribed motion, having no coordinate).
+/// Gear-type joints couple other joints' coordinates, bodies not connected
+/// to the ground have no joint coordinate to live on: those scenes are
+/// refused (InvalidInput naming --formulation, the element and the reason)
+/// and run in maximal coordinates.
 #pragma once
 
 #include <memory>

@@ -13,7 +13,10 @@
 //    integrator on the joint angles, integrators/joint_space_variational.hpp;
 //    the counter `iterations` is the mean passes of an implicit step's
 //    iteration). Every kResetSteps steps (1 s) the chain starts
-//    again from rest, outside the timing, as the MuJoCo runs do.
+//    again from rest, outside the timing, as the MuJoCo runs do;
+//  * BM_LoopStep_rkmk4/N, BM_LoopStep_joint_rkmk4/N: the chain closed into
+//    a loop (a ball joint holds its tip), projected rkmk4 in maximal and in
+//    joint coordinates (the ball joint's rows on multipliers).
 //
 // After the benchmarks, prints time(1000)/time(100) for each family against
 // the target ≤ 11 (issue 12) (cost per step linear in N) and time(100)/time(10), medians
@@ -47,6 +50,7 @@
 #include "integrators/joint_space_variational.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/articulated_scene.hpp"
+#include "joints/multibody_scene.hpp"
 #include "joints/multibody/multibody_system.hpp"
 
 namespace {
@@ -212,6 +216,37 @@ void BM_ChainStep_joint_lgvi(benchmark::State& st) {
 }
 BENCHMARK(BM_ChainStep_joint_lgvi)->Arg(1)->Arg(2)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
 
+/// One projected rkmk4 step on the chain closed into a loop (chain_scene.hpp:
+/// a ball joint holds the tip where it starts), released at rest: in maximal
+/// coordinates (BM_LoopStep_rkmk4) and in joint coordinates with the ball
+/// joint's rows on multipliers (BM_LoopStep_joint_rkmk4).
+void BM_LoopStep_rkmk4(benchmark::State& st) {
+  const int N = static_cast<int>(st.range(0));
+  const auto scene = assembleMultibody(bench::closedChainScene(N, bench::kChainSeed));
+  const MultibodySystem& system = *scene->system;
+  const MultibodyGroupState y0 = scene->y0;
+  MultibodyGroupState y = y0;
+  double t = 0.0;
+  ProjectedStepper<RkmkStepper<MultibodyGroupState>> stepper(RkmkStepper<MultibodyGroupState>(ButcherTableau::rk4()));
+  timedSteps(st, stepper, system, y0, &y, &t);
+  st.counters["constraint_error"] = system.constraintError(t, y);
+}
+BENCHMARK(BM_LoopStep_rkmk4)->Arg(4)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_LoopStep_joint_rkmk4(benchmark::State& st) {
+  const int N = static_cast<int>(st.range(0));
+  const auto scene = assembleArticulated(bench::closedChainScene(N, bench::kChainSeed));
+  const articulated::ArticulatedSystem& system = *scene->system;
+  const articulated::ArticulatedState y0 = scene->y0;
+  articulated::ArticulatedState y = y0;
+  double t = 0.0;
+  ProjectedStepper<RkmkStepper<articulated::ArticulatedState>> stepper(
+      RkmkStepper<articulated::ArticulatedState>(ButcherTableau::rk4()));
+  timedSteps(st, stepper, system, y0, &y, &t);
+  st.counters["constraint_error"] = system.constraintError(t, y);
+}
+BENCHMARK(BM_LoopStep_joint_rkmk4)->Arg(4)->Arg(10)->Arg(30)->Arg(100)->Unit(benchmark::kMicrosecond);
+
 // Collects real time per iteration of every BM_.../N for the summary (every
 // repetition with --benchmark_repetitions; the summary takes their median).
 class SummaryReporter : public benchmark::ConsoleReporter {
@@ -297,13 +332,15 @@ int main(int argc, char** argv) {
       {"BM_ChainStep_joint_lgvi", "BM_ChainStep_mujoco_euler"},
       {"BM_ChainStep_genalpha", "BM_ChainStep_mujoco_implicit"},
       {"BM_ChainStep_joint_genalpha", "BM_ChainStep_mujoco_implicit"},
-      {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"}};
+      {"BM_ChainStep_genalpha_index3", "BM_ChainStep_mujoco_implicit"},
+      // A loop: joint coordinates (multipliers on the ABA) against maximal.
+      {"BM_LoopStep_joint_rkmk4", "BM_LoopStep_rkmk4"}};
   for (const auto& pair : pairs) {
     const char* lieflow_family = pair.first;
     const char* peer = pair.second;
     if (!rep.ns.count(peer) || !rep.ns.count(lieflow_family)) continue;
     std::string line;
-    for (int n : {1, 2, 10, 30, 100, 300, 1000}) {
+    for (int n : {1, 2, 4, 10, 30, 100, 300, 1000}) {
       const double a = rep.median(lieflow_family, n), b = rep.median(peer, n);
       if (!(a > 0 && b > 0)) continue;
       char buf[96];
@@ -311,8 +348,8 @@ int main(int argc, char** argv) {
       line += buf;
     }
     if (!line.empty())
-      std::printf("SUMMARY time per step %s / %s (> 1: lieflow slower): %s\n", lieflow_family, peer,
-                  line.c_str());
+      std::printf("SUMMARY time per step %s / %s (> 1: %s slower): %s\n", lieflow_family, peer,
+                  std::string(peer).find("mujoco") != std::string::npos ? "lieflow" : "the first", line.c_str());
   }
   return 0;
 }

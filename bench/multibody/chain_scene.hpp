@@ -75,5 +75,27 @@ inline SceneDescription revoluteChainScene(int n, unsigned seed) {
   return scene;
 }
 
+/// The same chain closed into a loop: a spherical joint holds the last rod's
+/// free end (0.25 m along its body x from its centre of mass) at the point of
+/// the ground where it is at t = 0. N − 3 degrees of freedom for N ≥ 4 (the
+/// hinge axes alternate, so the loop is spatial); in joint coordinates the
+/// ball joint closes the loop (3 rows with multipliers on the tree).
+inline SceneDescription closedChainScene(int n, unsigned seed) {
+  SceneDescription scene = revoluteChainScene(n, seed);
+  scene.name = "bench closed chain-" + std::to_string(n);
+  scene.source = scene.name;
+  const BodyDescription& tip = scene.bodies.back();
+  const Eigen::Vector3d end(0.25, 0.0, 0.0);
+  JointDescription d;
+  d.name = "tip";
+  d.type = "spherical";
+  d.main = "ground";
+  d.secondary = tip.name;
+  d.anchor_main = tip.orientation.normalized() * end + tip.position;
+  d.anchor_secondary = end;
+  scene.joints.push_back(d);
+  return scene;
+}
+
 }  // namespace bench
 }  // namespace lieflow

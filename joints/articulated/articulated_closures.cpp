@@ -88,72 +88,79 @@ void ArticulatedSystem::closureTerms(ClosureLevel level) const {
   }
 }
 
-void ArticulatedSystem::solveFactored(const double* tau, double* x) const {
-  // The ABA's passes 2 and 3 at zero rates with generalized forces τ and the
-  // factorization (U = I_A S, D⁻¹) of the last solve(): solveMass's passes
-  // for any number of free columns (0 to 3).
+void ArticulatedSystem::closureInverseMass() const {
+  // Y = M⁻¹ Gᵀ: the ABA's passes 2 and 3 at zero rates (Featherstone 2008,
+  // Table 7.1) with the generalized forces τ = Gᵀ, all m columns in one sweep
+  // (6 × m per body), with the factorization (U = I_A S, D⁻¹) of the last
+  // solve(): leaves to root the subtrees' forces p_A, root to leaves the
+  // accelerations. Prescribed entries stay 0.
   const int n = bodyCount();
-  accumulated_.assign(n, Vector6::Zero());
-  twist_.resize(n);
+  Eigen::MatrixXd& Y = closure_Y_;
+  Y.setZero();
+  for (int i = 0; i < n; ++i) closure_pA_[i].setZero();
   for (int i = n - 1; i >= 0; --i) {
     const BodyData& d = data_[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Vector6 pa = accumulated_[i];
-    const int nf = d.free;
-    if (nf > 0) {
-      Eigen::Vector3d u = Eigen::Vector3d::Zero();
-      for (int f = 0; f < nf; ++f) {
-        u[f] = tau[d.free_u[f]] - d.S.col(f).dot(accumulated_[i]);
-        x[d.free_u[f]] = u[f];
-      }
-      pa.noalias() += d.U.leftCols(nf) * (d.Dinv.topLeftCorner(nf, nf) * u.head(nf));
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& P = closure_pA_[i];
+    // u = τ − Sᵀ p_A (kept in Y for pass 3), p_a = p_A + U D⁻¹ u.
+    // (Each product assigned on its own: inside a sum Eigen would evaluate it
+    // into a heap temporary.)
+    for (int f = 0; f < d.free; ++f) {
+      Y.row(d.free_u[f]) = closure_G_.col(d.free_u[f]).transpose();
+      Y.row(d.free_u[f]).noalias() -= d.S.col(f).transpose() * P;
+    }
+    if (d.free == 1) {
+      P.noalias() += (d.Dinv(0, 0) * d.U.col(0)) * Y.row(d.free_u[0]);
+    } else {
+      for (int f = 0; f < d.free; ++f)
+        for (int g = 0; g < d.free; ++g) P.noalias() += (d.Dinv(f, g) * d.U.col(f)) * Y.row(d.free_u[g]);
     }
     if (b.parent == kGround) continue;
-    Vector6& parent = accumulated_[b.parent];
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& parent = closure_pA_[b.parent];
     if (b.rotation_only) {
-      parent.head<3>() += pa.head<3>() - cross3(d.c, pa.tail<3>());  // Pᵀ p_a
+      // Pᵀ p_a = (n − c × f, 0), column by column.
+      for (int k = 0; k < P.cols(); ++k)
+        parent.col(k).head<3>() += P.col(k).head<3>() - cross3(d.c, P.col(k).tail<3>());
     } else {
-      parent += pa;
+      parent += P;
     }
   }
   for (int i = 0; i < n; ++i) {
     const BodyData& d = data_[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Vector6& a = twist_[i];
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& a = closure_pA_[i];  // p_A is spent: the accelerations
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
-      a.head<3>() = twist_[b.parent].head<3>();
-      a.tail<3>() = cross3(d.c, a.head<3>());
+      const Eigen::Matrix<double, 6, Eigen::Dynamic>& ap = closure_pA_[b.parent];
+      for (int k = 0; k < a.cols(); ++k) {
+        a.col(k).head<3>() = ap.col(k).head<3>();
+        a.col(k).tail<3>() = cross3(d.c, ap.col(k).head<3>());
+      }
     } else {
-      a = twist_[b.parent];
+      a = closure_pA_[b.parent];
     }
-    const int nf = d.free;
-    if (nf == 0) continue;
-    Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    for (int f = 0; f < nf; ++f) u[f] = x[d.free_u[f]] - d.U.col(f).dot(a);
-    const Eigen::Vector3d qdd = d.Dinv.topLeftCorner(nf, nf) * u.head(nf);
-    for (int f = 0; f < nf; ++f) {
-      x[d.free_u[f]] = qdd[f];
-      a += qdd[f] * d.S.col(f);
+    if (d.free == 1) {
+      // q̈ = D⁻¹ (u − Uᵀ a), a += S q̈.
+      closure_rows3_.row(0).noalias() = d.U.col(0).transpose() * a;
+      Y.row(d.free_u[0]) = d.Dinv(0, 0) * (Y.row(d.free_u[0]) - closure_rows3_.row(0));
+      a.noalias() += d.S.col(0) * Y.row(d.free_u[0]);
+    } else if (d.free > 1) {
+      const int nf = d.free;
+      closure_rows3_.topRows(nf).noalias() = -d.U.leftCols(nf).transpose() * a;
+      for (int f = 0; f < nf; ++f) closure_rows3_.row(f) += Y.row(d.free_u[f]);
+      for (int f = 0; f < nf; ++f) {
+        Y.row(d.free_u[f]).setZero();
+        for (int g = 0; g < nf; ++g) Y.row(d.free_u[f]) += d.Dinv(f, g) * closure_rows3_.row(g);
+        a.noalias() += d.S.col(f) * Y.row(d.free_u[f]);
+      }
     }
   }
 }
 
 void ArticulatedSystem::closureMultipliers() const {
   const int m = model_.closure_rows;
-  for (int k = 0; k < m; ++k) {
-    // A row with no free column (the point rows of a joint between two held
-    // bodies) has a zero column of Y: no solve.
-    if (closure_G_.row(k).squaredNorm() == 0.0) {
-      closure_Y_.col(k).setZero();
-      continue;
-    }
-    closure_tau_ = closure_G_.row(k).transpose();
-    closure_x_.setZero();  // the prescribed entries stay 0
-    solveFactored(closure_tau_.data(), closure_x_.data());
-    closure_Y_.col(k) = closure_x_;
-  }
+  closureInverseMass();
   closure_A_.noalias() = closure_G_ * closure_Y_;
   // Cholesky with diagonal pivoting (A = P L Lᵀ Pᵀ; Higham, "Accuracy and
   // Stability of Numerical Algorithms", §10.3, LAPACK's dpstrf), stopped at
@@ -236,6 +243,7 @@ void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
   // (pass 3 of the correction alone).
   closure_x_.noalias() = closure_Y_ * closure_lambda_;
   *udot += closure_x_;
+  twist_.resize(bodyCount());  // the bodies' acceleration increments
   for (int i = 0; i < bodyCount(); ++i) {
     const BodyData& d = data_[i];
     const ArticulatedBody& b = model_.bodies[i];

@@ -27,7 +27,8 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     closure_r_.setZero(m);
     closure_lambda_.setZero(m);
     closure_s_.setZero(m);
-    closure_tau_.setZero(n);
+    closure_pA_.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
+    closure_rows3_.setZero(3, m);
     closure_x_.setZero(n);
     closure_perm_.assign(m, 0);
     for (const ArticulatedClosure& c : model_.closures) closure_phi_.push_back(c.initial_angles);

@@ -263,8 +263,9 @@ class ArticulatedSystem {
   /// rank-revealing factorization of G Y; then closure_lambda_ solves
   /// G Y λ = −closure_r_ on the rows that have a pivot.
   void closureMultipliers() const;
-  /// x = M⁻¹ τ (free entries) with the factorization of the last solve().
-  void solveFactored(const double* tau, double* x) const;
+  /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve() (all
+  /// m columns in one pass down and one up the tree).
+  void closureInverseMass() const;
   /// The closing joints' constraint forces W_aᵀ λ, W_bᵀ λ taken off the bias
   /// forces p_A of their bodies (as external forces), before solve().
   void applyClosureForces() const;
@@ -279,7 +280,11 @@ class ArticulatedSystem {
   /// Y = M⁻¹ Gᵀ (n × m), G Y and its factorization, Φ or its
   /// derivatives (m), λ (m), a scratch m-vector, solve scratch (n).
   mutable Eigen::MatrixXd closure_G_, closure_Y_, closure_A_;
-  mutable Eigen::VectorXd closure_r_, closure_lambda_, closure_s_, closure_tau_, closure_x_;
+  mutable Eigen::VectorXd closure_r_, closure_lambda_, closure_s_, closure_x_;
+  /// Per body the 6 × m forces, then accelerations, of closureInverseMass,
+  /// and its 3 × m scratch rows.
+  mutable std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> closure_pA_;
+  mutable Eigen::Matrix<double, 3, Eigen::Dynamic> closure_rows3_;
   mutable std::vector<int> closure_perm_;  ///< the pivoted Cholesky's row order
   /// The closing joints' last output angles (unwrapping; reset at t = 0).
   mutable std::vector<std::array<double, 2>> closure_phi_;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/multibody/chain_scene.hpp"
 #include "bench/support/jointed_step_allocations.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
@@ -83,6 +84,20 @@ TEST_P(StepAllocations, GeneralizedAlphaOnlyWhenItChoosesPivots) {
   EXPECT_LE(extra_allocations, kAllocationsPerPivotChoice * std::max(0, extra_pivot_choices))
       << extra_allocations << " allocations in 1000 more steps with " << extra_pivot_choices
       << " more pivot choices";
+}
+
+TEST(StepAllocationsInLoops, NoneInJointCoordinates) {
+  // A loop whose closing joint is a ball joint between translating bodies
+  // (the benchmark's chain of 6 rods with its tip held), beside the Cardan
+  // shaft above (a cross between two held shafts).
+  const Simulation sim(bench::closedChainScene(6, bench::kChainSeed));
+  for (const char* integrator : {"rkmk-euler", "rkmk4", "cf4"}) {
+    SCOPED_TRACE(integrator);
+    const bench::StepAllocations a = bench::countStepAllocations(sim, integrator, "joint");
+    ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
+    EXPECT_EQ(a.steps_2000, a.steps_1000)
+        << "h = " << a.dt << ": " << (a.steps_2000 - a.steps_1000) / 1000.0 << " allocations per step";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(JointedScenes, StepAllocations, ::testing::ValuesIn(bench::jointedScenes()),
