@@ -149,7 +149,7 @@ TEST(ArticulatedLoops, ProjectedStepsKeepTheirOrder) {
   // Positions at t = 1 against the same stepper at h = 1e-4: rkmk4 of order
   // 4, rkmk3 of order 3, rkmk-heun of order 2 — the projection keeps the
   // inner method's order (projected_stepper.hpp). Measured slopes 4.06 (errors
-  // 8.9e-8, 5.2e-9, 3.2e-10), 2.03 for rkmk-heun. (cf4 is rkmk4 here: on the
+  // 8.9e-8, 5.2e-9, 3.2e-10), 2.9 for rkmk3, 2.03 for rkmk-heun. (cf4 is rkmk4 here: on the
   // angles, a vector space, the commutator-free method is classical RK4.)
   const Simulation sim(fourBar());
   for (const auto& [integrator, order] :
