@@ -52,12 +52,14 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
   auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
   // Adjacency: joints at each body (and at the ground, index nb).
   std::vector<std::vector<int>> at(nb + 1);
+  std::vector<int> gear_cuts;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
     if (j.isGear()) {
-      *why = label(scene, k) + " is a " + j.type +
-             ": it couples coordinates of other joints, which needs multipliers";
-      return false;
+      // Rows on the velocities of bodies the tree places: imposed with
+      // multipliers (ArticulatedClosure), never a tree edge.
+      gear_cuts.push_back(static_cast<int>(k));
+      continue;
     }
     if (j.offset) {
       *why = label(scene, k) + " is a universal joint whose axes do not meet (offset): the joint-coordinate "
@@ -133,6 +135,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       queue.push_back(c);
     }
   }
+  cuts->insert(cuts->end(), gear_cuts.begin(), gear_cuts.end());
   for (int i = 0; i < nb; ++i)
     if (!placed[i]) {
       *why = scene.source + ": bodies[" + std::to_string(i) + "] (" + scene.bodies[i].name +
@@ -259,6 +262,18 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   // at the scene's poses (the tree reproduces them at y0).
   for (int k : cuts) {
     const JointDescription& j = scene.joints[k];
+    if (j.isGear()) {
+      const multibody::Gear g = sceneGear(scene, static_cast<std::size_t>(k));
+      articulated::ArticulatedClosure c;
+      c.gear = g.constraint;
+      for (int s = 0; s < 4; ++s) c.bodies[s] = g.bodies[s] < 0 ? articulated::kGround : model.tree_index[g.bodies[s]];
+      c.scene_joint = k;
+      c.label = label(scene, static_cast<std::size_t>(k));
+      c.row_begin = model.closure_rows;
+      model.closure_rows += c.rows();
+      model.closures.push_back(std::move(c));
+      continue;
+    }
     const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
     const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
     auto pose = [&](int i) {
@@ -268,8 +283,8 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     };
     articulated::ArticulatedClosure c;
     c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), pose(a), pose(b));
-    c.main = a < 0 ? articulated::kGround : model.tree_index[a];
-    c.secondary = b < 0 ? articulated::kGround : model.tree_index[b];
+    c.bodies[0] = a < 0 ? articulated::kGround : model.tree_index[a];
+    c.bodies[1] = b < 0 ? articulated::kGround : model.tree_index[b];
     c.scene_joint = k;
     c.label = label(scene, static_cast<std::size_t>(k));
     c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};

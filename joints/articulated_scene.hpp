@@ -12,8 +12,9 @@
 /// scene order); a joint met between two bodies already placed closes a loop
 /// and is kept as constraint rows with multipliers (ArticulatedClosure; it
 /// may carry no force element or prescribed motion, having no coordinate).
-/// Gear-type joints couple other joints' coordinates, bodies not connected
-/// to the ground have no joint coordinate to live on: those scenes are
+/// Gear-type joints (gear, rack and pinion, differential) are kept as their
+/// velocity rows with multipliers too. Bodies not connected to the ground
+/// (nor rotation-only) have no joint coordinate to live on: those scenes are
 /// refused (InvalidInput naming --formulation, the element and the reason)
 /// and run in maximal coordinates.
 #pragma once

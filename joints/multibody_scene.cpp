@@ -72,6 +72,32 @@ void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
 
 }  // namespace
 
+multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k) {
+  const JointDescription& j = scene.joints[k];
+  const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
+  const std::string& prefix = label;
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
+  multibody::Gear g;
+  g.name = label;
+  g.bodies = {{body(j.carrier), body(j.main), body(j.secondary), kGround}};
+  const auto a1 = nodeAxes(j.axes_main, prefix + ".axes_main");
+  const auto a2 = nodeAxes(j.axes_secondary, prefix + ".axes_secondary");
+  if (j.type == "gear") {
+    g.constraint = constraints::makeGearJoint<double>(j.ratio, a1, a2, prefix);
+  } else if (j.type == "rack_pinion") {
+    g.constraint = constraints::makeRackPinionJoint<double>(j.ratio, a1, a2, prefix);
+    if (scene.bodies[g.bodies[2]].rotation_only)
+      throw InvalidInput(prefix + ".secondary", "the rack '" + j.secondary +
+                                                    "' is rotation_only: it needs translational coordinates");
+  } else {
+    g.bodies[3] = body(j.tertiary);
+    g.constraint = constraints::makeDifferentialJoint<double>(
+        j.ratio, a1, a2, nodeAxes(j.axes_tertiary, prefix + ".axes_tertiary"), prefix);
+  }
+  return g;
+}
+
 multibody::JointConstraint sceneJointConstraint(const SceneDescription& scene, std::size_t k,
                                                 const constraints::BodyPose<double>& pa,
                                                 const constraints::BodyPose<double>& pb) {
@@ -157,26 +183,8 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
     const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
-    const std::string& prefix = label;
     if (j.isGear()) {
-      multibody::Gear g;
-      g.name = label;
-      g.bodies = {{body(j.carrier), body(j.main), body(j.secondary), kGround}};
-      const auto a1 = nodeAxes(j.axes_main, prefix + ".axes_main");
-      const auto a2 = nodeAxes(j.axes_secondary, prefix + ".axes_secondary");
-      if (j.type == "gear") {
-        g.constraint = constraints::makeGearJoint<double>(j.ratio, a1, a2, prefix);
-      } else if (j.type == "rack_pinion") {
-        g.constraint = constraints::makeRackPinionJoint<double>(j.ratio, a1, a2, prefix);
-        if (scene.bodies[g.bodies[2]].rotation_only)
-          throw InvalidInput(prefix + ".secondary", "the rack '" + j.secondary +
-                                                        "' is rotation_only: it needs translational coordinates");
-      } else {
-        g.bodies[3] = body(j.tertiary);
-        g.constraint = constraints::makeDifferentialJoint<double>(
-            j.ratio, a1, a2, nodeAxes(j.axes_tertiary, prefix + ".axes_tertiary"), prefix);
-      }
-      gears.push_back(g);
+      gears.push_back(sceneGear(scene, k));
       continue;
     }
     const int a = body(j.main), b = body(j.secondary);

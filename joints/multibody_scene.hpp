@@ -48,6 +48,10 @@ bool needsMultibody(const SceneDescription& scene);
 /// with the reason for bad joint input.
 std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene);
 
+/// The rows of scene joint k, a gear-type joint, with its bodies by scene
+/// index (the same checks and InvalidInput fields as assembleMultibody).
+multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k);
+
 /// The constraint of scene joint k (not a gear-type joint) between bodies at
 /// the poses pa, pb (main, secondary; groundPose() for the ground), assembled
 /// there as assembleMultibody does (the same checks and InvalidInput fields):

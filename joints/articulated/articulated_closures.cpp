@@ -33,59 +33,83 @@ constexpr double kClosureRankTolerance = 1e-10;
 
 }  // namespace
 
-void ArticulatedSystem::closureTerms(ClosureLevel level) const {
-  closure_G_.setZero();
-  closure_r_.setZero();
+template <typename F>
+void ArticulatedSystem::forEachClosure(ClosureLevel level, F&& f) const {
+  auto pose = [&](int i) {
+    return i == kGround ? constraints::groundPose<double>()
+                        : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
+  };
+  auto velocity = [&](int i) {
+    const bool moving = i != kGround && (level == ClosureLevel::kVelocity || level == ClosureLevel::kAcceleration);
+    return moving ? constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)}
+                  : constraints::groundVelocity<double>();
+  };
   for (const ArticulatedClosure& closure : model_.closures) {
-    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
-    std::array<constraints::BodyPose<double>, 2> pose;
-    std::array<constraints::BodyVelocity<double>, 2> vel;
-    for (int side = 0; side < 2; ++side) {
-      const int i = bodies[side];
-      if (i == kGround) {
-        pose[side] = constraints::groundPose<double>();
-        continue;
-      }
-      pose[side] = constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
-      if (level != ClosureLevel::kPosition)
-        vel[side] = constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)};
+    if (closure.gear) {
+      // Gear rows: velocity level only (B u = 0; gear.hpp), no position rows.
+      std::visit(
+          [&](const auto& gear) {
+            using C = std::decay_t<decltype(gear)>;
+            typename C::Poses X;
+            typename C::Velocities V;
+            std::array<int, C::kBodies> bodies;
+            for (std::size_t k = 0; k < C::kBodies; ++k) {
+              bodies[k] = closure.bodies[k];
+              X[k] = pose(bodies[k]);
+              V[k] = velocity(bodies[k]);
+            }
+            Eigen::Matrix<double, C::kRows, 1> value = Eigen::Matrix<double, C::kRows, 1>::Zero();
+            if (level == ClosureLevel::kAcceleration) value = gear.convective(X, V);
+            f(closure, bodies, gear.rows(X), value);
+          },
+          *closure.gear);
+      continue;
     }
     std::visit(
         [&](const auto& joint) {
           using C = std::decay_t<decltype(joint)>;
-          constexpr int R = C::kRows;
-          const int r0 = closure.row_begin;
-          if (level == ClosureLevel::kPosition) closure_r_.segment<R>(r0) = joint.residual(pose[0], pose[1]);
+          const std::array<int, 2> bodies{{closure.bodies[0], closure.bodies[1]}};
+          const constraints::BodyPose<double> a = pose(bodies[0]), b = pose(bodies[1]);
+          Eigen::Matrix<double, C::kRows, 1> value = Eigen::Matrix<double, C::kRows, 1>::Zero();
+          if (level == ClosureLevel::kPosition) value = joint.residual(a, b);
           if (level == ClosureLevel::kAcceleration)
-            closure_r_.segment<R>(r0) = joint.convective(pose[0], pose[1], vel[0], vel[1]);
-          const auto J = joint.jacobians(pose[0], pose[1]);
-          for (int side = 0; side < 2; ++side) {
-            const int i = bodies[side];
-            if (i == kGround) continue;
-            const BodyData& d = data_[i];
-            Eigen::Matrix<double, R, 6> W;
-            W.template leftCols<3>() =
-                J[side].template rightCols<3>() * d.R.transpose() - J[side].template leftCols<3>() * hat(d.c);
-            W.template rightCols<3>() = J[side].template leftCols<3>();
-            if (level == ClosureLevel::kVelocity) closure_r_.segment<R>(r0) += W * d.V;
-            if (level == ClosureLevel::kAcceleration)
-              closure_r_.segment<R>(r0) +=
-                  W * d.a + J[side].template leftCols<3>() * cross3(d.V.template head<3>(), velocityOfCentre(i));
-            // The columns on the path to the ground.
-            for (int k = i; k != kGround; k = model_.bodies[k].parent) {
-              const BodyData& dk = data_[k];
-              for (int f = 0; f < dk.free; ++f)
-                closure_G_.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
-              if (model_.bodies[k].rotation_only) {
-                // Past a held body: W P (the columns above move it through P).
-                W.template leftCols<3>() += W.template rightCols<3>() * hat(dk.c);
-                W.template rightCols<3>().setZero();
-              }
-            }
-          }
+            value = joint.convective(a, b, velocity(bodies[0]), velocity(bodies[1]));
+          f(closure, bodies, joint.jacobians(a, b), value);
         },
         closure.constraint);
   }
+}
+
+void ArticulatedSystem::closureTerms(ClosureLevel level) const {
+  closure_G_.setZero();
+  forEachClosure(level, [&](const ArticulatedClosure& closure, const auto& bodies, const auto& J, const auto& value) {
+    constexpr int R = std::decay_t<decltype(value)>::RowsAtCompileTime;
+    const int r0 = closure.row_begin;
+    closure_r_.segment<R>(r0) = value;  // Φ, 0 (velocities: summed below) or the convective term
+    for (std::size_t side = 0; side < bodies.size(); ++side) {
+      const int i = bodies[side];
+      if (i == kGround) continue;
+      const BodyData& d = data_[i];
+      Eigen::Matrix<double, R, 6> W;
+      W.template leftCols<3>() =
+          J[side].template rightCols<3>() * d.R.transpose() - J[side].template leftCols<3>() * hat(d.c);
+      W.template rightCols<3>() = J[side].template leftCols<3>();
+      if (level == ClosureLevel::kVelocity) closure_r_.segment<R>(r0) += W * d.V;
+      if (level == ClosureLevel::kAcceleration)
+        closure_r_.segment<R>(r0) +=
+            W * d.a + J[side].template leftCols<3>() * cross3(d.V.template head<3>(), velocityOfCentre(i));
+      // The columns on the path to the ground.
+      for (int k = i; k != kGround; k = model_.bodies[k].parent) {
+        const BodyData& dk = data_[k];
+        for (int f = 0; f < dk.free; ++f) closure_G_.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
+        if (model_.bodies[k].rotation_only) {
+          // Past a held body: W P (the columns above move it through P).
+          W.template leftCols<3>() += W.template rightCols<3>() * hat(dk.c);
+          W.template rightCols<3>().setZero();
+        }
+      }
+    }
+  });
 }
 
 void ArticulatedSystem::closureInverseMass() const {
@@ -208,32 +232,22 @@ void ArticulatedSystem::closureMultipliers() const {
 }
 
 void ArticulatedSystem::applyClosureForces() const {
-  for (const ArticulatedClosure& closure : model_.closures) {
-    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
-    std::array<constraints::BodyPose<double>, 2> pose;
-    for (int side = 0; side < 2; ++side)
-      pose[side] = bodies[side] == kGround
-                       ? constraints::groundPose<double>()
-                       : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[bodies[side]].R)),
-                                                       data_[bodies[side]].c};
-    std::visit(
-        [&](const auto& joint) {
-          constexpr int R = std::decay_t<decltype(joint)>::kRows;
-          const auto J = joint.jacobians(pose[0], pose[1]);
-          const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
-          for (int side = 0; side < 2; ++side) {
-            const int i = bodies[side];
-            if (i == kGround) continue;
-            BodyData& d = data_[i];
-            // Wᵀ λ = (n_O, f): f = J_vᵀ λ, n_O = R J_ωᵀ λ + c × f.
-            const Eigen::Vector3d f = J[side].template leftCols<3>().transpose() * lambda;
-            const Eigen::Vector3d n = d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
-            d.pA.head<3>() -= n;
-            d.pA.tail<3>() -= f;
-          }
-        },
-        closure.constraint);
-  }
+  forEachClosure(ClosureLevel::kJacobian,
+                 [&](const ArticulatedClosure& closure, const auto& bodies, const auto& J, const auto& value) {
+                   constexpr int R = std::decay_t<decltype(value)>::RowsAtCompileTime;
+                   const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
+                   for (std::size_t side = 0; side < bodies.size(); ++side) {
+                     const int i = bodies[side];
+                     if (i == kGround) continue;
+                     BodyData& d = data_[i];
+                     // Wᵀ λ = (n_O, f): f = J_vᵀ λ, n_O = R J_ωᵀ λ + c × f.
+                     const Eigen::Vector3d f = J[side].template leftCols<3>().transpose() * lambda;
+                     const Eigen::Vector3d n =
+                         d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
+                     d.pA.head<3>() -= n;
+                     d.pA.tail<3>() -= f;
+                   }
+                 });
 }
 
 void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
@@ -317,7 +331,8 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
   // (multibody::JointOutput's definition).
   for (std::size_t c = 0; c < model_.closures.size(); ++c) {
     const ArticulatedClosure& closure = model_.closures[c];
-    const std::array<int, 2> bodies{{closure.main, closure.secondary}};
+    if (closure.gear) continue;  // gear rows have no columns
+    const std::array<int, 2> bodies{{closure.bodies[0], closure.bodies[1]}};
     std::array<constraints::BodyPose<double>, 2> pose;
     std::array<constraints::BodyVelocity<double>, 2> vel;
     for (int side = 0; side < 2; ++side) {
@@ -352,7 +367,7 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
       continue;  // spherical: no coordinate, no columns
     }
     closure_phi_[c] = o.phi;
-    const bool use_main = closure.main != kGround;
+    const bool use_main = closure.bodies[0] != kGround;
     const int side = use_main ? 0 : 1;
     const BodyData& d = data_[bodies[side]];
     Eigen::Vector3d n = Eigen::Vector3d::Zero(), f = Eigen::Vector3d::Zero();

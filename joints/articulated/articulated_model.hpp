@@ -23,6 +23,9 @@
 #pragma once
 
 #include <array>
+#include <optional>
+#include <type_traits>
+#include <variant>
 #include <string>
 #include <vector>
 
@@ -88,23 +91,31 @@ struct ArticulatedBody {
 };
 
 /// A joint that closes a loop of the tree (the tree's joints are the bodies'
-/// joints to their parents; every other joint of the scene closes a loop):
+/// joints to their parents; every other joint of the scene closes a loop),
+/// or the rows of a gear-type joint (they couple other joints' motions):
 /// imposed with multipliers, as a constraint of the maximal formulation
 /// (joints/constraints/) on the poses of its two bodies, which the tree
 /// gives as functions of the joint coordinates (articulated_closures.cpp).
 /// It carries no force element and no prescribed motion (the assembly
 /// refuses those: they would act on a coordinate the state does not have).
 struct ArticulatedClosure {
-  multibody::JointConstraint constraint;
-  int main = kGround;       ///< tree index of the joint's main body, or kGround
-  int secondary = kGround;  ///< tree index of its secondary body, or kGround
+  multibody::JointConstraint constraint;  ///< a closing joint's rows (if not a gear)
+  /// Gear-type rows (gear, rack and pinion, differential; joints/constraints/
+  /// gear.hpp): imposed on the velocities only, as in maximal coordinates.
+  std::optional<multibody::GearConstraint> gear;
+  /// Tree indices (or kGround) of the joint's main and secondary bodies, or
+  /// of the gear's carrier and nodes.
+  std::array<int, 4> bodies{{kGround, kGround, kGround, kGround}};
   int scene_joint = -1;     ///< index in SceneDescription::joints
   std::string label;        ///< "SOURCE: joints[k] (name)", for messages
   int row_begin = 0;        ///< its first row among all closure rows
   /// Its angles at t = 0 (the scene's initial_angle(s)): where the outputs'
   /// unwrapping starts.
   std::array<double, 2> initial_angles{{0.0, 0.0}};
-  int rows() const { return multibody::constraintRows(constraint); }
+  int rows() const {
+    if (!gear) return multibody::constraintRows(constraint);
+    return std::visit([](const auto& g) { return std::decay_t<decltype(g)>::kRows; }, *gear);
+  }
 };
 
 /// The model: bodies in tree order (every parent before its children).

@@ -257,7 +257,13 @@ class ArticulatedSystem {
   /// The loops' terms at the kinematics in data_ (articulated_closures.cpp):
   /// G into closure_G_ and, by `level`, Φ, Φ̇ or Φ̈ (at the accelerations in
   /// data_[i].a) into closure_r_.
-  enum class ClosureLevel { kPosition, kVelocity, kAcceleration };
+  enum class ClosureLevel { kJacobian, kPosition, kVelocity, kAcceleration };
+  /// Calls f(closure, bodies, blocks, value) for every closing joint or gear
+  /// at the kinematics in data_: its bodies (tree indices, kGround), its
+  /// rows' blocks on each body's (v_c, ω body) and, by level, Φ (gears: 0),
+  /// 0, or the convective term c (Φ̈ = J q̈ + c).
+  template <typename F>
+  void forEachClosure(ClosureLevel level, F&& f) const;
   void closureTerms(ClosureLevel level) const;
   /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve(), and the
   /// rank-revealing factorization of G Y; then closure_lambda_ solves
