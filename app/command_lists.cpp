@@ -44,7 +44,8 @@ int runIntegrators(int argc, char** argv) {
   std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
             << "Scenes with joints run in " << kDefaultFormulation
             << " coordinates unless --formulation joint is given (trees of revolute, universal and\n"
-               "spherical joints hanging from the ground or from rotation-only bodies).\n";
+               "spherical joints hanging from the ground or from rotation-only bodies; joints closing\n"
+               "loops and gear rows on multipliers, with the explicit integrators).\n";
   return kSuccess;
 }
 
