@@ -203,16 +203,28 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   // --- Start ------------------------------------------------------------------
   MechanismForces<double> start_forces = p.scene_forces;
   out.start = "the scene's springs and dashpots";
-  if (o.start == MechanismStartFrom::kInverseDynamics && !missing_angles.empty())
-    throw InvalidInput("--start", "inverse-dynamics needs every joint angle in the recording (missing: " +
+  // The angles the start reads: recorded, or integrated from the gyroscopes
+  // (from the scene's initial angles) when only rates are recorded.
+  std::vector<std::vector<double>> integrated;
+  std::vector<const std::vector<double>*> start_angles = p.angles;
+  std::string angles_from = "the recorded angles";
+  if (!missing_angles.empty() && missing_rates.empty() &&
+      anglesFromGyroscopes(model, tree->y0.q, p.time, p.rates, &integrated)) {
+    for (std::size_t j = 0; j < integrated.size(); ++j) start_angles[j] = &integrated[j];
+    angles_from = "the angles integrated from the gyroscopes (from the scene's initial angles)";
+  }
+  const bool have_angles = std::find(start_angles.begin(), start_angles.end(), nullptr) == start_angles.end();
+  if (o.start == MechanismStartFrom::kInverseDynamics && !have_angles)
+    throw InvalidInput("--start", "inverse-dynamics needs every joint angle in the recording, or every body's "
+                                  "gyroscopes on revolute and universal joints (missing: " +
                                       list(missing_angles) + ")");
   if (o.start == MechanismStartFrom::kInverseDynamics ||
-      (o.start == MechanismStartFrom::kAuto && missing_angles.empty() && n >= kInverseDynamicsMinSamples)) {
+      (o.start == MechanismStartFrom::kAuto && have_angles && n >= kInverseDynamicsMinSamples)) {
     std::vector<StartCoordinate> coordinates;
     for (std::size_t f = 0; f < fitted.size(); ++f)
       coordinates.push_back({p.fitted[f], fitted[f].stiffness_fitted, fitted[f].damping_fitted,
                              o.fit_rest_angle && fitted[f].stiffness_fitted, fitted[f].rest_angle});
-    const MechanismStart s = inverseDynamicsStart(model, p.time, p.angles, coordinates);
+    const MechanismStart s = inverseDynamicsStart(model, p.time, start_angles, coordinates);
     std::string kept;
     for (std::size_t f = 0; f < fitted.size(); ++f) {
       CoordinateSpring& c = fitted[f];
@@ -232,7 +244,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
       start_forces.damping[j] = c.start_damping;
       start_forces.rest_angle[j] = c.rest_angle;
     }
-    out.start = "inverse dynamics of the recorded angles (local cubics over +-" + std::to_string(s.half_width) +
+    out.start = "inverse dynamics of " + angles_from + " (local cubics over +-" + std::to_string(s.half_width) +
                 " samples)";
     if (!kept.empty()) out.start_note = "not positive, left at the scene's value: " + kept;
   }

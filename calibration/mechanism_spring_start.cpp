@@ -128,5 +128,49 @@ MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, 
   return out;
 }
 
+bool anglesFromGyroscopes(const articulated::ArticulatedModel& model, const Eigen::VectorXd& q0,
+                          const std::vector<double>& time,
+                          const std::vector<const std::vector<Eigen::Vector3d>*>& rates,
+                          std::vector<std::vector<double>>* angles) {
+  for (int i = 0; i < model.bodyCount(); ++i) {
+    const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+    if (b.kind == articulated::JointKind::kSpherical || b.prescribed(0) || b.prescribed(1)) return false;
+  }
+  const int n = static_cast<int>(time.size());
+  angles->assign(static_cast<std::size_t>(q0.size()), std::vector<double>(static_cast<std::size_t>(n)));
+  for (int i = 0; i < model.bodyCount(); ++i) {
+    const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+    const int parent = b.parent;
+    // ω of the joint's main and secondary bodies at sample k (ground: 0).
+    auto omega = [&](int body, int k) {
+      return body == articulated::kGround ? Eigen::Vector3d::Zero()
+                                          : Eigen::Vector3d((*rates[static_cast<std::size_t>(body)])[k]);
+    };
+    const int main = b.parent_is_main ? parent : i, secondary = b.parent_is_main ? i : parent;
+    // The angles' rates at sample k and angles φ.
+    auto rate = [&](int k, const Eigen::Vector2d& phi) -> Eigen::Vector2d {
+      const Eigen::Vector3d wm = omega(main, k), ws = omega(secondary, k);
+      if (b.kind == articulated::JointKind::kRevolute)
+        return Eigen::Vector2d((b.R_ref.transpose() * b.axis1).dot(ws) - b.axis1.dot(wm), 0.0);
+      const Eigen::Matrix3d E1 = Eigen::AngleAxisd(phi[0], b.axis1).toRotationMatrix();
+      const Eigen::Matrix3d M = E1 * b.R_ref * Eigen::AngleAxisd(phi[1], b.axis2).toRotationMatrix();
+      Eigen::Matrix<double, 3, 2> A;
+      A << b.axis1, E1 * b.R_ref * b.axis2;
+      return (A.transpose() * A).ldlt().solve(A.transpose() * (M * ws - wm));
+    };
+    const int nc = b.coordinates();
+    Eigen::Vector2d phi(q0[b.q_begin], nc == 2 ? q0[b.q_begin + 1] : 0.0);
+    for (int k = 0; k < n; ++k) {
+      for (int c = 0; c < nc; ++c) (*angles)[static_cast<std::size_t>(b.q_begin + c)][static_cast<std::size_t>(k)] = phi[c];
+      if (k + 1 == n) break;
+      const double h = time[k + 1] - time[k];
+      const Eigen::Vector2d r0 = rate(k, phi);
+      const Eigen::Vector2d predicted = phi + h * r0;
+      phi += 0.5 * h * (r0 + rate(k + 1, predicted));
+    }
+  }
+  return true;
+}
+
 }  // namespace calibration
 }  // namespace lieflow

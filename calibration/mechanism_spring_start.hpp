@@ -25,6 +25,8 @@
 
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "joints/articulated/articulated_model.hpp"
 
 namespace lieflow {
@@ -59,6 +61,23 @@ struct MechanismStart {
 MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, const std::vector<double>& time,
                                     const std::vector<const std::vector<double>*>& angles,
                                     const std::vector<StartCoordinate>& fitted);
+
+/// The joint angles from the bodies' gyroscopes alone (by tree index, body
+/// axes), integrated from the angles q0 at the first sample. A joint turns
+/// its secondary body relative to its main one by M(φ) (articulated_model.hpp),
+/// so the relative angular velocity in the main frame is
+///   M ω_s − ω_m = a₁ φ̇₁ [+ exp(φ₁ a₁) R_ref a₂ φ̇₂]
+/// (a revolute joint: φ̇ = (R_refᵀ a)·ω_s − a·ω_m, no angle needed; a
+/// universal joint: the rates by least squares on the two columns at the
+/// current angles), integrated by Heun's method between samples. The gyroscopes'
+/// noise enters as a random walk (σ √(T Δt)) and a bias as a drift: good for a
+/// start, which is what it is for (the fit that follows uses the rates
+/// themselves). Covers revolute and universal joints; false (angles
+/// untouched) if a body turns on a spherical joint or an angle is prescribed.
+bool anglesFromGyroscopes(const articulated::ArticulatedModel& model, const Eigen::VectorXd& q0,
+                          const std::vector<double>& time,
+                          const std::vector<const std::vector<Eigen::Vector3d>*>& rates,
+                          std::vector<std::vector<double>>* angles);
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -474,7 +474,8 @@ def calibrate_spring(recording, scene, joint=None, main=None, secondary=None, co
     name). On a scene of several bodies every sprung or damped coordinate is
     fitted ("coordinates" in the result; data="angles" or "gyroscopes";
     fit_axis=True fits the sprung revolute joints' axes too, on any scene;
-    start="inverse-dynamics" or "scene", default from the angles when recorded).
+    start="inverse-dynamics" or "scene", default from the angles when recorded,
+    else from the angles integrated from the gyroscopes).
     Returns the command's JSON object as a dict; errors as calibrate_hinge."""
     if isinstance(scene, dict):
         raise InputError("scene: calibrate_spring takes a scene file or a built-in name")
