@@ -19,12 +19,12 @@
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/constrained_lgvi.hpp"
 #include "joints/multibody/kkt_assembly.hpp"
-#include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "joints/invariants.hpp"
 #include "joints/multibody_scene.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_observer.hpp"
+#include "joints/simulation_projected.hpp"
 #include "joints/simulation_unconstrained.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -154,22 +154,16 @@ SimulationResult runSystem(const Simulation::Model& model, const System& system,
 }
 
 /// The integrators of a constrained multibody scene: the explicit Lie-group
-/// steppers in index-1 form with projection (projected_stepper.hpp).
+/// steppers in index-1 form with projection (simulation_projected.hpp), lgvi
+/// (RATTLE) and generalized-α.
 SimulationResult runMultibody(const Simulation::Model& model, const SimulationOptions& o,
                               const std::vector<std::string>& columns,
                               const std::function<void(const std::vector<double>&)>& row) {
-  using State = multibody::MultibodyGroupState;
   const multibody::MultibodySystem& system = *model.multibody->system;
-  const State& y0 = model.multibody->y0;
+  const multibody::MultibodyGroupState& y0 = model.multibody->y0;
   const std::string& name = o.integrator;
   auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
-  auto projected = [&](auto inner) { return fixed(ProjectedStepper<decltype(inner)>(std::move(inner))); };
-  if (name == "rkmk-euler") return projected(RkmkStepper<State>(ButcherTableau::euler()));
-  if (name == "rkmk-heun") return projected(RkmkStepper<State>(ButcherTableau::heun()));
-  if (name == "rkmk3") return projected(RkmkStepper<State>(ButcherTableau::kutta3()));
-  if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
-  if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
-  if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+  if (auto result = runProjected(model, system, y0, o, columns, row)) return *result;
   if (model.multibody->has_user_loads && (name == "lgvi" || name == "genalpha"))
     throw InvalidInput("--integrator", "'" + name + "' treats forces implicitly; a scene with loads from a program "
                                        "(torques, moments) runs with rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3 or cf4");

@@ -1,8 +1,8 @@
 // Running a scene in joint coordinates (--formulation joint).
 #include "integrators/joint_space_variational.hpp"
-#include "integrators/projected_stepper.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/simulation_model.hpp"
+#include "joints/simulation_projected.hpp"
 #include "joints/simulation_unconstrained.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -34,20 +34,9 @@ SimulationResult runArticulated(const Simulation::Model& model, const Simulation
   if (system.hasClosures()) {
     // Loops: the explicit steppers in index-1 form, projected onto the
     // closing joints' rows after every step (as in maximal coordinates).
-    using State = articulated::ArticulatedState;
-    const std::string& name = o.integrator;
-    auto projected = [&](auto inner) {
-      return simulation_detail::runFixedStep(model, system, y0, o, columns, row,
-                                             ProjectedStepper<decltype(inner)>(std::move(inner)));
-    };
-    if (name == "rkmk-euler") return projected(RkmkStepper<State>(ButcherTableau::euler()));
-    if (name == "rkmk-heun") return projected(RkmkStepper<State>(ButcherTableau::heun()));
-    if (name == "rkmk3") return projected(RkmkStepper<State>(ButcherTableau::kutta3()));
-    if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
-    if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
-    if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+    if (auto result = simulation_detail::runProjected(model, system, y0, o, columns, row)) return *result;
     std::string why;
-    runsWithLoopsInJointCoordinates(name, &why);
+    runsWithLoopsInJointCoordinates(o.integrator, &why);
     throw InvalidInput("--integrator", why);
   }
   if (auto result = simulation_detail::runUnconstrained(model, system, y0, o, columns, row)) return *result;

@@ -262,14 +262,9 @@ void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
     const BodyData& d = data_[i];
     const ArticulatedBody& b = model_.bodies[i];
     Vector6& da = twist_[i];
-    if (b.parent == kGround) {
-      da.setZero();
-    } else if (b.rotation_only) {
-      da.head<3>() = twist_[b.parent].head<3>();
-      da.tail<3>() = cross3(d.c, da.head<3>());
-    } else {
-      da = twist_[b.parent];
-    }
+    da = b.parent == kGround ? Vector6::Zero()
+         : b.rotation_only   ? heldMotion(d.c, twist_[b.parent])
+                             : twist_[b.parent];
     for (int f = 0; f < d.free; ++f) da += closure_x_[d.free_u[f]] * d.S.col(f);
     data_[i].a += da;
   }
