@@ -1,5 +1,6 @@
 #include "joints/articulated_scene.hpp"
 
+#include <algorithm>
 #include <deque>
 #include <unordered_map>
 
@@ -42,17 +43,20 @@ std::string driveOf(const SceneDescription& scene, const JointDescription& j) {
 
 /// The tree: for each body (scene index) the joint to its parent and the
 /// parent (scene index, −1 ground), bodies in the order they are reached
-/// from the ground (breadth first, joints in scene order); the joints that
-/// close loops in `cuts`. False with `why` when the joints do not form such
-/// a tree or a loop-closing joint cannot be imposed as one.
+/// from the ground (breadth first over the tree's joints); the joints that
+/// close loops, and the gear-type joints, in `cuts`. The tree's joints are
+/// chosen as a spanning forest (union–find over the bodies and the ground,
+/// Kruskal's order): first the joints with force elements or prescribed
+/// motion (they need a coordinate of their own), then the others, each in
+/// scene order; a joint whose bodies are already connected closes a loop.
+/// False with `why` when the joints do not form such a tree or a loop can
+/// only be closed by a joint with a force element or prescribed motion.
 bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vector<int>* joint_of,
                std::vector<int>* parent_of, std::vector<int>* cuts, std::string* why) {
   const int nb = static_cast<int>(scene.bodies.size());
   const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
-  // Adjacency: joints at each body (and at the ground, index nb).
-  std::vector<std::vector<int>> at(nb + 1);
-  std::vector<int> gear_cuts;
+  std::vector<int> driven, plain, gear_cuts;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
     if (j.isGear()) {
@@ -71,12 +75,39 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
              " joint: the joint-coordinate formulation has revolute, universal and spherical joints only";
       return false;
     }
-    const int a = body(j.main), b = body(j.secondary);
-    at[a < 0 ? nb : a].push_back(static_cast<int>(k));
-    at[b < 0 ? nb : b].push_back(static_cast<int>(k));
+    (driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
   }
-  order->clear();
+  // Kruskal: union–find over the bodies and the ground (node nb).
+  std::vector<int> component(nb + 1);
+  for (int i = 0; i <= nb; ++i) component[i] = i;
+  auto find = [&](int i) {
+    while (component[i] != i) i = component[i] = component[component[i]];
+    return i;
+  };
   cuts->clear();
+  std::vector<std::vector<int>> at(nb + 1);  // the tree's joints at each body (and at the ground)
+  for (const std::vector<int>* list : {&driven, &plain})
+    for (int k : *list) {
+      const JointDescription& j = scene.joints[k];
+      const int a = body(j.main), b = body(j.secondary);
+      const int ra = find(a < 0 ? nb : a), rb = find(b < 0 ? nb : b);
+      if (ra == rb) {
+        // A loop: this joint is imposed with multipliers on the tree's poses.
+        if (list == &driven) {
+          *why = label(scene, k) + " closes a loop whose every joint carries a force element or prescribed "
+                                   "motion (this one " + driveOf(scene, j) +
+                 "): a loop-closing joint has no coordinate of its own in joint coordinates";
+          return false;
+        }
+        cuts->push_back(k);
+        continue;
+      }
+      component[ra] = rb;
+      at[a < 0 ? nb : a].push_back(k);
+      at[b < 0 ? nb : b].push_back(k);
+    }
+  for (std::vector<int>& joints : at) std::sort(joints.begin(), joints.end());  // scene order
+  order->clear();
   joint_of->assign(nb, -1);
   parent_of->assign(nb, -1);
   std::vector<bool> placed(nb, false), used(scene.joints.size(), false);
@@ -103,18 +134,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       used[k] = true;
       const JointDescription& j = scene.joints[k];
       const int a = body(j.main), b = body(j.secondary);
-      const int c = a == p ? b : a;
-      if (c < 0 || placed[c]) {
-        // A loop: this joint is imposed with multipliers on the tree's poses.
-        const std::string drive = driveOf(scene, j);
-        if (!drive.empty()) {
-          *why = label(scene, k) + " closes a loop and carries " + drive +
-                 ": a loop-closing joint has no coordinate of its own in joint coordinates";
-          return false;
-        }
-        cuts->push_back(static_cast<int>(k));
-        continue;
-      }
+      const int c = a == p ? b : a;  // a tree joint: c is not placed yet
       // A rotation-only child turns about its held centre of mass: its joint
       // may constrain only rotations (the maximal formulation's point rows
       // are then identically satisfied: both sides fixed points).
@@ -259,35 +279,29 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   model.scalar_coordinates = nq;
   model.rotations = ns;
   // The loop-closing joints: the maximal formulation's constraints, assembled
-  // at the scene's poses (the tree reproduces them at y0).
+  // at the scene's poses (the tree reproduces them at y0), and the gear rows.
+  auto tree = [&](int scene_body) { return scene_body < 0 ? articulated::kGround : model.tree_index[scene_body]; };
+  auto pose = [&](int i) {
+    return i < 0 ? constraints::groundPose<double>()
+                 : constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()), scene.bodies[i].position};
+  };
   for (int k : cuts) {
     const JointDescription& j = scene.joints[k];
+    articulated::ArticulatedClosure c;
     if (j.isGear()) {
       const multibody::Gear g = sceneGear(scene, static_cast<std::size_t>(k));
-      articulated::ArticulatedClosure c;
       c.gear = g.constraint;
-      for (int s = 0; s < 4; ++s) c.bodies[s] = g.bodies[s] < 0 ? articulated::kGround : model.tree_index[g.bodies[s]];
-      c.scene_joint = k;
-      c.label = label(scene, static_cast<std::size_t>(k));
-      c.row_begin = model.closure_rows;
-      model.closure_rows += c.rows();
-      model.closures.push_back(std::move(c));
-      continue;
+      for (int s = 0; s < 4; ++s) c.bodies[s] = tree(g.bodies[s]);
+    } else {
+      const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
+      const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
+      c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), pose(a), pose(b));
+      c.bodies[0] = tree(a);
+      c.bodies[1] = tree(b);
+      c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};
     }
-    const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
-    const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
-    auto pose = [&](int i) {
-      return i < 0 ? constraints::groundPose<double>()
-                   : constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()),
-                                                   scene.bodies[i].position};
-    };
-    articulated::ArticulatedClosure c;
-    c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), pose(a), pose(b));
-    c.bodies[0] = a < 0 ? articulated::kGround : model.tree_index[a];
-    c.bodies[1] = b < 0 ? articulated::kGround : model.tree_index[b];
     c.scene_joint = k;
     c.label = label(scene, static_cast<std::size_t>(k));
-    c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};
     c.row_begin = model.closure_rows;
     model.closure_rows += c.rows();
     model.closures.push_back(std::move(c));

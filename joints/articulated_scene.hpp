@@ -8,10 +8,11 @@
 /// What the joint formulation covers: scenes whose revolute, universal and
 /// spherical joints connect every body to the ground, with the joints'
 /// springs, dashpots, moments and prescribed motion, gravity and loads from a
-/// program. The bodies are placed breadth first from the ground (joints in
-/// scene order); a joint met between two bodies already placed closes a loop
-/// and is kept as constraint rows with multipliers (ArticulatedClosure; it
-/// may carry no force element or prescribed motion, having no coordinate).
+/// program. The tree's joints are a spanning forest chosen with the joints
+/// that carry force elements or prescribed motion first; every other joint
+/// closes a loop and is kept as constraint rows with multipliers
+/// (ArticulatedClosure; it has no coordinate, so a loop whose every joint
+/// carries a force element or prescribed motion is refused).
 /// Gear-type joints (gear, rack and pinion, differential) are kept as their
 /// velocity rows with multipliers too. Bodies not connected to the ground
 /// (nor rotation-only) have no joint coordinate to live on: those scenes are

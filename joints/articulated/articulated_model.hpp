@@ -96,8 +96,9 @@ struct ArticulatedBody {
 /// imposed with multipliers, as a constraint of the maximal formulation
 /// (joints/constraints/) on the poses of its two bodies, which the tree
 /// gives as functions of the joint coordinates (articulated_closures.cpp).
-/// It carries no force element and no prescribed motion (the assembly
-/// refuses those: they would act on a coordinate the state does not have).
+/// It carries no force element and no prescribed motion (the assembly puts
+/// the joints that do in the tree, and refuses a loop of only such joints:
+/// they would act on a coordinate the state does not have).
 struct ArticulatedClosure {
   multibody::JointConstraint constraint;  ///< a closing joint's rows (if not a gear)
   /// Gear-type rows (gear, rack and pinion, differential; joints/constraints/

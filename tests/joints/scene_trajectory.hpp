@@ -42,11 +42,13 @@ struct Trajectory {
   }
 };
 
+/// Every `every`-th row of a run in `formulation` ("" for the default).
 inline Trajectory simulate(const SceneDescription& scene, const std::string& integrator, double dt, double t_end,
-                    int every = 1) {
+                           int every = 1, const std::string& formulation = "") {
   const Simulation sim(scene);
   SimulationOptions o;
   o.integrator = integrator;
+  o.formulation = formulation;
   o.dt = dt;
   o.t_end = t_end;
   o.every = every;
