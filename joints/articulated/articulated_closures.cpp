@@ -31,19 +31,33 @@ namespace {
 /// is a loop within 1e-10 of a singular configuration.
 constexpr double kClosureRankTolerance = 1e-10;
 
+/// The force W_bᵀ λ of a closing joint's rows on one body, a spatial force
+/// (n_O, f) about the origin, from the body's block J = [J_v J_ω] on (v_c, ω
+/// body), its rotation R and centre of mass c: f = J_vᵀ λ, n_O = R J_ωᵀ λ + c × f.
+template <typename Block, typename Lambda>
+void closureWrench(const Block& J, const Lambda& lambda, const Eigen::Matrix3d& R, const Eigen::Vector3d& c,
+                   Eigen::Vector3d* n, Eigen::Vector3d* f) {
+  *f = J.template leftCols<3>().transpose() * lambda;
+  *n = R * (J.template rightCols<3>().transpose() * lambda) + cross3(c, *f);
+}
+
 }  // namespace
+
+constraints::BodyPose<double> ArticulatedSystem::closurePose(int i) const {
+  return i == kGround ? constraints::groundPose<double>()
+                      : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
+}
+
+constraints::BodyVelocity<double> ArticulatedSystem::closureVelocity(int i) const {
+  return i == kGround ? constraints::groundVelocity<double>()
+                      : constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)};
+}
 
 template <typename F>
 void ArticulatedSystem::forEachClosure(ClosureLevel level, F&& f) const {
-  auto pose = [&](int i) {
-    return i == kGround ? constraints::groundPose<double>()
-                        : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
-  };
-  auto velocity = [&](int i) {
-    const bool moving = i != kGround && (level == ClosureLevel::kVelocity || level == ClosureLevel::kAcceleration);
-    return moving ? constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)}
-                  : constraints::groundVelocity<double>();
-  };
+  const bool moving = level == ClosureLevel::kVelocity || level == ClosureLevel::kAcceleration;
+  auto pose = [&](int i) { return closurePose(i); };
+  auto velocity = [&](int i) { return moving ? closureVelocity(i) : constraints::groundVelocity<double>(); };
   for (const ArticulatedClosure& closure : model_.closures) {
     if (closure.gear) {
       // Gear rows: velocity level only (B u = 0; gear.hpp), no position rows.
@@ -240,10 +254,8 @@ void ArticulatedSystem::applyClosureForces() const {
                      const int i = bodies[side];
                      if (i == kGround) continue;
                      BodyData& d = data_[i];
-                     // Wᵀ λ = (n_O, f): f = J_vᵀ λ, n_O = R J_ωᵀ λ + c × f.
-                     const Eigen::Vector3d f = J[side].template leftCols<3>().transpose() * lambda;
-                     const Eigen::Vector3d n =
-                         d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
+                     Eigen::Vector3d n, f;
+                     closureWrench(J[side], lambda, d.R, d.c, &n, &f);
                      d.pA.head<3>() -= n;
                      d.pA.tail<3>() -= f;
                    }
@@ -328,17 +340,9 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
     const ArticulatedClosure& closure = model_.closures[c];
     if (closure.gear) continue;  // gear rows have no columns
     const std::array<int, 2> bodies{{closure.bodies[0], closure.bodies[1]}};
-    std::array<constraints::BodyPose<double>, 2> pose;
-    std::array<constraints::BodyVelocity<double>, 2> vel;
-    for (int side = 0; side < 2; ++side) {
-      const int i = bodies[side];
-      if (i == kGround) {
-        pose[side] = constraints::groundPose<double>();
-        continue;
-      }
-      pose[side] = constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
-      vel[side] = constraints::BodyVelocity<double>{velocityOfCentre(i), angularVelocityBody(i)};
-    }
+    const std::array<constraints::BodyPose<double>, 2> pose{{closurePose(bodies[0]), closurePose(bodies[1])}};
+    const std::array<constraints::BodyVelocity<double>, 2> vel{
+        {closureVelocity(bodies[0]), closureVelocity(bodies[1])}};
     if (t <= 0.0) closure_phi_[c] = closure.initial_angles;
     ArticulatedJointOutput& o = (*out)[closure.scene_joint];
     std::array<Eigen::Vector3d, 2> axes;
@@ -370,9 +374,8 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
         [&](const auto& joint) {
           constexpr int R = std::decay_t<decltype(joint)>::kRows;
           const auto J = joint.jacobians(pose[0], pose[1]);
-          const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
-          f = J[side].template leftCols<3>().transpose() * lambda;
-          n = d.R * (J[side].template rightCols<3>().transpose() * lambda) + cross3(d.c, f);
+          closureWrench(J[side], Eigen::Matrix<double, R, 1>(closure_lambda_.segment<R>(closure.row_begin)), d.R,
+                        d.c, &n, &f);
         },
         closure.constraint);
     const double sign = use_main ? 1.0 : -1.0;

@@ -264,6 +264,10 @@ class ArticulatedSystem {
   /// 0, or the convective term c (Φ̈ = J q̈ + c).
   template <typename F>
   void forEachClosure(ClosureLevel level, F&& f) const;
+  /// Tree body i's pose and velocity (v_c world, ω body) at the kinematics in
+  /// data_, as the constraint library takes them (kGround: at rest at O).
+  constraints::BodyPose<double> closurePose(int i) const;
+  constraints::BodyVelocity<double> closureVelocity(int i) const;
   void closureTerms(ClosureLevel level) const;
   /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve(), and the
   /// rank-revealing factorization of G Y; then closure_lambda_ solves

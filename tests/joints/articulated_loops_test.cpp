@@ -144,11 +144,7 @@ TEST(ArticulatedLoops, AccelerometersSeeTheLoopsForces) {
   const Simulation sim(fourBar());
   std::map<std::string, std::vector<std::vector<double>>> rows;
   for (const char* formulation : {"joint", "maximal"}) {
-    SimulationOptions o;
-    o.integrator = "rkmk4";
-    o.formulation = formulation;
-    o.dt = 2e-4;
-    o.t_end = 0.5;
+    SimulationOptions o = scene_testing::runOptions("rkmk4", formulation, 2e-4, 0.5);
     o.every = 500;
     o.imu = true;
     const SimulationResult r = sim.run(o, [&](const std::vector<double>& row) { rows[formulation].push_back(row); });

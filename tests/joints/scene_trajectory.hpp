@@ -42,15 +42,22 @@ struct Trajectory {
   }
 };
 
-/// Every `every`-th row of a run in `formulation` ("" for the default).
-inline Trajectory simulate(const SceneDescription& scene, const std::string& integrator, double dt, double t_end,
-                           int every = 1, const std::string& formulation = "") {
-  const Simulation sim(scene);
+/// The options of a run of `integrator` in `formulation` ("" for the default).
+inline SimulationOptions runOptions(const std::string& integrator, const std::string& formulation, double dt,
+                                    double t_end) {
   SimulationOptions o;
   o.integrator = integrator;
   o.formulation = formulation;
   o.dt = dt;
   o.t_end = t_end;
+  return o;
+}
+
+/// Every `every`-th row of a run in `formulation` ("" for the default).
+inline Trajectory simulate(const SceneDescription& scene, const std::string& integrator, double dt, double t_end,
+                           int every = 1, const std::string& formulation = "") {
+  const Simulation sim(scene);
+  SimulationOptions o = runOptions(integrator, formulation, dt, t_end);
   o.every = every;
   Trajectory out;
   out.columns = sim.columns();
@@ -72,11 +79,7 @@ struct RunEnds {
 
 inline RunEnds runEnds(const Simulation& sim, const std::string& formulation, const std::string& integrator,
                        double dt, double t_end) {
-  SimulationOptions o;
-  o.integrator = integrator;
-  o.formulation = formulation;
-  o.dt = dt;
-  o.t_end = t_end;
+  const SimulationOptions o = runOptions(integrator, formulation, dt, t_end);
   RunEnds r;
   r.columns = sim.columns();
   r.result = sim.run(o, [&](const std::vector<double>& row) {
