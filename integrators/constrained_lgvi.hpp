@@ -8,7 +8,9 @@
 /// ## The scheme
 /// Per body: the rotational discrete Lagrangian of Lee, Leok & McClamroch
 /// ("Lie group variational integrators for the full body problem", CMAME 196
-/// (2007) 2907–2924; integrators/lgvi.hpp) and the trapezoidal one for the
+/// (2007) 2907–2924; integrators/lgvi.hpp, whose per-body step lgviKickDrift
+/// and lgviEndKick — the free body's LGVI — this stepper runs for every body,
+/// the joints' reactions entering as impulses) and the trapezoidal one for the
 /// centre of mass; the constraints enter through the augmented discrete
 /// Lagrangian (Marsden & West, Acta Numerica 2001, §3.5; Leyendecker, Marsden
 /// & Ortiz, "Variational integrators for constrained dynamical systems", ZAMM
@@ -220,8 +222,7 @@ class ConstrainedLgviStepper {
   struct Body {
     double mass = 0.0;
     Eigen::Matrix3d J, J_inv;
-    Eigen::Vector3d Pi_plus;      ///< Π⁺
-    Eigen::Quaterniond F;         ///< the relative rotation R_k⁻¹ R_{k+1}
+    LgviBodyDrift<double> drift;  ///< Π⁺ and the relative rotation F = R_k⁻¹ R_{k+1}
   };
 
   /// One step's work: the iteration over λ and the end kick. Its vectors,
@@ -308,9 +309,9 @@ class ConstrainedLgviStepper {
         const Body& b = bodies_[i];
         const int o = sys().dofBegin(i), r = sys().rotationOnly(i) ? 0 : 3;
         if (r) u_star.segment<3>(o) = xi_.segment<3>(o) + (0.5 * h_ / b.mass) * F1.segment<3>(o);
-        // Π_{k+1} = Fᵀ Π⁺ + (h/2) τ_{k+1}.
-        const Eigen::Vector3d Pi = b.F.conjugate() * b.Pi_plus + (0.5 * h_) * F1.segment<3>(o + r);
-        u_star.segment<3>(o + r) = detail::solveInertia<double>(b.J, b.J_inv, Pi);
+        // ω* = J⁻¹ (Fᵀ Π⁺ + (h/2) τ_{k+1}) (the projection adds the reactions).
+        const Eigen::Vector3d impulse = (0.5 * h_) * F1.segment<3>(o + r);
+        u_star.segment<3>(o + r) = lgviEndKick(b.J, b.J_inv, b.drift, &impulse);
       }
       if (!sys().hasConstraints()) {
         y1.setVelocities(u_star);
@@ -409,24 +410,23 @@ class ConstrainedLgviStepper {
         xi_.segment<3>(o) = v_plus;
         d_.template segment<3>(o) = h_ * v_plus;
       }
-      b.Pi_plus = b.J * u_.segment<3>(o + r) + (0.5 * h_) * impulse_.segment<3>(o + r);
-      const Eigen::Vector3d rhs = h_ * b.Pi_plus;
-      const LgviSolution<double> sol = solveLgviEquation<double>(b.J, b.J_inv, rhs, opt_->rotation);
+      const Eigen::Vector3d omega = u_.segment<3>(o + r), impulse = (0.5 * h_) * impulse_.segment<3>(o + r);
+      lgviKickDrift(b.J, b.J_inv, omega, &impulse, h_, opt_->rotation, &b.drift);
+      const LgviSolution<double>& sol = b.drift.solution;
       if (!sol.converged || !sol.f.allFinite()) {
         rep->fail("constrained LGVI: a body's rotation update did not converge", sol.residual);
         std::ostringstream s;
         s << "body " << i << ": |G(f)| = " << sol.residual << " after " << sol.iterations
-          << " Newton iterations, h|J^-1 Pi+| = " << (b.J_inv * rhs).norm()
+          << " Newton iterations, h|J^-1 Pi+| = " << (b.J_inv * (h_ * b.drift.Pi_plus)).norm()
           << (opt_->rotation.map == LgviMap::kExponential
                   ? " (the exponential-map LGVI equation has no solution for h|omega| >= 1 about a principal axis)"
                   : "");
         rep->detail = s.str();
         return false;
       }
-      b.F = Eigen::Quaterniond(1.0 + sol.w_minus_one, sol.vec.x(), sol.vec.y(), sol.vec.z());
       const Eigen::Vector3d dtheta = opt_->rotation.map == LgviMap::kExponential
                                          ? sol.f
-                                         : Eigen::Vector3d(SO3d(b.F.normalized()).log());
+                                         : Eigen::Vector3d(SO3d(b.drift.F().normalized()).log());
       d_.template segment<3>(o + r) = dtheta;
       xi_.segment<3>(o + r) = dtheta / h_;
       return true;

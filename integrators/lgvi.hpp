@@ -374,6 +374,45 @@ LgviSolution<T> solveLgviEquation(const Matrix3<T>& J, const Matrix3<T>& J_inv, 
   return detail::solveLgviNewton(&equation, J_inv, rhs, options);
 }
 
+/// One body's rotational step of the LGVI (Lee, Leok & McClamroch 2007,
+/// eqs. (1)–(2)), the method's one implementation: LgviStepper steps a free
+/// body with it, and the multibody RATTLE (integrators/constrained_lgvi.hpp)
+/// every body of a mechanism, the joints' reactions entering as impulses.
+///   kick    Π⁺ = J ω_k + I_k,            I_k = (h/2) τ_k  (− (h/2) G_θᵀλ),
+///   drift   h Π⁺^ = F J_d − J_d Fᵀ       (F = F_k, the relative rotation),
+///   kick    ω_{k+1} = J⁻¹ (F_kᵀ Π⁺ + I_{k+1}),  I_{k+1} = (h/2) τ_{k+1} (− (h/2) G_θᵀμ).
+/// R_{k+1} = R_k F_k is the caller's (a quaternion product near the identity
+/// for a free body, the state's ⊕ of log F_k in a mechanism).
+template <typename T>
+struct LgviBodyDrift {
+  Vector3<T> Pi_plus;        ///< Π⁺, the body-frame momentum after the first kick
+  LgviSolution<T> solution;  ///< F_k = (1 + w_minus_one, vec) and the Newton statistics
+
+  Eigen::Quaternion<T> F() const {
+    return Eigen::Quaternion<T>(T(1) + solution.w_minus_one, solution.vec.x(), solution.vec.y(), solution.vec.z());
+  }
+};
+
+/// The first kick and the drift (see LgviBodyDrift) from the body rate ω_k
+/// and the half-step impulse I_k (body frame; null: none).
+template <typename T>
+void lgviKickDrift(const Matrix3<T>& J, const Matrix3<T>& J_inv, const Vector3<T>& omega, const Vector3<T>* impulse,
+                   const T& h, const LgviOptions& options, LgviBodyDrift<T>* out) {
+  out->Pi_plus.noalias() = J * omega;
+  if (impulse) out->Pi_plus += *impulse;
+  out->solution = solveLgviEquation(J, J_inv, Vector3<T>(h * out->Pi_plus), options);
+}
+
+/// The second kick: ω_{k+1} = J⁻¹ (F_kᵀ Π⁺ + I_{k+1}) (see LgviBodyDrift;
+/// impulse null: none).
+template <typename T>
+Vector3<T> lgviEndKick(const Matrix3<T>& J, const Matrix3<T>& J_inv, const LgviBodyDrift<T>& drift,
+                       const Vector3<T>* impulse) {
+  Vector3<T> Pi = drift.F().conjugate() * drift.Pi_plus;
+  if (impulse) Pi += *impulse;
+  return detail::solveInertia(J, J_inv, Pi);
+}
+
 /// The LGVI stepper for RotorState and FreeBodyState, on any System with
 /// `inertia()`, `inertiaInverse()`, `hasExternalTorque()`,
 /// `externalTorque(t, R)` (body frame) and, for FreeBodyState, `mass()` and
@@ -401,13 +440,15 @@ class LgviStepper {
     const Matrix3<T>& J_inv = system.inertiaInverse();
     const bool torqued = system.hasExternalTorque();
 
-    // Π_k + (h/2) M_k, and the right-hand side r = h Π_k + (h²/2) M_k of (1).
-    Vector3<T> momentum = J * y.omega;
-    if (torqued) momentum += (T(0.5) * h) * system.externalTorque(t, y.R);
-    const Vector3<T> rhs = h * momentum;
-
-    // F_k = 1 + (dw, dv) as a quaternion.
-    const LgviSolution<T> solution = solveLgviEquation(J, J_inv, rhs, options_);
+    // Π⁺ = Π_k + (h/2) M_k; F_k from (1), whose right-hand side is h Π⁺.
+    LgviBodyDrift<T> drift;
+    if (torqued) {
+      const Vector3<T> half_torque = (T(0.5) * h) * system.externalTorque(t, y.R);
+      lgviKickDrift(J, J_inv, y.omega, &half_torque, h, options_, &drift);
+    } else {
+      lgviKickDrift<T>(J, J_inv, y.omega, nullptr, h, options_, &drift);
+    }
+    const LgviSolution<T>& solution = drift.solution;
     if (report) {
       report->newton_iterations = solution.iterations;
       report->residual = solution.residual;
@@ -418,7 +459,7 @@ class LgviStepper {
         std::ostringstream why;
         why << "|G| = " << solution.residual << " above the tolerance " << options_.tolerance << " x |h Pi| = "
             << solution.threshold << " after " << solution.iterations << " Newton iterations; h|omega| = "
-            << scalarValue((J_inv * rhs).norm())
+            << scalarValue((J_inv * (h * drift.Pi_plus)).norm())
             << (options_.map == LgviMap::kExponential
                     ? " (the exponential-map equation has no solution for h|omega| >= 1 about a principal axis: "
                       "use a smaller step or --options cayley=1)"
@@ -426,16 +467,16 @@ class LgviStepper {
         report->detail = why.str();
       }
     }
-    const T& dw = solution.w_minus_one;
-    const Vector3<T>& dv = solution.vec;
 
     State out = y;
-    out.R = SO3<T>(detail::composeNearIdentity(y.R.quaternion(), dw, dv));
-    // Π_{k+1} = F_kᵀ (Π_k + (h/2) M_k) + (h/2) M_{k+1}.
-    const SO3<T> F(Eigen::Quaternion<T>(T(1) + dw, dv.x(), dv.y(), dv.z()));
-    Vector3<T> momentum_next = F.inverse() * momentum;
-    if (torqued) momentum_next += (T(0.5) * h) * system.externalTorque(t + h, out.R);
-    out.omega = detail::solveInertia(J, J_inv, momentum_next);
+    out.R = SO3<T>(detail::composeNearIdentity(y.R.quaternion(), solution.w_minus_one, solution.vec));
+    // Π_{k+1} = F_kᵀ Π⁺ + (h/2) M_{k+1}.
+    if (torqued) {
+      const Vector3<T> half_torque_end = (T(0.5) * h) * system.externalTorque(t + h, out.R);
+      out.omega = lgviEndKick(J, J_inv, drift, &half_torque_end);
+    } else {
+      out.omega = lgviEndKick<T>(J, J_inv, drift, nullptr);
+    }
     detail::velocityVerletTranslation(system, t, y, h, &out);
     return out;
   }
