@@ -307,9 +307,8 @@ class ConstrainedGeneralizedAlphaStepper {
     // Stabilized: ν, one per position row (none without constraints).
     const bool stabilized = options_.index == 2 && m > 0;
     const int mnu = stabilized ? mp : 0;
-    const double am = c_.alpha_m, af = c_.alpha_f;
-    const double beta_p = (1.0 - am) / (c_.beta * (1.0 - af) * h * h);
-    const double gamma_p = c_.gamma / (c_.beta * h);
+    const double beta_p = c_.betaPrime(h);
+    const double gamma_p = c_.gammaPrime(h);
     const double t1 = t + h;
     if (stabilized) assembly_.startStep(t, y);
 
@@ -329,11 +328,11 @@ class ConstrainedGeneralizedAlphaStepper {
     udot1 = udot_;
     lambda1 = lambda_;
     nu1.setZero(mnu);
-    a1 = (af * udot_ - am * a_ + (1.0 - af) * udot1) / (1.0 - am);
-    u1 = u0 + (h * (1.0 - c_.gamma)) * a_ + (h * c_.gamma) * a1;
+    c_.auxiliary(udot_, a_, udot1, &a1);
     // hdq: the increment h Δq_n of (G1) without the ν correction; dq_total
     // with it (the increment q_{n+1} = q_n exp(dq_total) is taken with).
-    hdq = h * (u0 + (h * (0.5 - c_.beta)) * a_ + (h * c_.beta) * a1);
+    c_.advance(u0, a_, a1, h, &u1, &hdq);
+    hdq *= h;
     dq_total = hdq;
     Assembly::advanceInto(y, dq_total, u1, &y1);
 
@@ -444,7 +443,7 @@ class ConstrainedGeneralizedAlphaStepper {
     last_report_.newton_iterations = iterations;
     last_report_.residual = force;
     if (converged) {
-      a_ = (af * udot_ - am * a_ + (1.0 - af) * udot1) / (1.0 - am);
+      c_.auxiliary(udot_, a_, udot1, &a_);
       udot_ = udot1;
       lambda_ = lambda1;
       last_ = y1;

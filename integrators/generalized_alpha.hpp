@@ -136,6 +136,41 @@ struct GeneralizedAlphaCoefficients {
   double gamma = 0.5;
   double beta = 0.25;
 
+  /// The method's recurrences, written once for GeneralizedAlphaStepper and
+  /// ConstrainedGeneralizedAlphaStepper (Brüls, Cardona & Arnold 2012,
+  /// Algorithm 1; vectors of any size and scalar):
+  ///   (G3)  a_{n+1} = (α_f v̇_n − α_m a_n + (1 − α_f) v̇_{n+1}) / (1 − α_m),
+  ///   (G2)  v_{n+1} = v_n + h ((1 − γ) a_n + γ a_{n+1}),
+  ///   (G1)  Δq_n = v_n + h ((½ − β) a_n + β a_{n+1}),  q_{n+1} = q_n exp(hΔq_n).
+  /// (Coefficient-wise: *a_next may be a_n; nothing is allocated once it has
+  /// its size. Without vdot_next: the part of a_{n+1} that does not depend on it.)
+  template <class V>
+  void auxiliary(const V& vdot_n, const V& a_n, const V& vdot_next, V* a_next) const {
+    using S = typename V::Scalar;
+    *a_next = S(alpha_f / (1.0 - alpha_m)) * vdot_n - S(alpha_m / (1.0 - alpha_m)) * a_n +
+              S((1.0 - alpha_f) / (1.0 - alpha_m)) * vdot_next;
+  }
+  template <class V>
+  void auxiliary(const V& vdot_n, const V& a_n, V* a_next) const {
+    using S = typename V::Scalar;
+    *a_next = S(alpha_f / (1.0 - alpha_m)) * vdot_n - S(alpha_m / (1.0 - alpha_m)) * a_n;
+  }
+  template <class V, class S>
+  void advance(const V& v_n, const V& a_n, const V& a_next, const S& h, V* v_next, V* dq) const {
+    *v_next = v_n + (h * S(1.0 - gamma)) * a_n + (h * S(gamma)) * a_next;
+    *dq = v_n + (h * S(0.5 - beta)) * a_n + (h * S(beta)) * a_next;
+  }
+  /// How a Newton correction ΔΔ of hΔq moves the unknowns: u̇_{n+1} by
+  /// β' ΔΔ and v_{n+1} by γ' ΔΔ, β' = (1 − α_m)/(h² β (1 − α_f)), γ' = γ/(h β).
+  template <class S>
+  S betaPrime(const S& h) const {
+    return S((1.0 - alpha_m) / (beta * (1.0 - alpha_f))) / (h * h);
+  }
+  template <class S>
+  S gammaPrime(const S& h) const {
+    return S(gamma / beta) / h;
+  }
+
   static GeneralizedAlphaCoefficients fromRhoInf(double rho_inf) {
     GeneralizedAlphaCoefficients c;
     c.alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
@@ -297,17 +332,16 @@ class GeneralizedAlphaStepper {
     if (!initialized_ || !Geometry::identical(y, last_)) resetWith(system, t, y, w);
     if constexpr (kDynamic) w.resize(Geometry::dofs(y));
 
-    const double am = c_.alpha_m, af = c_.alpha_f;
-    const Scalar beta_p = Scalar((1.0 - am) / (c_.beta * (1.0 - af))) / (h * h);
-    const Scalar gamma_p = Scalar(c_.gamma / c_.beta) / h;
+    const Scalar beta_p = c_.betaPrime(h);
+    const Scalar gamma_p = c_.gammaPrime(h);
     const Scalar t1 = t + h;
     w.v0 = Geometry::velocity(y);
 
-    // Predictor.
+    // Predictor: v̇_{n+1} = 0 (the Newton corrections build it up), then
+    // (G3), (G2), (G1); a_pred is a_{n+1}'s part without v̇_{n+1}.
     w.vdot1.setZero();
-    w.a_pred = Scalar(af / (1.0 - am)) * vdot_ - Scalar(am / (1.0 - am)) * a_;
-    w.v1 = w.v0 + (h * Scalar(1.0 - c_.gamma)) * a_ + (h * Scalar(c_.gamma)) * w.a_pred;
-    w.dq = w.v0 + (h * Scalar(0.5 - c_.beta)) * a_ + (h * Scalar(c_.beta)) * w.a_pred;
+    c_.auxiliary(vdot_, a_, &w.a_pred);
+    c_.advance(w.v0, a_, w.a_pred, h, &w.v1, &w.dq);
     w.hdq = h * w.dq;
     advance(y, w.hdq, w.v1, &w.y1);
 
@@ -357,7 +391,7 @@ class GeneralizedAlphaStepper {
     last_report_.newton_iterations = iterations;
     last_report_.residual = residual;
     if (converged) {
-      a_ = w.a_pred + Scalar((1.0 - af) / (1.0 - am)) * w.vdot1;
+      a_ = w.a_pred + Scalar((1.0 - c_.alpha_f) / (1.0 - c_.alpha_m)) * w.vdot1;
       vdot_ = w.vdot1;
       last_ = w.y1;
     } else {
