@@ -9,7 +9,9 @@
 /// with the constraint rows; parameters of Arnold & Brüls 2007, Multibody
 /// Syst. Dyn. 18, 185–202), with a sparse Newton solve whose cost grows
 /// linearly along chains. The unconstrained method is
-/// integrators/generalized_alpha.hpp; its α_m, α_f, β, γ (from ρ∞) are reused.
+/// integrators/generalized_alpha.hpp; its coefficients α_m, α_f, β, γ (from
+/// ρ∞) and recurrences (G1)–(G3) (GeneralizedAlphaCoefficients) are this
+/// stepper's too: only the Newton solve differs.
 ///
 /// ## Equations (BCA 2012, Sec. 2; lieflow's right trivialization)
 ///   (E1)  M(q) u̇ + g(q, u, t) + Jᵀ(q) λ = 0,     q̇ = q · u,
