@@ -40,13 +40,13 @@ void MultibodySystem::positionResidual(double t, const State& y, Eigen::VectorXd
 
 double MultibodySystem::constraintError(double t, const State& y) const {
   if (pos_groups_.empty()) return 0.0;
-  positionResidual(t, y, &residual_);
-  return residual_.lpNorm<Eigen::Infinity>();
+  positionResidual(t, y, &data_.residual);
+  return data_.residual.lpNorm<Eigen::Infinity>();
 }
 
 double MultibodySystem::velocityConstraintError(double t, const State& y) const {
   if (!hasConstraints()) return 0.0;
-  SchurSolver& S = all_;
+  SchurSolver& S = data_.all;
   Eigen::VectorXd b(S.rows());  // fillGroups writes segments: size it first
   fillGroups(t, y, S, hasGears(), nullptr, &b, nullptr);
   Eigen::VectorXd Ju;
@@ -56,10 +56,10 @@ double MultibodySystem::velocityConstraintError(double t, const State& y) const 
 
 void MultibodySystem::constraintJacobians(double t, const State& y, Eigen::VectorXd* phi,
                                           Eigen::VectorXd* b) const {
-  // Position rows come first in all_, so Φ fills the head of the row range.
+  // Position rows come first in data_.all, so Φ fills the head of the row range.
   if (phi) phi->resize(positionRowCount());
-  if (b) b->resize(all_.rows());
-  fillGroups(t, y, all_, hasGears(), phi, b, nullptr);
+  if (b) b->resize(data_.all.rows());
+  fillGroups(t, y, data_.all, hasGears(), phi, b, nullptr);
 }
 
 void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) const {
@@ -86,18 +86,18 @@ void MultibodySystem::gearVelocityResidual(const State& y, Eigen::VectorXd* r) c
 
 bool MultibodySystem::projectVelocities(double t, State* y, std::string* why) const {
   if (!hasConstraints()) return true;
-  Eigen::VectorXd& b = b_;
+  Eigen::VectorXd& b = data_.b;
   if (!factorConstraints(t, *y, RowSet::kAll, why, &b, nullptr)) return false;
-  SchurSolver& S = all_;
-  Eigen::VectorXd& u = u_;
+  SchurSolver& S = data_.all;
+  Eigen::VectorXd& u = data_.u;
   y->velocitiesInto(&u);
-  S.multiplyJ(u, rhs_);
-  rhs_ -= b;
-  S.solve(rhs_, lam_);
-  tmp_.setZero(n_);
-  S.addJTranspose(lam_, 1.0, tmp_);
-  S.applyInverseMass(tmp_, y_);
-  u -= y_;
+  S.multiplyJ(u, data_.rhs);
+  data_.rhs -= b;
+  S.solve(data_.rhs, data_.lam);
+  data_.tmp.setZero(n_);
+  S.addJTranspose(data_.lam, 1.0, data_.tmp);
+  S.applyInverseMass(data_.tmp, data_.y);
+  u -= data_.y;
   y->setVelocities(u);
   return true;
 }
@@ -114,7 +114,7 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
   if (iterations) *iterations = 0;
   if (pos_groups_.empty()) return true;
   const double tolerance = achievablePositionTolerance(*y, requested_tolerance);
-  Eigen::VectorXd& phi = phi_;
+  Eigen::VectorXd& phi = data_.phi;
   positionResidual(t, *y, &phi);
   if (phi.lpNorm<Eigen::Infinity>() <= tolerance) return true;
   SchurSolver& S = schur(RowSet::kPosition);
@@ -124,20 +124,20 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
   // distance between the two. It is kept while each iteration reduces max |Φ|
   // by kStaleContraction; otherwise y goes back to where that iteration
   // started and S is factored there.
-  bool fresh = !(factor_cache_.valid && factor_cache_.solver == &S);
+  bool fresh = !(data_.factor_cache.valid && data_.factor_cache.solver == &S);
   if (fresh && !factorConstraints(t, *y, RowSet::kPosition, why)) return false;
-  Eigen::VectorXd& d = projection_step_;
+  Eigen::VectorXd& d = data_.projection_step;
   d.setZero(2 * n_);
   double previous = phi.lpNorm<Eigen::Infinity>();
   int fresh_iterations = 0;
   for (int it = 1; it <= max_iterations; ++it) {
-    if (!fresh) projection_backup_ = *y;
+    if (!fresh) data_.projection_backup = *y;
     // Δq = −M⁻¹ Jᵀ S⁻¹ Φ (simplified Newton: J and S held fixed).
-    S.solve(phi, lam_);
-    tmp_.setZero(n_);
-    S.addJTranspose(lam_, -1.0, tmp_);
-    S.applyInverseMass(tmp_, y_);
-    d.head(n_) = y_;
+    S.solve(phi, data_.lam);
+    data_.tmp.setZero(n_);
+    S.addJTranspose(data_.lam, -1.0, data_.tmp);
+    S.applyInverseMass(data_.tmp, data_.y);
+    d.head(n_) = data_.y;
     y->rplusInPlace(d);
     if (iterations) *iterations = it;
     positionResidual(t, *y, &phi);
@@ -148,7 +148,7 @@ bool MultibodySystem::projectPositions(double t, State* y, double requested_tole
         previous = err;
         continue;
       }
-      *y = projection_backup_;
+      *y = data_.projection_backup;
       positionResidual(t, *y, &phi);
       if (!factorConstraints(t, *y, RowSet::kPosition, why)) return false;
       fresh = true;

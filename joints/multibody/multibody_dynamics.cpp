@@ -51,7 +51,7 @@ void MultibodySystem::forces(double t, const State& y, bool gyroscopic, Eigen::V
 void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool gears, Eigen::VectorXd* phi,
                                  Eigen::VectorXd* b, Eigen::VectorXd* c, bool jacobians) const {
   // New blocks no longer match the factorization held by the solvers.
-  if (jacobians) factor_cache_.valid = false;
+  if (jacobians) data_.factor_cache.valid = false;
   const int nj = static_cast<int>(model_.joints.size());
   int g = 0;
   for (int k = 0; k < nj; ++k, ++g) {
@@ -138,10 +138,10 @@ void MultibodySystem::fillGroups(double t, const State& y, SchurSolver& S, bool 
 bool MultibodySystem::factorConstraints(double t, const State& y, RowSet set, std::string* why,
                                         Eigen::VectorXd* b, Eigen::VectorXd* c) const {
   SchurSolver& S = schur(set);
-  const bool gears = &S == &all_ && hasGears();
+  const bool gears = &S == &data_.all && hasGears();
   if (b) b->resize(S.rows());
   if (c) c->resize(S.rows());
-  if (factor_cache_.valid && factor_cache_.solver == &S && samePoses(y)) {
+  if (data_.factor_cache.valid && data_.factor_cache.solver == &S && samePoses(y)) {
     // S already holds J(q) and its factorization at these positions (the
     // velocity projection of the last step, for the first stage of the
     // next): only the velocity-dependent targets are new.
@@ -155,10 +155,10 @@ bool MultibodySystem::factorConstraints(double t, const State& y, RowSet set, st
   fillGroups(t, y, S, gears, nullptr, b, c);
   const FactorStatus st = S.factor();
   if (st.ok) {
-    factor_cache_.valid = true;
-    factor_cache_.solver = &S;
-    factor_cache_.poses.resize(y.bodies.poses.size());
-    std::copy(y.bodies.poses.begin(), y.bodies.poses.end(), factor_cache_.poses.begin());
+    data_.factor_cache.valid = true;
+    data_.factor_cache.solver = &S;
+    data_.factor_cache.poses.resize(y.bodies.poses.size());
+    std::copy(y.bodies.poses.begin(), y.bodies.poses.end(), data_.factor_cache.poses.begin());
     return true;
   }
   if (why) {
@@ -183,7 +183,7 @@ bool MultibodySystem::factorConstraints(double t, const State& y, RowSet set, st
 
 bool MultibodySystem::accelerations(double t, const State& y, Eigen::VectorXd* udot, Eigen::VectorXd* lambda,
                                     std::string* why) const {
-  forces(t, y, true, &F_);
+  forces(t, y, true, &data_.F);
   if (!hasConstraints()) {
     // M⁻¹ F per body.
     udot->resize(n_);
@@ -191,25 +191,25 @@ bool MultibodySystem::accelerations(double t, const State& y, Eigen::VectorXd* u
       const RigidBody& body = model_.bodies[i];
       const int o = off_[i];
       if (rot_[i]) {
-        udot->segment<3>(o) = body.inertia.ldlt().solve(F_.segment<3>(o));
+        udot->segment<3>(o) = body.inertia.ldlt().solve(data_.F.segment<3>(o));
       } else {
-        udot->segment<3>(o) = F_.segment<3>(o) / body.mass;
-        udot->segment<3>(o + 3) = body.inertia.ldlt().solve(F_.segment<3>(o + 3));
+        udot->segment<3>(o) = data_.F.segment<3>(o) / body.mass;
+        udot->segment<3>(o + 3) = body.inertia.ldlt().solve(data_.F.segment<3>(o + 3));
       }
     }
     if (lambda) lambda->resize(0);
     return true;
   }
-  if (!factorConstraints(t, y, RowSet::kAll, why, nullptr, &c_)) return false;
-  SchurSolver& S = all_;
-  S.applyInverseMass(F_, y_);
-  S.multiplyJ(y_, rhs_);
-  rhs_ += c_;
-  S.solve(rhs_, lam_);
-  tmp_ = F_;
-  S.addJTranspose(lam_, -1.0, tmp_);
-  S.applyInverseMass(tmp_, *udot);
-  if (lambda) *lambda = lam_;
+  if (!factorConstraints(t, y, RowSet::kAll, why, nullptr, &data_.c)) return false;
+  SchurSolver& S = data_.all;
+  S.applyInverseMass(data_.F, data_.y);
+  S.multiplyJ(data_.y, data_.rhs);
+  data_.rhs += data_.c;
+  S.solve(data_.rhs, data_.lam);
+  data_.tmp = data_.F;
+  S.addJTranspose(data_.lam, -1.0, data_.tmp);
+  S.applyInverseMass(data_.tmp, *udot);
+  if (lambda) *lambda = data_.lam;
   return true;
 }
 
@@ -224,11 +224,11 @@ void MultibodySystem::velocity(double t, const State& y, Eigen::VectorXd* f) con
       f->segment<3>(o + 3) = y.bodies.velocities[i].omega;
     }
   }
-  if (!accelerations(t, y, &udot_, nullptr, nullptr)) {
+  if (!accelerations(t, y, &data_.udot, nullptr, nullptr)) {
     f->tail(n_).setConstant(std::numeric_limits<double>::quiet_NaN());
     return;
   }
-  f->tail(n_) = udot_;
+  f->tail(n_) = data_.udot;
 }
 
 }  // namespace multibody

@@ -142,7 +142,7 @@ std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y)
   Eigen::VectorXd udot, lambda;
   std::string why;
   const bool solved = hasConstraints() && accelerations(t, y, &udot, &lambda, &why);
-  SchurSolver& S = all_;
+  SchurSolver& S = data_.all;
   // Prescribed row of (k, i), or −1.
   auto prescribedRow = [&](int k, int i) {
     int g = nj;

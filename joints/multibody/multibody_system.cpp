@@ -104,8 +104,8 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<CoordinateDri
     g.rows = static_cast<int>(gear_rows_[i].size());
     all_groups_.push_back(g);
   }
-  all_.setup(rot_, all_groups_);
-  if (hasGears()) pos_.setup(rot_, pos_groups_);
+  data_.all.setup(rot_, all_groups_);
+  if (hasGears()) data_.pos.setup(rot_, pos_groups_);
 }
 
 int MultibodySystem::coordinateCount(int k) const {
@@ -336,10 +336,10 @@ void MultibodySystem::rebaseAngles(State* y) const {
 
 bool MultibodySystem::samePoses(const State& y) const {
   const auto& P = y.bodies.poses;
-  if (P.size() != factor_cache_.poses.size()) return false;
+  if (P.size() != data_.factor_cache.poses.size()) return false;
   for (std::size_t i = 0; i < P.size(); ++i)
-    if (P[i].p != factor_cache_.poses[i].p ||
-        P[i].R.quaternion().coeffs() != factor_cache_.poses[i].R.quaternion().coeffs())
+    if (P[i].p != data_.factor_cache.poses[i].p ||
+        P[i].R.quaternion().coeffs() != data_.factor_cache.poses[i].R.quaternion().coeffs())
       return false;
   return true;
 }

@@ -51,6 +51,8 @@
 
 #include <Eigen/Core>
 
+#include "joints/multibody/multibody_data.hpp"
+#include "joints/multibody/multibody_group_state.hpp"
 #include "joints/multibody/multibody_model.hpp"
 #include "joints/multibody/schur_solver.hpp"
 #include "joints/multibody/time_function.hpp"
@@ -100,41 +102,6 @@ struct Gear {
   GearConstraint constraint;
 };
 
-/// The state on Π_i (SO(3) × ℝ³ × ℝ³ × ℝ³ or SO(3) × ℝ³): body poses and
-/// velocities, plus the unwrapped joint coordinates (kMaxJointCoordinates
-/// slots per joint).
-/// Tangent (size 2n, n = Σ dofs): first the position increments per body in
-/// body order ((δp world, δθ body) or δθ), then the velocity increments
-/// ((δv, δω) or δω). ⊕ is right multiplication by exp on each SO(3) and
-/// addition elsewhere; dexp⁻¹ acts blockwise on the δθ blocks.
-struct MultibodyGroupState {
-  using Scalar = double;
-  using Tangent = Eigen::VectorXd;
-
-  MultibodyState bodies;
-  std::vector<double> angles;  ///< unwrapped φ (angleSlot(k, i) for coordinate i of joint k)
-  const MultibodySystem* system = nullptr;
-
-  Tangent zeroTangent() const;
-  /// 2 · dofs (δq then δu).
-  int tangentSize() const;
-  MultibodyGroupState rplus(const Tangent& d) const;
-  /// *this = rplus(d) without allocating (integrators/state_workspace.hpp).
-  void rplusInPlace(const Tangent& d);
-  /// Right-trivialized dexp⁻¹ blockwise (so(3) series on the δθ blocks).
-  Tangent dexpInvRight(const Tangent& theta, const Tangent& v, int order) const;
-  /// *out = dexpInvRight(theta, v, order); out must not alias theta or v.
-  void dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const;
-  /// Per-component size for error control: 1 for positions, |u| for velocities.
-  Tangent magnitude() const;
-  /// The stacked body velocities u (size n).
-  Eigen::VectorXd velocities() const;
-  /// The same into *out (resized; no allocation when it has the size).
-  void velocitiesInto(Eigen::VectorXd* out) const;
-  void setVelocities(const Eigen::VectorXd& u);
-};
-
-bool isFinite(const MultibodyGroupState& y);
 
 /// One joint coordinate's force element rows (for implicit integrators):
 /// φ's Jacobian blocks on the joint's two bodies and the spring/damper
@@ -260,7 +227,7 @@ class MultibodySystem {
   /// accelerations (J u̇ = −c) if `c`. Returns false with `why` on a singular S.
   bool factorConstraints(double t, const State& y, RowSet set, std::string* why,
                          Eigen::VectorXd* b = nullptr, Eigen::VectorXd* c = nullptr) const;
-  SchurSolver& schur(RowSet set) const { return set == RowSet::kAll || !hasGears() ? all_ : pos_; }
+  SchurSolver& schur(RowSet set) const { return set == RowSet::kAll || !hasGears() ? data_.all : data_.pos; }
   /// Velocity projection: u ← u − M⁻¹ Jᵀ S⁻¹ (J u − b) (all rows, at y's q).
   bool projectVelocities(double t, State* y, std::string* why) const;
   /// The position tolerance that can be met at y: max(tolerance, the
@@ -365,15 +332,6 @@ class MultibodySystem {
   /// True when y's poses are bitwise those of the cached factorization.
   bool samePoses(const State& y) const;
 
-  /// The last successful factorConstraints: which solver holds it and at
-  /// which poses (J and S depend on q only). Any rewrite of the blocks
-  /// (fillGroups with Jacobians) invalidates it.
-  struct FactorCache {
-    bool valid = false;
-    const SchurSolver* solver = nullptr;
-    std::vector<BodyPose<double>> poses;
-  };
-
   /// Rows of joint k's constraint that are imposed: all but the first
   /// skip_rows_[k] (3 when the point rows are identically satisfied).
   std::vector<int> skip_rows_;
@@ -389,11 +347,8 @@ class MultibodySystem {
   int n_ = 0;
   std::vector<CoordinateRef> prescribed_;
   std::vector<RowGroup> all_groups_, pos_groups_;
-  mutable SchurSolver all_, pos_;
-  mutable FactorCache factor_cache_;
-  mutable State projection_backup_;
-  mutable Eigen::VectorXd phi_, projection_step_, udot_, residual_, b_, u_;
-  mutable Eigen::VectorXd F_, y_, rhs_, c_, lam_, tmp_;
+  /// The workspace every evaluation writes (multibody_data.hpp).
+  mutable MultibodyData data_;
 };
 
 }  // namespace multibody
