@@ -45,7 +45,7 @@ void closureWrench(const Block& J, const Lambda& lambda, const Eigen::Matrix3d& 
 
 constraints::BodyPose<double> ArticulatedSystem::closurePose(int i) const {
   return i == kGround ? constraints::groundPose<double>()
-                      : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_[i].R)), data_[i].c};
+                      : constraints::BodyPose<double>{SO3d(Eigen::Quaterniond(data_.bodies[i].R)), data_.bodies[i].c};
 }
 
 constraints::BodyVelocity<double> ArticulatedSystem::closureVelocity(int i) const {
@@ -95,27 +95,27 @@ void ArticulatedSystem::forEachClosure(ClosureLevel level, F&& f) const {
 }
 
 void ArticulatedSystem::closureTerms(ClosureLevel level) const {
-  closure_G_.setZero();
+  data_.closure_G.setZero();
   forEachClosure(level, [&](const ArticulatedClosure& closure, const auto& bodies, const auto& J, const auto& value) {
     constexpr int R = std::decay_t<decltype(value)>::RowsAtCompileTime;
     const int r0 = closure.row_begin;
-    closure_r_.segment<R>(r0) = value;  // Φ, 0 (velocities: summed below) or the convective term
+    data_.closure_r.segment<R>(r0) = value;  // Φ, 0 (velocities: summed below) or the convective term
     for (std::size_t side = 0; side < bodies.size(); ++side) {
       const int i = bodies[side];
       if (i == kGround) continue;
-      const BodyData& d = data_[i];
+      const BodyData& d = data_.bodies[i];
       Eigen::Matrix<double, R, 6> W;
       W.template leftCols<3>() =
           J[side].template rightCols<3>() * d.R.transpose() - J[side].template leftCols<3>() * hat(d.c);
       W.template rightCols<3>() = J[side].template leftCols<3>();
-      if (level == ClosureLevel::kVelocity) closure_r_.segment<R>(r0) += W * d.V;
+      if (level == ClosureLevel::kVelocity) data_.closure_r.segment<R>(r0) += W * d.V;
       if (level == ClosureLevel::kAcceleration)
-        closure_r_.segment<R>(r0) +=
+        data_.closure_r.segment<R>(r0) +=
             W * d.a + J[side].template leftCols<3>() * cross3(d.V.template head<3>(), velocityOfCentre(i));
       // The columns on the path to the ground.
       for (int k = i; k != kGround; k = model_.bodies[k].parent) {
-        const BodyData& dk = data_[k];
-        for (int f = 0; f < dk.free; ++f) closure_G_.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
+        const BodyData& dk = data_.bodies[k];
+        for (int f = 0; f < dk.free; ++f) data_.closure_G.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
         if (model_.bodies[k].rotation_only) {
           // Past a held body: W P (the columns above move it through P).
           W.template leftCols<3>() += W.template rightCols<3>() * hat(dk.c);
@@ -133,18 +133,18 @@ void ArticulatedSystem::closureInverseMass() const {
   // solve(): leaves to root the subtrees' forces p_A, root to leaves the
   // accelerations. Prescribed entries stay 0.
   const int n = bodyCount();
-  Eigen::MatrixXd& Y = closure_Y_;
+  Eigen::MatrixXd& Y = data_.closure_Y;
   Y.setZero();
-  for (int i = 0; i < n; ++i) closure_pA_[i].setZero();
+  for (int i = 0; i < n; ++i) data_.closure_pA[i].setZero();
   for (int i = n - 1; i >= 0; --i) {
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& P = closure_pA_[i];
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& P = data_.closure_pA[i];
     // u = τ − Sᵀ p_A (kept in Y for pass 3), p_a = p_A + U D⁻¹ u.
     // (Each product assigned on its own: inside a sum Eigen would evaluate it
     // into a heap temporary.)
     for (int f = 0; f < d.free; ++f) {
-      Y.row(d.free_u[f]) = closure_G_.col(d.free_u[f]).transpose();
+      Y.row(d.free_u[f]) = data_.closure_G.col(d.free_u[f]).transpose();
       Y.row(d.free_u[f]).noalias() -= d.S.col(f).transpose() * P;
     }
     if (d.free == 1) {
@@ -154,7 +154,7 @@ void ArticulatedSystem::closureInverseMass() const {
         for (int g = 0; g < d.free; ++g) P.noalias() += (d.Dinv(f, g) * d.U.col(f)) * Y.row(d.free_u[g]);
     }
     if (b.parent == kGround) continue;
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& parent = closure_pA_[b.parent];
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& parent = data_.closure_pA[b.parent];
     if (b.rotation_only) {
       // Pᵀ p_a = (n − c × f, 0), column by column.
       for (int k = 0; k < P.cols(); ++k)
@@ -164,32 +164,32 @@ void ArticulatedSystem::closureInverseMass() const {
     }
   }
   for (int i = 0; i < n; ++i) {
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& a = closure_pA_[i];  // p_A is spent: the accelerations
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& a = data_.closure_pA[i];  // p_A is spent: the accelerations
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
-      const Eigen::Matrix<double, 6, Eigen::Dynamic>& ap = closure_pA_[b.parent];
+      const Eigen::Matrix<double, 6, Eigen::Dynamic>& ap = data_.closure_pA[b.parent];
       for (int k = 0; k < a.cols(); ++k) {
         a.col(k).head<3>() = ap.col(k).head<3>();
         a.col(k).tail<3>() = cross3(d.c, ap.col(k).head<3>());
       }
     } else {
-      a = closure_pA_[b.parent];
+      a = data_.closure_pA[b.parent];
     }
     if (d.free == 1) {
       // q̈ = D⁻¹ (u − Uᵀ a), a += S q̈.
-      closure_rows3_.row(0).noalias() = d.U.col(0).transpose() * a;
-      Y.row(d.free_u[0]) = d.Dinv(0, 0) * (Y.row(d.free_u[0]) - closure_rows3_.row(0));
+      data_.closure_rows3.row(0).noalias() = d.U.col(0).transpose() * a;
+      Y.row(d.free_u[0]) = d.Dinv(0, 0) * (Y.row(d.free_u[0]) - data_.closure_rows3.row(0));
       a.noalias() += d.S.col(0) * Y.row(d.free_u[0]);
     } else if (d.free > 1) {
       const int nf = d.free;
-      closure_rows3_.topRows(nf).noalias() = -d.U.leftCols(nf).transpose() * a;
-      for (int f = 0; f < nf; ++f) closure_rows3_.row(f) += Y.row(d.free_u[f]);
+      data_.closure_rows3.topRows(nf).noalias() = -d.U.leftCols(nf).transpose() * a;
+      for (int f = 0; f < nf; ++f) data_.closure_rows3.row(f) += Y.row(d.free_u[f]);
       for (int f = 0; f < nf; ++f) {
         Y.row(d.free_u[f]).setZero();
-        for (int g = 0; g < nf; ++g) Y.row(d.free_u[f]) += d.Dinv(f, g) * closure_rows3_.row(g);
+        for (int g = 0; g < nf; ++g) Y.row(d.free_u[f]) += d.Dinv(f, g) * data_.closure_rows3.row(g);
         a.noalias() += d.S.col(f) * Y.row(d.free_u[f]);
       }
     }
@@ -199,14 +199,14 @@ void ArticulatedSystem::closureInverseMass() const {
 void ArticulatedSystem::closureMultipliers() const {
   const int m = model_.closure_rows;
   closureInverseMass();
-  closure_A_.noalias() = closure_G_ * closure_Y_;
+  data_.closure_A.noalias() = data_.closure_G * data_.closure_Y;
   // Cholesky with diagonal pivoting (A = P L Lᵀ Pᵀ; Higham, "Accuracy and
   // Stability of Numerical Algorithms", §10.3, LAPACK's dpstrf), stopped at
   // the first pivot below the threshold: the rows a loop repeats get no
   // pivot and λ = 0, the others are solved exactly (the repeated rows'
   // equations then hold too: they are combinations of the pivot rows).
-  Eigen::MatrixXd& A = closure_A_;
-  std::vector<int>& perm = closure_perm_;
+  Eigen::MatrixXd& A = data_.closure_A;
+  std::vector<int>& perm = data_.closure_perm;
   for (int k = 0; k < m; ++k) perm[k] = k;
   const double floor = kClosureRankTolerance * std::max(A.diagonal().maxCoeff(), 1e-300);
   int rank = 0;
@@ -232,28 +232,28 @@ void ArticulatedSystem::closureMultipliers() const {
   }
   // L Lᵀ x = −(P r) on the pivot rows; λ by the permutation, 0 elsewhere.
   for (int i = 0; i < rank; ++i) {
-    double v = -closure_r_[perm[i]];
-    for (int k = 0; k < i; ++k) v -= A(i, k) * closure_s_[k];
-    closure_s_[i] = v / A(i, i);
+    double v = -data_.closure_r[perm[i]];
+    for (int k = 0; k < i; ++k) v -= A(i, k) * data_.closure_s[k];
+    data_.closure_s[i] = v / A(i, i);
   }
   for (int i = rank - 1; i >= 0; --i) {
-    double v = closure_s_[i];
-    for (int k = i + 1; k < rank; ++k) v -= A(k, i) * closure_s_[k];
-    closure_s_[i] = v / A(i, i);
+    double v = data_.closure_s[i];
+    for (int k = i + 1; k < rank; ++k) v -= A(k, i) * data_.closure_s[k];
+    data_.closure_s[i] = v / A(i, i);
   }
-  closure_lambda_.setZero();
-  for (int i = 0; i < rank; ++i) closure_lambda_[perm[i]] = closure_s_[i];
+  data_.closure_lambda.setZero();
+  for (int i = 0; i < rank; ++i) data_.closure_lambda[perm[i]] = data_.closure_s[i];
 }
 
 void ArticulatedSystem::applyClosureForces() const {
   forEachClosure(ClosureLevel::kJacobian,
                  [&](const ArticulatedClosure& closure, const auto& bodies, const auto& J, const auto& value) {
                    constexpr int R = std::decay_t<decltype(value)>::RowsAtCompileTime;
-                   const Eigen::Matrix<double, R, 1> lambda = closure_lambda_.segment<R>(closure.row_begin);
+                   const Eigen::Matrix<double, R, 1> lambda = data_.closure_lambda.segment<R>(closure.row_begin);
                    for (std::size_t side = 0; side < bodies.size(); ++side) {
                      const int i = bodies[side];
                      if (i == kGround) continue;
-                     BodyData& d = data_[i];
+                     BodyData& d = data_.bodies[i];
                      Eigen::Vector3d n, f;
                      closureWrench(J[side], lambda, d.R, d.c, &n, &f);
                      d.pA.head<3>() -= n;
@@ -267,18 +267,18 @@ void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
   closureMultipliers();
   // u̇ = u̇₀ + Y λ, and the bodies' accelerations by the same increment
   // (pass 3 of the correction alone).
-  closure_x_.noalias() = closure_Y_ * closure_lambda_;
-  *udot += closure_x_;
-  twist_.resize(bodyCount());  // the bodies' acceleration increments
+  data_.closure_x.noalias() = data_.closure_Y * data_.closure_lambda;
+  *udot += data_.closure_x;
+  data_.twist.resize(bodyCount());  // the bodies' acceleration increments
   for (int i = 0; i < bodyCount(); ++i) {
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Vector6& da = twist_[i];
+    Vector6& da = data_.twist[i];
     da = b.parent == kGround ? Vector6::Zero()
-         : b.rotation_only   ? heldMotion(d.c, twist_[b.parent])
-                             : twist_[b.parent];
-    for (int f = 0; f < d.free; ++f) da += closure_x_[d.free_u[f]] * d.S.col(f);
-    data_[i].a += da;
+         : b.rotation_only   ? heldMotion(d.c, data_.twist[b.parent])
+                             : data_.twist[b.parent];
+    for (int f = 0; f < d.free; ++f) da += data_.closure_x[d.free_u[f]] * d.S.col(f);
+    data_.bodies[i].a += da;
   }
 }
 
@@ -286,7 +286,7 @@ double ArticulatedSystem::constraintError(double t, const State& y) const {
   if (!hasClosures()) return 0.0;
   forwardPass(t, y, false, false);
   closureTerms(ClosureLevel::kPosition);
-  return closure_r_.cwiseAbs().maxCoeff();
+  return data_.closure_r.cwiseAbs().maxCoeff();
 }
 
 bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
@@ -297,7 +297,7 @@ bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, i
   for (int it = 0;; ++it) {
     forwardPass(t, *y, false, false);  // poses only: most steps end here
     closureTerms(ClosureLevel::kPosition);
-    const double error = closure_r_.cwiseAbs().maxCoeff();
+    const double error = data_.closure_r.cwiseAbs().maxCoeff();
     *iterations = it;
     if (error <= tolerance) return true;
     if (it == max_iterations || !(error < last)) {
@@ -309,13 +309,13 @@ bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, i
     }
     last = error;
     forwardPass(t, *y, true, false);
-    solve(Vector6::Zero(), &udot_);  // the factorization of M(q)
+    solve(Vector6::Zero(), &data_.udot);  // the factorization of M(q)
     closureMultipliers();  // G Y λ = −Φ: the step δ = Y λ has G δ = −Φ
-    closure_x_.noalias() = closure_Y_ * closure_lambda_;
+    data_.closure_x.noalias() = data_.closure_Y * data_.closure_lambda;
     const int nq = y->scalarCount();
-    y->q += closure_x_.head(nq);
+    y->q += data_.closure_x.head(nq);
     for (std::size_t s = 0; s < y->N.size(); ++s)
-      y->N[s] = y->N[s] * SO3d::exp(closure_x_.segment<3>(nq + 3 * static_cast<int>(s)));
+      y->N[s] = y->N[s] * SO3d::exp(data_.closure_x.segment<3>(nq + 3 * static_cast<int>(s)));
   }
 }
 
@@ -323,16 +323,16 @@ bool ArticulatedSystem::projectVelocities(double t, State* y, std::string* why) 
   (void)why;
   if (!hasClosures()) return true;
   forwardPass(t, *y, true, true);
-  solve(Vector6::Zero(), &udot_);
+  solve(Vector6::Zero(), &data_.udot);
   closureTerms(ClosureLevel::kVelocity);
   closureMultipliers();
-  y->u.noalias() += closure_Y_ * closure_lambda_;
+  y->u.noalias() += data_.closure_Y * data_.closure_lambda;
   return true;
 }
 
 void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOutput>* out) const {
   // After jointOutputs' dynamics: poses, velocities and λ in data_ and
-  // closure_lambda_. The closing joint's force on its main body is W_aᵀ λ
+  // data_.closure_lambda. The closing joint's force on its main body is W_aᵀ λ
   // (n_O, f) (minus W_bᵀ λ on the secondary when the main is the ground), its
   // moment about the anchor n_O − x × f, and about each axis its component
   // (multibody::JointOutput's definition).
@@ -343,20 +343,20 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
     const std::array<constraints::BodyPose<double>, 2> pose{{closurePose(bodies[0]), closurePose(bodies[1])}};
     const std::array<constraints::BodyVelocity<double>, 2> vel{
         {closureVelocity(bodies[0]), closureVelocity(bodies[1])}};
-    if (t <= 0.0) closure_phi_[c] = closure.initial_angles;
+    if (t <= 0.0) data_.closure_phi[c] = closure.initial_angles;
     ArticulatedJointOutput& o = (*out)[closure.scene_joint];
     std::array<Eigen::Vector3d, 2> axes;
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     if (const auto* rev = std::get_if<constraints::RevoluteJoint<double>>(&closure.constraint)) {
       o.coordinates = 1;
-      o.phi[0] = constraints::revoluteAngle(*rev, pose[0], pose[1], closure_phi_[c][0]);
+      o.phi[0] = constraints::revoluteAngle(*rev, pose[0], pose[1], data_.closure_phi[c][0]);
       o.phidot[0] = constraints::revoluteAngleRate(*rev, pose[0], pose[1], vel[0], vel[1]);
       axes[0] = constraints::revoluteAxisWorld(*rev, pose[0]);
       anchor = pose[0].toWorld(rev->point.anchor_main);
     } else if (const auto* uni = std::get_if<constraints::UniversalJoint<double>>(&closure.constraint)) {
       o.coordinates = 2;
       const auto angles =
-          constraints::universalAngles(*uni, pose[0], pose[1], closure_phi_[c][0], closure_phi_[c][1]);
+          constraints::universalAngles(*uni, pose[0], pose[1], data_.closure_phi[c][0], data_.closure_phi[c][1]);
       const Eigen::Vector2d rates = constraints::universalAngleRates(*uni, pose[0], pose[1], vel[0], vel[1]);
       o.phi = {{angles.phi1, angles.phi2}};
       o.phidot = {{rates[0], rates[1]}};
@@ -365,16 +365,16 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
     } else {
       continue;  // spherical: no coordinate, no columns
     }
-    closure_phi_[c] = o.phi;
+    data_.closure_phi[c] = o.phi;
     const bool use_main = closure.bodies[0] != kGround;
     const int side = use_main ? 0 : 1;
-    const BodyData& d = data_[bodies[side]];
+    const BodyData& d = data_.bodies[bodies[side]];
     Eigen::Vector3d n = Eigen::Vector3d::Zero(), f = Eigen::Vector3d::Zero();
     std::visit(
         [&](const auto& joint) {
           constexpr int R = std::decay_t<decltype(joint)>::kRows;
           const auto J = joint.jacobians(pose[0], pose[1]);
-          closureWrench(J[side], Eigen::Matrix<double, R, 1>(closure_lambda_.segment<R>(closure.row_begin)), d.R,
+          closureWrench(J[side], Eigen::Matrix<double, R, 1>(data_.closure_lambda.segment<R>(closure.row_begin)), d.R,
                         d.c, &n, &f);
         },
         closure.constraint);

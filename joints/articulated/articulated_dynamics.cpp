@@ -9,7 +9,9 @@ namespace lieflow {
 namespace articulated {
 
 ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
-    : model_(std::move(model)), data_(model_.bodies.size()), udot_(model_.dofs()) {
+    : model_(std::move(model)) {
+  data_.bodies.resize(model_.bodies.size());
+  data_.udot.resize(model_.dofs());
   rotation_basis_.resize(model_.bodies.size());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
@@ -21,17 +23,17 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
   }
   if (hasClosures()) {
     const int m = model_.closure_rows, n = dofs();
-    closure_G_.setZero(m, n);
-    closure_Y_.setZero(n, m);
-    closure_A_.setZero(m, m);
-    closure_r_.setZero(m);
-    closure_lambda_.setZero(m);
-    closure_s_.setZero(m);
-    closure_pA_.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
-    closure_rows3_.setZero(3, m);
-    closure_x_.setZero(n);
-    closure_perm_.assign(m, 0);
-    for (const ArticulatedClosure& c : model_.closures) closure_phi_.push_back(c.initial_angles);
+    data_.closure_G.setZero(m, n);
+    data_.closure_Y.setZero(n, m);
+    data_.closure_A.setZero(m, m);
+    data_.closure_r.setZero(m);
+    data_.closure_lambda.setZero(m);
+    data_.closure_s.setZero(m);
+    data_.closure_pA.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
+    data_.closure_rows3.setZero(3, m);
+    data_.closure_x.setZero(n);
+    data_.closure_perm.assign(m, 0);
+    for (const ArticulatedClosure& c : model_.closures) data_.closure_phi.push_back(c.initial_angles);
   }
 }
 
@@ -46,13 +48,13 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
   const Vector6 zero = Vector6::Zero();
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    BodyData& d = data_[i];
+    BodyData& d = data_.bodies[i];
     const bool grounded = b.parent == kGround;
     static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();  // (no copy of the parent's R)
-    const Eigen::Matrix3d& Rp = grounded ? kIdentity : data_[b.parent].R;
-    const Vector6& Vp = grounded ? zero : data_[b.parent].V;
+    const Eigen::Matrix3d& Rp = grounded ? kIdentity : data_.bodies[b.parent].R;
+    const Vector6& Vp = grounded ? zero : data_.bodies[b.parent].V;
     const double sigma = b.parent_is_main ? 1.0 : -1.0;
-    d.x = grounded ? b.anchor_parent : Eigen::Vector3d(data_[b.parent].c + Rp * b.anchor_parent);
+    d.x = grounded ? b.anchor_parent : Eigen::Vector3d(data_.bodies[b.parent].c + Rp * b.anchor_parent);
     // The line the joint's columns turn about: the anchor, or the held
     // centre of mass of a rotation-only body (S = P S_x).
     const Eigen::Vector3d& line = b.rotation_only ? b.fixed_position : d.x;
@@ -169,13 +171,13 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
 
 void ArticulatedSystem::passToParent(int i, const Matrix6& Ia, const Vector6& pa) const {
   const ArticulatedBody& b = model_.bodies[i];
-  BodyData& parent = data_[b.parent];
+  BodyData& parent = data_.bodies[b.parent];
   if (!b.rotation_only) {
     parent.IA += Ia;
     parent.pA += pa;
     return;
   }
-  const Matrix6 P = rotationOnlyMap(data_[i].c);
+  const Matrix6 P = rotationOnlyMap(data_.bodies[i].c);
   parent.IA += P.transpose() * Ia * P;
   parent.pA += P.transpose() * pa;
 }
@@ -185,7 +187,7 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
   //   I_a = I_A − U D⁻¹ Uᵀ,  p_a = p_A + I_a c + U D⁻¹ u = p_A + I_A c + U D⁻¹ (u − Uᵀ c),
   // passed to the parent (through Pᵀ · P for a rotation-only child).
   for (int i = bodyCount() - 1; i >= 0; --i) {
-    BodyData& d = data_[i];
+    BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     const int p = b.parent;
     const int nf = d.free;
@@ -202,9 +204,9 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
       if (b.rotation_only) {
         passToParent(i, d.IA - DU * U.transpose(), pa);
       } else {
-        data_[p].IA += d.IA;
-        data_[p].IA.noalias() -= DU * U.transpose();
-        data_[p].pA += pa;
+        data_.bodies[p].IA += d.IA;
+        data_.bodies[p].IA.noalias() -= DU * U.transpose();
+        data_.bodies[p].pA += pa;
       }
     } else if (nf > 1) {
       d.U.leftCols(nf) = d.IA * d.S.leftCols(nf);
@@ -225,18 +227,18 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
   }
   // Pass 3, root to leaves: accelerations.
   for (int i = 0; i < bodyCount(); ++i) {
-    BodyData& d = data_[i];
+    BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     const int p = b.parent;
     if (p == kGround) {
       d.a = a0 + d.bias;
     } else if (b.rotation_only) {
-      const Eigen::Vector3d alpha = data_[p].a.head<3>();
+      const Eigen::Vector3d alpha = data_.bodies[p].a.head<3>();
       d.a.head<3>() = alpha;
       d.a.tail<3>() = cross3(d.c, alpha);
       d.a += d.bias;
     } else {
-      d.a = data_[p].a + d.bias;
+      d.a = data_.bodies[p].a + d.bias;
     }
     const int nf = d.free;
     if (nf == 1) {
@@ -260,7 +262,7 @@ void ArticulatedSystem::accelerations(double t, const State& y, Eigen::VectorXd*
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < b.coordinates(); ++k)
-      if (b.prescribed(k)) (*udot)[b.u_begin + k] = data_[i].phiddot[k];
+      if (b.prescribed(k)) (*udot)[b.u_begin + k] = data_.bodies[i].phiddot[k];
   }
   if (hasClosures()) closureAccelerations(udot);
 }
@@ -268,13 +270,13 @@ void ArticulatedSystem::accelerations(double t, const State& y, Eigen::VectorXd*
 void ArticulatedSystem::velocity(double t, const State& y, Tangent* F) const {
   const int n = dofs();
   F->resize(2 * n);
-  accelerations(t, y, &udot_);
+  accelerations(t, y, &data_.udot);
   F->head(n) = y.u;
-  F->tail(n) = udot_;
+  F->tail(n) = data_.udot;
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < b.coordinates(); ++k)
-      if (b.prescribed(k)) (*F)[b.u_begin + k] = data_[i].phidot[k];
+      if (b.prescribed(k)) (*F)[b.u_begin + k] = data_.bodies[i].phidot[k];
   }
 }
 
@@ -287,7 +289,7 @@ void ArticulatedSystem::projectVelocities(double t, const std::vector<Eigen::Vec
   std::vector<Vector6> H(bodyCount(), Vector6::Zero());
   for (int i = bodyCount() - 1; i >= 0; --i) {
     const ArticulatedBody& b = model_.bodies[i];
-    BodyData& d = data_[i];
+    BodyData& d = data_.bodies[i];
     const Eigen::Vector3d w = d.R * omega_body[i];
     const Eigen::Vector3d vc = b.rotation_only ? Eigen::Vector3d::Zero() : v_com[i];
     const Eigen::Matrix3d Jw = d.R * b.inertia * d.R.transpose();
@@ -302,18 +304,18 @@ void ArticulatedSystem::projectVelocities(double t, const std::vector<Eigen::Vec
     }
   }
   for (int i = 0; i < bodyCount(); ++i) {
-    BodyData& d = data_[i];
+    BodyData& d = data_.bodies[i];
     d.tau.head(d.free) = d.S.leftCols(d.free).transpose() * H[i];
   }
-  udot_.setZero(dofs());
-  solve(Vector6::Zero(), &udot_);
-  y->u = udot_;
+  data_.udot.setZero(dofs());
+  solve(Vector6::Zero(), &data_.udot);
+  y->u = data_.udot;
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < b.coordinates(); ++k)
       if (b.prescribed(k)) {
-        y->u[b.u_begin + k] = data_[i].phidot[k];
-        y->q[b.q_begin + k] = data_[i].phi[k];
+        y->u[b.u_begin + k] = data_.bodies[i].phidot[k];
+        y->q[b.q_begin + k] = data_.bodies[i].phi[k];
       }
   }
 }

@@ -11,31 +11,31 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
   forwardPass(t, y, true, true);
   // Composite-rigid-body algorithm, leaves to root, on the rigid inertias the
   // forward pass left in IA (before the ABA accumulates into them).
-  composite_.resize(bodyCount());
-  for (int i = 0; i < bodyCount(); ++i) composite_[i] = data_[i].IA;
+  data_.composite.resize(bodyCount());
+  for (int i = 0; i < bodyCount(); ++i) data_.composite[i] = data_.bodies[i].IA;
   M->setZero(n, n);
   for (int i = bodyCount() - 1; i >= 0; --i) {
     const ArticulatedBody& b = model_.bodies[i];
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     const int nf = d.free;
     if (b.parent != kGround) {
       if (b.rotation_only) {
         const Matrix6 P = rotationOnlyMap(d.c);
-        composite_[b.parent] += P.transpose() * composite_[i] * P;
+        data_.composite[b.parent] += P.transpose() * data_.composite[i] * P;
       } else {
-        composite_[b.parent] += composite_[i];
+        data_.composite[b.parent] += data_.composite[i];
       }
     }
     for (int k = 0; k < nf; ++k) {
       // F = I_c s_k: the force that column k's unit rate takes through the
       // subtree; M(u_k, u_l) = s_lᵀ F for the columns l of i and its ancestors.
-      Vector6 F = composite_[i] * d.S.col(k);
+      Vector6 F = data_.composite[i] * d.S.col(k);
       const int row = d.free_u[k];
       for (int l = 0; l < nf; ++l) (*M)(row, d.free_u[l]) = d.S.col(l).dot(F);
       int below = i;
       for (int j = b.parent; j != kGround; below = j, j = model_.bodies[j].parent) {
-        if (model_.bodies[below].rotation_only) F = heldForce(data_[below].c, F);
-        const BodyData& dj = data_[j];
+        if (model_.bodies[below].rotation_only) F = heldForce(data_.bodies[below].c, F);
+        const BodyData& dj = data_.bodies[j];
         for (int l = 0; l < dj.free; ++l) {
           const double m = dj.S.col(l).dot(F);
           (*M)(row, dj.free_u[l]) = m;
@@ -52,15 +52,15 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
   }
   // g = −M u̇, u̇ from the ABA at the same state (it reads the forward pass
   // above: the rigid inertias are still in IA).
-  udot_.resize(n);
-  solve(Vector6::Zero(), &udot_);
+  data_.udot.resize(n);
+  solve(Vector6::Zero(), &data_.udot);
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < b.coordinates(); ++k)
-      if (b.prescribed(k)) udot_[b.u_begin + k] = data_[i].phiddot[k];
+      if (b.prescribed(k)) data_.udot[b.u_begin + k] = data_.bodies[i].phiddot[k];
   }
   g->resize(n);
-  g->noalias() = -(*M) * udot_;
+  g->noalias() = -(*M) * data_.udot;
   if (Ct) Ct->setZero(n, n);
   if (Kt) Kt->setZero(n, n);
   for (int i = 0; i < bodyCount(); ++i) {

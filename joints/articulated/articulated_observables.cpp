@@ -16,11 +16,11 @@ double ArticulatedSystem::energy(double t, const State& y) const {
     const Eigen::Vector3d v = velocityOfCentre(i);
     E += 0.5 * w.dot(b.inertia * w);
     // A rotation-only body has no translational energy (as in the maximal formulation).
-    if (!b.rotation_only) E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(data_[i].c);
+    if (!b.rotation_only) E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(data_.bodies[i].c);
     for (int k = 0; k < b.coordinates(); ++k) {
       const multibody::CoordinateDrive& drive = model_.drives[i][k];
       if (drive.stiffness == 0.0) continue;
-      const double e = data_[i].phi[k] - drive.rest_angle;
+      const double e = data_.bodies[i].phi[k] - drive.rest_angle;
       E += 0.5 * drive.stiffness * e * e;
     }
   }
@@ -32,8 +32,8 @@ Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) con
   Eigen::Vector3d L = Eigen::Vector3d::Zero();
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    L += data_[i].R * (b.inertia * angularVelocityBody(i));
-    if (!b.rotation_only) L += data_[i].c.cross(b.mass * velocityOfCentre(i));
+    L += data_.bodies[i].R * (b.inertia * angularVelocityBody(i));
+    if (!b.rotation_only) L += data_.bodies[i].c.cross(b.mass * velocityOfCentre(i));
   }
   return L;
 }
@@ -46,7 +46,7 @@ Eigen::Vector3d ArticulatedSystem::centreOfMassMomentum(double t, const State& y
     const ArticulatedBody& b = model_.bodies[i];
     if (b.rotation_only) continue;
     mass += b.mass;
-    mc += b.mass * data_[i].c;
+    mc += b.mass * data_.bodies[i].c;
     mv += b.mass * velocityOfCentre(i);
   }
   const Eigen::Vector3d c = mass > 0.0 ? Eigen::Vector3d(mc / mass) : Eigen::Vector3d::Zero();
@@ -54,8 +54,8 @@ Eigen::Vector3d ArticulatedSystem::centreOfMassMomentum(double t, const State& y
   Eigen::Vector3d L = Eigen::Vector3d::Zero();
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    L += data_[i].R * (b.inertia * angularVelocityBody(i));
-    if (!b.rotation_only) L += (data_[i].c - c).cross(b.mass * (velocityOfCentre(i) - vc));
+    L += data_.bodies[i].R * (b.inertia * angularVelocityBody(i));
+    if (!b.rotation_only) L += (data_.bodies[i].c - c).cross(b.mass * (velocityOfCentre(i) - vc));
   }
   return L;
 }
@@ -66,24 +66,24 @@ double ArticulatedSystem::dissipatedPower(double t, const State& y) const {
   for (int i = 0; i < bodyCount(); ++i)
     for (int k = 0; k < model_.bodies[i].coordinates(); ++k) {
       const double c = model_.drives[i][k].damping;
-      P += c * data_[i].phidot[k] * data_[i].phidot[k];
+      P += c * data_.bodies[i].phidot[k] * data_.bodies[i].phidot[k];
     }
   return P;
 }
 
 void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<ArticulatedJointOutput>* out) const {
-  accelerations(t, y, &udot_);
+  accelerations(t, y, &data_.udot);
   if (hasClosures()) {
     // The ABA again with the loops' forces among the external ones: its
     // transmitted forces (below) then include them.
     forwardPass(t, y, true, true);
     applyClosureForces();
-    solve(Vector6::Zero(), &udot_);
+    solve(Vector6::Zero(), &data_.udot);
   }
   out->assign(model_.scene_joints, ArticulatedJointOutput());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     if (b.scene_joint < 0) continue;
     ArticulatedJointOutput& o = (*out)[b.scene_joint];
     o.coordinates = b.coordinates();

@@ -38,8 +38,8 @@
 /// but every evaluation and every output uses the function itself.
 ///
 /// Model/data split: ArticulatedModel (articulated_model.hpp) is built once;
-/// the per-body workspace (Data) is allocated at construction and reused by
-/// every evaluation, so a step allocates nothing.
+/// the workspace ArticulatedData (articulated_data.hpp) is allocated at
+/// construction and reused by every evaluation, so a step allocates nothing.
 #pragma once
 
 #include <functional>
@@ -49,6 +49,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "joints/articulated/articulated_data.hpp"
 #include "joints/articulated/articulated_model.hpp"
 #include "joints/articulated/articulated_state.hpp"
 #include "joints/articulated/spatial_algebra.hpp"
@@ -101,11 +102,11 @@ class ArticulatedSystem {
   /// Poses and velocities of every body at (t, y), by tree index, valid until
   /// the next call of any function of this system.
   void kinematics(double t, const State& y) const;
-  const Eigen::Matrix3d& rotation(int i) const { return data_[i].R; }
-  const Eigen::Vector3d& centreOfMass(int i) const { return data_[i].c; }
-  Eigen::Vector3d angularVelocityBody(int i) const { return data_[i].R.transpose() * data_[i].V.head<3>(); }
+  const Eigen::Matrix3d& rotation(int i) const { return data_.bodies[i].R; }
+  const Eigen::Vector3d& centreOfMass(int i) const { return data_.bodies[i].c; }
+  Eigen::Vector3d angularVelocityBody(int i) const { return data_.bodies[i].R.transpose() * data_.bodies[i].V.head<3>(); }
   Eigen::Vector3d velocityOfCentre(int i) const {
-    return data_[i].V.tail<3>() + data_[i].V.head<3>().cross(data_[i].c);
+    return data_.bodies[i].V.tail<3>() + data_.bodies[i].V.head<3>().cross(data_.bodies[i].c);
   }
 
   /// The terms of M(q) v̇ + g(q, v, t) = 0 for the generalized-α method
@@ -125,10 +126,10 @@ class ArticulatedSystem {
   /// acceleration (world), a_c = a_O + α × c + ω × v_c from the spatial
   /// acceleration (α, a_O) of the last accelerations() or jointOutputs().
   Eigen::Vector3d angularAccelerationBody(int i) const {
-    return data_[i].R.transpose() * data_[i].a.head<3>();
+    return data_.bodies[i].R.transpose() * data_.bodies[i].a.head<3>();
   }
   Eigen::Vector3d accelerationOfCentre(int i) const {
-    const BodyData& d = data_[i];
+    const BodyData& d = data_.bodies[i];
     return d.a.tail<3>() + d.a.head<3>().cross(d.c) + d.V.head<3>().cross(velocityOfCentre(i));
   }
 
@@ -229,25 +230,12 @@ class ArticulatedSystem {
   bool hasVelocityDependentForces() const;
 
  private:
-  struct BodyData {
-    Eigen::Matrix3d R;            ///< world orientation
-    Eigen::Vector3d c, x;         ///< centre of mass, joint anchor (world)
-    std::array<double, 2> phi{{0.0, 0.0}}, phidot{{0.0, 0.0}}, phiddot{{0.0, 0.0}};
-    std::array<Eigen::Vector3d, 2> axis;  ///< world joint axes (revolute, universal)
-    Vector6 V, bias, a, pA;
-    Matrix6 IA;
-    Eigen::Matrix<double, 6, 3> S;  ///< free columns (first `free` of them)
-    int free = 0;
-    std::array<int, 3> free_u{{0, 0, 0}};  ///< the free columns' u indices
-    Eigen::Matrix<double, 6, 3> U;  ///< I_A S
-    Eigen::Matrix3d Dinv;           ///< (Sᵀ I_A S)⁻¹
-    Eigen::Vector3d tau;            ///< free generalized forces, then u − Uᵀ(...)
-  };
+  using BodyData = ArticulatedData::Body;
 
   /// Pass 1 of the ABA: kinematics, velocities, bias accelerations and
   /// forces (`dynamics`: the rigid-body inertias and bias forces too).
   void forwardPass(double t, const State& y, bool dynamics, bool velocity_terms) const;
-  /// Passes 2 and 3 with the generalized forces in data_[i].tau; ground
+  /// Passes 2 and 3 with the generalized forces in data_.bodies[i].tau; ground
   /// acceleration a0; writes u̇ of the free columns.
   void solve(const Vector6& a0, Eigen::VectorXd* udot) const;
   /// Adds a child's I_a, p_a to its parent's I_A, p_A (Pᵀ · P for a
@@ -255,8 +243,8 @@ class ArticulatedSystem {
   void passToParent(int i, const Matrix6& Ia, const Vector6& pa) const;
 
   /// The loops' terms at the kinematics in data_ (articulated_closures.cpp):
-  /// G into closure_G_ and, by `level`, Φ, Φ̇ or Φ̈ (at the accelerations in
-  /// data_[i].a) into closure_r_.
+  /// G into data_.closure_G and, by `level`, Φ, Φ̇ or Φ̈ (at the accelerations in
+  /// data_.bodies[i].a) into data_.closure_r.
   enum class ClosureLevel { kJacobian, kPosition, kVelocity, kAcceleration };
   /// Calls f(closure, bodies, blocks, value) for every closing joint or gear
   /// at the kinematics in data_: its bodies (tree indices, kGround), its
@@ -269,11 +257,11 @@ class ArticulatedSystem {
   constraints::BodyPose<double> closurePose(int i) const;
   constraints::BodyVelocity<double> closureVelocity(int i) const;
   void closureTerms(ClosureLevel level) const;
-  /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve(), and the
-  /// rank-revealing factorization of G Y; then closure_lambda_ solves
-  /// G Y λ = −closure_r_ on the rows that have a pivot.
+  /// data_.closure_Y = M⁻¹ Gᵀ with the factorization of the last solve(), and the
+  /// rank-revealing factorization of G Y; then data_.closure_lambda solves
+  /// G Y λ = −data_.closure_r on the rows that have a pivot.
   void closureMultipliers() const;
-  /// closure_Y_ = M⁻¹ Gᵀ with the factorization of the last solve() (all
+  /// data_.closure_Y = M⁻¹ Gᵀ with the factorization of the last solve() (all
   /// m columns in one pass down and one up the tree).
   void closureInverseMass() const;
   /// The closing joints' constraint forces W_aᵀ λ, W_bᵀ λ taken off the bias
@@ -286,30 +274,13 @@ class ArticulatedSystem {
   /// The closing joints' outputs (angles from the poses, moments from λ).
   void closureOutputs(double t, std::vector<ArticulatedJointOutput>* out) const;
 
-  /// Loop workspace, sized at construction (m closure rows, n dofs): G (m × n),
-  /// Y = M⁻¹ Gᵀ (n × m), G Y and its factorization, Φ or its
-  /// derivatives (m), λ (m), a scratch m-vector, solve scratch (n).
-  mutable Eigen::MatrixXd closure_G_, closure_Y_, closure_A_;
-  mutable Eigen::VectorXd closure_r_, closure_lambda_, closure_s_, closure_x_;
-  /// Per body the 6 × m forces, then accelerations, of closureInverseMass,
-  /// and its 3 × m scratch rows.
-  mutable std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> closure_pA_;
-  mutable Eigen::Matrix<double, 3, Eigen::Dynamic> closure_rows3_;
-  mutable std::vector<int> closure_perm_;  ///< the pivoted Cholesky's row order
-  /// The closing joints' last output angles (unwrapping; reset at t = 0).
-  mutable std::vector<std::array<double, 2>> closure_phi_;
 
   ArticulatedModel model_;
   std::vector<UserTorque> user_torques_;
   bool has_user_torques_ = false;
   bool conserves_momentum_ = false;
-  mutable std::vector<BodyData> data_;
-  /// Composite inertias of the mass matrix (sized at its first use).
-  mutable std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> composite_;
-  mutable Eigen::VectorXd udot_;
-  /// Scratch of the variational passes (kinetic, solveMass, forces, frames).
-  mutable std::vector<Vector6> twist_, accumulated_, before_;
-  mutable std::vector<Matrix6> articulated_;
+  /// The workspace every evaluation writes (articulated_data.hpp).
+  mutable ArticulatedData data_;
   /// exp(φ a) R_ref = cos φ A + sin φ B + C with A = (I − a aᵀ) R_ref,
   /// B = [a]× R_ref, C = a aᵀ R_ref (Rodrigues' formula times R_ref), per
   /// body with a revolute or universal joint: its relative rotation costs a
@@ -329,7 +300,7 @@ class ArticulatedSystem {
   }
   /// The variational passes' steps: body i's pose at q from its parent's in
   /// *f; its twist, momentum and the twist before its columns at rates v
-  /// (twist_, accumulated_, before_); the backward pass over all bodies.
+  /// (data_.twist, data_.accumulated, data_.before); the backward pass over all bodies.
   void poseInto(int i, const Eigen::VectorXd& q, const Frames* near, Frames* f) const;
   void momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;

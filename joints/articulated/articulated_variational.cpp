@@ -97,11 +97,11 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
   // −m [c]×, m I], the articulated inertias I_A, U = I_A S, D = Sᵀ U and
   // I_a = I_A − U D⁻¹ Uᵀ added to the parent's (Pᵀ I_a P past a held body).
-  articulated_.resize(n);
+  data_.articulated.resize(n);
   for (int i = 0; i < n; ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     const Frame& fr = f->bodies[i];
-    Matrix6& I = articulated_[i];
+    Matrix6& I = data_.articulated[i];
     const Eigen::Matrix3d cx = hat(fr.c);
     I.topLeftCorner<3, 3>().noalias() = fr.R * b.inertia * fr.R.transpose();
     I.topLeftCorner<3, 3>().noalias() -= b.mass * (fr.c * fr.c.transpose());
@@ -113,7 +113,7 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
   for (int i = n - 1; i >= 0; --i) {
     const ArticulatedBody& b = model_.bodies[i];
     Frame& fr = f->bodies[i];
-    const Matrix6& I = articulated_[i];
+    const Matrix6& I = data_.articulated[i];
     Matrix6 Ia;
     if (fr.free == 1) {
       fr.U.col(0).noalias() = I * fr.S.col(0);
@@ -131,9 +131,9 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
     }
     if (b.rotation_only) {
       const Matrix6 P = rotationOnlyMap(fr.c);
-      articulated_[b.parent].noalias() += P.transpose() * Ia * P;
+      data_.articulated[b.parent].noalias() += P.transpose() * Ia * P;
     } else {
-      articulated_[b.parent] += Ia;
+      data_.articulated[b.parent] += Ia;
     }
   }
 }
@@ -144,14 +144,14 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
   // leaves to root, then the accelerations root to leaves.
   LIEFLOW_ASSERT(f.factored, "ArticulatedSystem::solveMass: frames without the factorization (frames(..., true, ...))");
   const int n = bodyCount();
-  accumulated_.assign(n, Vector6::Zero());  // p_A
-  twist_.resize(n);                         // the accelerations a
+  data_.accumulated.assign(n, Vector6::Zero());  // p_A
+  data_.twist.resize(n);                         // the accelerations a
   x->resize(dofs());
   double* out = x->data();
   for (int i = n - 1; i >= 0; --i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    const Vector6& pA = accumulated_[i];
+    const Vector6& pA = data_.accumulated[i];
     // u = τ − Sᵀ p_A, kept in x for pass 3; p_a = p_A + U D⁻¹ u to the parent
     // (formed in the sum: storing it first stalled store-to-load forwarding).
     Vector6 Ug;
@@ -166,7 +166,7 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
       Ug.noalias() = fr.U.leftCols<2>() * (fr.Dinv.topLeftCorner<2, 2>() * u);
     }
     if (b.parent == kGround) continue;
-    Vector6& parent = accumulated_[b.parent];
+    Vector6& parent = data_.accumulated[b.parent];
     if (b.rotation_only) {
       const Vector6 pa = pA + Ug;
       parent.head<3>() += pa.head<3>() - cross3(fr.c, pa.tail<3>());  // Pᵀ p_a
@@ -177,14 +177,14 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
   for (int i = 0; i < n; ++i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Vector6& a = twist_[i];
+    Vector6& a = data_.twist[i];
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
-      a.head<3>() = twist_[b.parent].head<3>();
+      a.head<3>() = data_.twist[b.parent].head<3>();
       a.tail<3>() = cross3(fr.c, a.head<3>());
     } else {
-      a = twist_[b.parent];
+      a = data_.twist[b.parent];
     }
     if (fr.free == 1) {
       const double qdd = fr.Dinv(0, 0) * (out[fr.free_u[0]] - fr.U.col(0).dot(a));
@@ -204,17 +204,17 @@ void ArticulatedSystem::momentumOut(int i, const Frame& fr, const Eigen::VectorX
   // V_b = (P) V_parent + S v; the body's momentum about the origin,
   // h = (R J Rᵀ ω + c × m v_c, m v_c), v_c = v_O + ω × c (zero for a held body).
   const ArticulatedBody& b = model_.bodies[i];
-  Vector6& V = twist_[i];
+  Vector6& V = data_.twist[i];
   if (b.parent == kGround)
-    before_[i].setZero();
+    data_.before[i].setZero();
   else
-    before_[i] = b.rotation_only ? heldMotion(fr.c, twist_[b.parent]) : twist_[b.parent];
-  V = before_[i];
+    data_.before[i] = b.rotation_only ? heldMotion(fr.c, data_.twist[b.parent]) : data_.twist[b.parent];
+  V = data_.before[i];
   for (int k = 0; k < fr.free; ++k) V += v[fr.free_u[k]] * fr.S.col(k);
   const Eigen::Vector3d w = V.head<3>();
   const Eigen::Vector3d mvc = b.mass * (V.tail<3>() + cross3(w, fr.c));
-  accumulated_[i].head<3>() = fr.R * (b.inertia * (fr.R.transpose() * w)) + cross3(fr.c, mvc);
-  accumulated_[i].tail<3>() = mvc;
+  data_.accumulated[i].head<3>() = fr.R * (b.inertia * (fr.R.transpose() * w)) + cross3(fr.c, mvc);
+  data_.accumulated[i].tail<3>() = mvc;
 }
 
 void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
@@ -228,28 +228,28 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
   for (int i = bodyCount() - 1; i >= 0; --i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    const Vector6& H = accumulated_[i];
+    const Vector6& H = data_.accumulated[i];
     for (int k = 0; k < fr.free; ++k) (*Mv)[fr.free_u[k]] = fr.S.col(k).dot(H);
     if (dTdq) {
       if (fr.free == 1) {
-        (*dTdq)[fr.free_u[0]] = crossMotion(before_[i], fr.S.col(0)).dot(H);
+        (*dTdq)[fr.free_u[0]] = crossMotion(data_.before[i], fr.S.col(0)).dot(H);
       } else if (fr.free == 2) {
         const int first = b.parent_is_main ? 0 : 1, second = 1 - first;
-        const Vector6 V_mid = before_[i] + v[fr.free_u[first]] * fr.S.col(first);
-        (*dTdq)[fr.free_u[first]] = crossMotion(before_[i], fr.S.col(first)).dot(H);
+        const Vector6 V_mid = data_.before[i] + v[fr.free_u[first]] * fr.S.col(first);
+        (*dTdq)[fr.free_u[first]] = crossMotion(data_.before[i], fr.S.col(first)).dot(H);
         (*dTdq)[fr.free_u[second]] = crossMotion(V_mid, fr.S.col(second)).dot(H);
       }
     }
-    if (b.parent != kGround) accumulated_[b.parent] += b.rotation_only ? heldForce(fr.c, H) : H;
+    if (b.parent != kGround) data_.accumulated[b.parent] += b.rotation_only ? heldForce(fr.c, H) : H;
   }
 }
 
 void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
                                 Eigen::VectorXd* dTdq) const {
   const int n = bodyCount();
-  twist_.resize(n);
-  before_.resize(n);
-  accumulated_.resize(n);
+  data_.twist.resize(n);
+  data_.before.resize(n);
+  data_.accumulated.resize(n);
   for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], v);
   momentumBack(f, v, Mv, dTdq);
 }
@@ -259,9 +259,9 @@ void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd&
   const int n = bodyCount();
   f->bodies.resize(n);
   f->factored = false;
-  twist_.resize(n);
-  before_.resize(n);
-  accumulated_.resize(n);
+  data_.twist.resize(n);
+  data_.before.resize(n);
+  data_.accumulated.resize(n);
   for (int i = 0; i < n; ++i) {
     poseInto(i, y.q, &near, f);
     momentumOut(i, f->bodies[i], v);
@@ -272,15 +272,15 @@ void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd&
 void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen::VectorXd& u,
                                           Eigen::VectorXd* Q) const {
   const int n = bodyCount();
-  accumulated_.resize(n);
-  twist_.resize(n);
+  data_.accumulated.resize(n);
+  data_.twist.resize(n);
   Q->resize(dofs());
   // The bodies' external wrenches about the origin: gravity (c × m g, m g) on
   // each body that translates, the program's torques (R τ, 0).
   for (int i = 0; i < n; ++i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Vector6& F = accumulated_[i];
+    Vector6& F = data_.accumulated[i];
     if (b.rotation_only) {
       F.setZero();
     } else {
@@ -289,11 +289,11 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
       F.tail<3>() = mg;
     }
     if (!has_user_torques_) continue;
-    Vector6& V = twist_[i];
+    Vector6& V = data_.twist[i];
     if (b.parent == kGround)
       V.setZero();
     else
-      V = b.rotation_only ? heldMotion(fr.c, twist_[b.parent]) : twist_[b.parent];
+      V = b.rotation_only ? heldMotion(fr.c, data_.twist[b.parent]) : data_.twist[b.parent];
     for (int k = 0; k < fr.free; ++k) V += u[fr.free_u[k]] * fr.S.col(k);
     if (!user_torques_[i]) continue;
     const Eigen::Vector3d w = V.head<3>();
@@ -305,12 +305,12 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < fr.free; ++k) {
       const int j = fr.free_u[k];
-      double q = fr.S.col(k).dot(accumulated_[i]);
+      double q = fr.S.col(k).dot(data_.accumulated[i]);
       if (b.has_force[k]) q += model_.drives[i][k].momentAt(t, fr.phi[k], u[j]);
       (*Q)[j] = q;
     }
     if (b.parent != kGround)
-      accumulated_[b.parent] += b.rotation_only ? heldForce(fr.c, accumulated_[i]) : accumulated_[i];
+      data_.accumulated[b.parent] += b.rotation_only ? heldForce(fr.c, data_.accumulated[i]) : data_.accumulated[i];
   }
 }
 
