@@ -17,6 +17,7 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <string>
 
 #include "integrators/integrate.hpp"
 #include "integrators/rkmk.hpp"
@@ -74,14 +75,34 @@ double startingStep(const System& system, double t0, const State& y0, int order,
 /// just above the limit is not yet a reason).
 constexpr double kProjectionMargin = 100.0;
 
+/// No projection: integrateAdaptive's states are the pair's.
+struct NoProjection {
+  template <typename State>
+  bool operator()(double, State*, std::string*) const {
+    return true;
+  }
+};
+
 /// Advances y from t0 to t_end, calling observer(k, t_k, y(t_k)) at the
 /// output times t_k = t0 + k·dt_out (and t_end): y(t_k) is the dense output
 /// of the step that covers t_k (the step's end point itself when t_k falls on
 /// it, so the last output is the state at t_end).
-template <typename State, typename System, typename Observer>
+///
+/// With a projection project(t, State* y, std::string* why) (false: it
+/// failed, and why) — for constrained systems stepped in index-1 form, the
+/// mass-orthogonal projection onto Φ = 0 and J u = b of
+/// integrators/projected_stepper.hpp — every accepted step's end state is
+/// projected before the next step starts from it, and every output state
+/// before the observer sees it (a copy: the integration goes on from the
+/// step's end). The error estimate is the pair's, taken before the
+/// projection, which moves the state by the size of the local error and
+/// keeps the order (Hairer & Wanner, "Solving ODEs II", §VII.2, projection
+/// methods with step size control). A failed projection ends the run
+/// (RunSummary::failed, the failure says where and why).
+template <typename State, typename System, typename Observer, typename Projection = NoProjection>
 RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& system, State y,
                              double t0, double t_end, double dt_out,
-                             const AdaptiveOptions& options, Observer&& observer) {
+                             const AdaptiveOptions& options, Observer&& observer, Projection project = {}) {
   using Scalar = typename State::Scalar;
   using Tangent = typename State::Tangent;
   LIEFLOW_ASSERT(stepper.tableau().hasEmbedded(), "integrateAdaptive needs an embedded pair");
@@ -95,6 +116,7 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
   const double h_floor = options.h_min * std::max(std::abs(t0), t_end - t0);
   typename RkmkStepper<State>::Stages K;
   Tangent increment = y.zeroTangent();
+  std::string why_not_projected;
   double t = t0;
   double h = std::min(startingStep(system, t0, y, stepper.order(), options), t_end - t0);
   long k_out = 1;
@@ -102,7 +124,7 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
     const bool last = h >= t_end - t;
     const double h_try = last ? t_end - t : h;
     Tangent error = y.zeroTangent();
-    const State y1 = stepper.stepWithError(system, Scalar(t), y, Scalar(h_try), &error, &K, &increment);
+    State y1 = stepper.stepWithError(system, Scalar(t), y, Scalar(h_try), &error, &K, &increment);
     const Tangent scale = (y.magnitude().cwiseMax(y1.magnitude()) * Scalar(options.rtol))
                               .array() + Scalar(options.atol);
     double err = 0.0;
@@ -114,11 +136,21 @@ RunSummary integrateAdaptive(const RkmkStepper<State>& stepper, const System& sy
                    : std::min(options.fac_max, std::max(options.fac_min, options.safety * std::pow(err, exponent)));
     if (err <= 1.0) {
       const double t_new = last ? t_end : t + h_try;
+      auto projectOrFail = [&](double t_p, State* s) {
+        if (project(t_p, s, &why_not_projected)) return true;
+        std::ostringstream why;
+        why << "constraint projection failed at t = " << t_p << ": " << why_not_projected;
+        summary.failed = true;
+        summary.failure = why.str();
+        return false;
+      };
+      if (!projectOrFail(t_new, &y1)) return summary;
       // Every output time this step covers, from its continuous extension.
       for (; k_out <= n_out && output_time(k_out) <= t_new; ++k_out) {
         const double t_k = output_time(k_out);
         const bool at_end = k_out == n_out || t_k == t_new;
-        const State y_k = at_end ? y1 : y.rplus(stepper.denseIncrement(K, increment, Scalar(h_try), (t_k - t) / h_try));
+        State y_k = at_end ? y1 : y.rplus(stepper.denseIncrement(K, increment, Scalar(h_try), (t_k - t) / h_try));
+        if (!at_end && !projectOrFail(t_k, &y_k)) return summary;
         summary.t_reached = t_k;
         if (!observer(k_out, t_k, y_k)) {
           ++summary.steps;

@@ -81,8 +81,8 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
         {"atol", 1e-10, 0.0, 1.0, false, false, "absolute tolerance of the local error"}},
        "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group; dt = output interval, "
        "outputs by dense output on the group",
-       false, "in maximal coordinates no (the step control has no constraint projection); trees run in joint "
-              "coordinates (--formulation joint)"},
+       true, "projected onto the constraints after every accepted step and at every output (the error "
+             "estimate is taken before the projection)"},
       {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)", true,
        "projected onto the constraints after every step"},
       {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)", true,

@@ -9,19 +9,17 @@
 namespace lieflow {
 
 bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string* why) {
-  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4"})
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4"})
     if (integrator == name) return true;
   if (why) {
-    if (integrator == "rkmk45")
-      *why = "'rkmk45' has no projection onto a loop's rows (its error estimate would see the projection's jumps)";
-    else if (integrator == "lgvi")
+    if (integrator == "lgvi")
       *why = "'lgvi' in joint coordinates has no multipliers for loop-closing joints";
     else if (integrator == "genalpha")
       *why = "'genalpha' in joint coordinates has no multipliers for loop-closing joints";
     else
       *why = "'" + integrator + "' is not available in joint coordinates";
-    *why += "; a scene with a closed loop runs in joint coordinates with rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3 "
-            "or cf4, or in maximal coordinates with every integrator (--formulation maximal)";
+    *why += "; a scene with a closed loop runs in joint coordinates with rkmk-euler, rkmk-heun, rkmk3, rkmk4, "
+            "rkmk45, cg3 or cf4, or in maximal coordinates with every integrator (--formulation maximal)";
   }
   return false;
 }

@@ -16,12 +16,15 @@
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "joints/simulation_observer.hpp"
+#include "joints/simulation_unconstrained.hpp"
 
 namespace lieflow {
 namespace simulation_detail {
 
 /// Runs o.integrator, projected, on `system` from y0 if it is one of
-/// rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, cf4; nothing otherwise.
+/// rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, cf4 (after every step) or
+/// rkmk45 (after every accepted step and at every output:
+/// integrators/adaptive.hpp); nothing otherwise.
 template <typename System>
 std::optional<SimulationResult> runProjected(const Simulation::Model& model, const System& system,
                                              const typename System::State& y0, const SimulationOptions& o,
@@ -38,6 +41,14 @@ std::optional<SimulationResult> runProjected(const Simulation::Model& model, con
   if (name == "rkmk4") return projected(RkmkStepper<State>(ButcherTableau::rk4()));
   if (name == "cg3") return projected(CrouchGrossman3Stepper<State>());
   if (name == "cf4") return projected(CommutatorFree4Stepper<State>());
+  if (name == "rkmk45") {
+    const ProjectionOptions p;
+    return runAdaptive(model, system, y0, o, columns, row, [&system, p](double t, State* y, std::string* why) {
+      int iterations = 0;
+      return system.projectPositions(t, y, p.tolerance, p.max_iterations, &iterations, why) &&
+             system.projectVelocities(t, y, why);
+    });
+  }
   return std::nullopt;
 }
 
