@@ -90,6 +90,18 @@ def best_lieflow(all_series, t, only=None):
     return best, who, bound
 
 
+# Colour by method, line and marker by engine and formulation.
+METHOD_COLOURS = {"rkmk4": "C0", "cf4": "C1", "rkmk45": "C2", "lgvi": "C3", "genalpha": "C4",
+                  "RK4": "C5", "Euler": "C6", "implicit": "C7"}
+
+
+def series_style(name):
+    method = name.split()[1]
+    if name.startswith("MuJoCo"):
+        return METHOD_COLOURS.get(method, "C9"), ("x--" if "0.02 s" in name else "s--")
+    return METHOD_COLOURS.get(method, "C8"), ("^:" if name.endswith("(maximal)") else "o-")
+
+
 def fastest_mujoco(all_series, level, only=None):
     best, who = None, None
     for k, p in all_series.items():
@@ -119,9 +131,8 @@ def main(out_dir, paper_dir):
     for ax, scene in zip(axes[0], scenes):
         s = series_of([r for r in rows if r["scene"] == scene])
         for k, p in sorted(s.items()):
-            mujoco = k.startswith("MuJoCo")
-            ax.loglog([t for t, _ in p], [e for _, e in p], ("s--" if mujoco else "o-"), ms=4,
-                      lw=1.2, label=k, alpha=0.9)
+            color, style = series_style(k)
+            ax.loglog([t for t, _ in p], [e for _, e in p], style, color=color, ms=4, lw=1.2, label=k, alpha=0.9)
         ax.set_xlabel("run time [s]")
         with_mujoco = any(k.startswith("MuJoCo") for k in s)
         loop = not with_mujoco or any("(loop solref" in k for k in s)
