@@ -20,13 +20,19 @@
 /// The joint point p = c_p + R_p s_p (the ground's anchor in world
 /// coordinates), c_c = p − R_c s_c, so with r = R s:
 ///   a_c = a_p + α_p × r_p + ω_p × (ω_p × r_p) − α_c × r_c − ω_c × (ω_c × r_c).
+/// A rotation-only body keeps its centre of mass where the model holds it
+/// (c_c fixed, a_c = 0: a support carries it, as in the simulator), and its
+/// joint only turns it.
 ///
 /// Inverse dynamics (recursive Newton–Euler, children first): the force F
 /// and the moment N about the joint point that the joint transmits,
 ///   F_i = m_i (a_i − g) + Σ_j F_j,
 ///   N_i = I_i α_i + ω_i × I_i ω_i + (c_i − p_i) × m_i (a_i − g) + Σ_j [N_j + (p_j − p_i) × F_j],
 /// I_i the world inertia about the centre of mass; the joint's generalized
-/// force is τ_k = u_kᵀ N_i. The motion satisfies τ(q, q̇, q̈) = Q with
+/// force is τ_k = u_kᵀ N_i. A rotation-only body's support takes every force
+/// on it (its own weight and what its children pass on), so its joint passes
+/// only a moment: F_i = 0 up the tree, and N_i is taken about its centre
+/// (p_i = c_i), which the joint's pure moment leaves the same about any point. The motion satisfies τ(q, q̇, q̈) = Q with
 /// Q_k = −k_k (q_k − q₀ₖ) − c_k q̇_k + M_k(t) (the springs, dashpots and
 /// applied moments), so with h = τ(q, q̇, 0) and the mass matrix's columns
 /// τ(q, q̇, e_j) − h (τ is affine in q̈): q̈ = M⁻¹ (Q − h).
@@ -53,8 +59,8 @@ struct MechanismForces {
 };
 
 /// Throws InvalidInput (field `field`) unless the model is a tree of
-/// revolute and universal joints whose bodies all move with their joints:
-/// no spherical joint, rotation-only body or prescribed coordinate.
+/// revolute and universal joints: no spherical joint (a rotation-only body no
+/// joint reaches is on an implicit one) and no prescribed coordinate.
 inline void requireMechanismSupported(const articulated::ArticulatedModel& model, const std::string& field) {
   for (int i = 0; i < model.bodyCount(); ++i) {
     const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
@@ -62,9 +68,6 @@ inline void requireMechanismSupported(const articulated::ArticulatedModel& model
     if (b.kind == articulated::JointKind::kSpherical)
       throw InvalidInput(field, "body '" + name + "' hangs on a spherical joint: the mechanism spring fit takes "
                                 "revolute and universal joints");
-    if (b.rotation_only)
-      throw InvalidInput(field, "body '" + name + "' is rotation-only: the mechanism spring fit takes bodies that "
-                                "move with their joints");
     for (int k = 0; k < b.coordinates(); ++k)
       if (b.prescribed(k))
         throw InvalidInput(field, "the joint of body '" + name + "' has prescribed motion: nothing to fit there");
@@ -140,9 +143,14 @@ class MechanismDynamics {
       const std::size_t s = static_cast<std::size_t>(i);
       const articulated::ArticulatedBody& b = m_.bodies[s];
       const Mat3 I = R_[s] * b.inertia.template cast<T>() * R_[s].transpose();
-      const Vec3 ma = T(b.mass) * (a_[s] - g);
-      F_[s] += ma;
-      N_[s] += I * al_[s] + w_[s].cross(I * w_[s]) + (c_[s] - p_[s]).cross(ma);
+      N_[s] += I * al_[s] + w_[s].cross(I * w_[s]);
+      if (b.rotation_only) {
+        F_[s].setZero();  // the support's (p_i = c_i: the moments are about the centre)
+      } else {
+        const Vec3 ma = T(b.mass) * (a_[s] - g);
+        F_[s] += ma;
+        N_[s] += (c_[s] - p_[s]).cross(ma);
+      }
       if (b.parent != articulated::kGround) {
         const std::size_t ps = static_cast<std::size_t>(b.parent);
         F_[ps] += F_[s];
@@ -201,12 +209,18 @@ class MechanismDynamics {
       Vec3 al = alp;
       for (int k = 0; k < b.coordinates(); ++k)
         al += u[k] * qdd[b.q_begin + k] + (with_parent[k] ? wp : w).cross(u[k]) * qd[b.q_begin + k];
-      const Vec3 rc = R_[s] * b.anchor_child.template cast<T>();
-      p_[s] = cp + rp;
-      c_[s] = p_[s] - rc;
       w_[s] = w;
       al_[s] = al;
-      a_[s] = ap + alp.cross(rp) + wp.cross(wp.cross(rp)) - al.cross(rc) - w.cross(w.cross(rc));
+      if (b.rotation_only) {
+        c_[s] = b.fixed_position.template cast<T>();
+        p_[s] = c_[s];
+        a_[s].setZero();
+      } else {
+        const Vec3 rc = R_[s] * b.anchor_child.template cast<T>();
+        p_[s] = cp + rp;
+        c_[s] = p_[s] - rc;
+        a_[s] = ap + alp.cross(rp) + wp.cross(wp.cross(rp)) - al.cross(rc) - w.cross(w.cross(rc));
+      }
       u_[s][0] = u[0];
       u_[s][1] = u[1];
       F_[s].setZero();

@@ -61,6 +61,22 @@ const char* kUniversalTree = R"({"name": "tree", "gravity": [0, 0, -9.81],
      "anchor_secondary": [0, 0, 0], "axis1_main": [0, 0, 1], "axis2_secondary": [1, 0, 0],
      "spring1": {"stiffness": 2.0}, "spring2": {"stiffness": 1.0}}]})";
 
+/// A rotation-only flywheel on a sprung and damped hub (its centre held by
+/// the hub's support), carrying a bob on a sprung hinge at its rim whose axis
+/// is skew to the hub's: the wheel's support takes the bob's pull.
+const char* kFlywheel = R"({"name": "flywheel", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "wheel", "mass": 2.0, "inertia": [0.1, 0.05, 0.05], "rotation_only": true, "position": [0, 0, 0],
+     "angular_velocity": [1.0, 0, 0]},
+    {"name": "bob", "mass": 0.6, "inertia": [0.02, 0.01, 0.015], "position": [0, 0.3, -0.5]}],
+  "joints": [
+    {"name": "hub", "type": "revolute", "main": "ground", "secondary": "wheel", "anchor_main": [0, 0, 0],
+     "anchor_secondary": [0, 0, 0], "axis_main": [1, 0, 0], "initial_angle": 0.2,
+     "spring": {"stiffness": 6.0, "rest_angle": 0.1}, "damper": {"damping": 0.04}},
+    {"name": "hanger", "type": "revolute", "main": "wheel", "secondary": "bob", "anchor_main": [0, 0.3, 0],
+     "anchor_secondary": [0, 0, 0.5], "axis_main": [0.6, 0.8, 0], "initial_angle": -0.3,
+     "spring": {"stiffness": 2.5, "rest_angle": -0.2}, "damper": {"damping": 0.02}}]})";
+
 /// q̈ of MechanismDynamics<double> and of the simulator's ABA at random
 /// states agree to rounding; and in Jets the value part is the same.
 void expectSameAccelerations(const std::string& json) {
@@ -94,6 +110,7 @@ void expectSameAccelerations(const std::string& json) {
 TEST(CalibMechanismDynamics, AgreesWithTheArticulatedBodyAlgorithm) {
   expectSameAccelerations(kSprungPendulum);
   expectSameAccelerations(kUniversalTree);
+  expectSameAccelerations(kFlywheel);
 }
 
 }  // namespace
@@ -176,6 +193,25 @@ TEST(CalibMechanismSprings, DoublePendulumFromAnglesAndFromGyroscopes) {
     const MechanismSpringFit f = fitMechanismSprings(start, r, o);
     EXPECT_TRUE(f.converged) << f.message;
     EXPECT_EQ(f.data, mechanismDataName(data));
+    expectRecovered(f, truth, 1e-4);
+  }
+}
+
+/// A rotation-only body in the mechanism (the flywheel's hub): both joints'
+/// springs and dashpots from the angles and from the gyroscopes alone,
+/// started 30 % off, as for the double pendulum.
+TEST(CalibMechanismSprings, FlywheelWithARotationOnlyHub) {
+  const Recording r = simulated(kFlywheel, std::string(kSimulate) + (test::kSanitized ? "--t-end 2" : "--t-end 10"));
+  const SceneDescription start = parseScene(perturbed(kFlywheel, 1.3, 0.7), "start.json");
+  const std::vector<Truth> truth = {{"hub", 1, 6.0, 0.04}, {"hanger", 1, 2.5, 0.02}};
+  for (MechanismData data : {MechanismData::kAngles, MechanismData::kGyroscopes}) {
+    SCOPED_TRACE(mechanismDataName(data));
+    MechanismSpringOptions o;
+    o.data = data;
+    const MechanismSpringFit f = fitMechanismSprings(start, r, o);
+    EXPECT_TRUE(f.converged) << f.message;
+    for (const CoordinateSpring& c : f.coordinates)
+      std::printf("%s %s: k %.6f c %.6f\n", mechanismDataName(data), c.joint.c_str(), c.stiffness, c.damping);
     expectRecovered(f, truth, 1e-4);
   }
 }
