@@ -265,6 +265,8 @@ bool runsInJointCoordinates(const std::string& integrator) {
   return false;
 }
 
+bool Simulation::hasConstraints() const { return model_->multibody != nullptr; }
+
 bool Simulation::hasJointFormulation(std::string* why) const {
   if (!model_->multibody || model_->articulated) return true;
   if (why) *why = model_->articulated_why;

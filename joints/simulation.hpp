@@ -123,6 +123,11 @@ class Simulation {
   /// Whether the scene can run in joint coordinates; if not, `why` says so.
   bool hasJointFormulation(std::string* why) const;
 
+  /// Whether the scene is a mechanism whose default (maximal) formulation
+  /// imposes constraints with multipliers (a single body, free or on the
+  /// reduced model of its one joint to the ground, is not).
+  bool hasConstraints() const;
+
   /// Runs the scene; calls `row` with each output row (may be empty).
   /// Throws InvalidInput for an unknown integrator, bad options or dt.
   SimulationResult run(const SimulationOptions& options,
