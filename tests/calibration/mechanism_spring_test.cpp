@@ -177,15 +177,15 @@ void expectRecovered(const MechanismSpringFit& f, const std::vector<Truth>& trut
 
 const char* kSimulate = "--integrator rkmk4 --dt 0.001 --formulation joint --every 10 ";
 
-/// Exact recordings of the sprung double pendulum (10 s, 100 Hz), the fit
-/// started 30 % off (stiffness × 1.3, damping × 0.7): from the joint angles
-/// and from the two gyroscopes alone, to the difference of the simulator's
-/// and the fit's integrators (rkmk4 at 1 ms against RK4 at 5 ms).
-/// (Under the sanitizers 2 s: the fits integrate in Jets, ~20× slower there.)
-TEST(CalibMechanismSprings, DoublePendulumFromAnglesAndFromGyroscopes) {
-  const Recording r = simulated(kSprungPendulum, std::string(kSimulate) + (test::kSanitized ? "--t-end 2" : "--t-end 10"));
-  const SceneDescription start = parseScene(perturbed(kSprungPendulum, 1.3, 0.7), "start.json");
-  const std::vector<Truth> truth = {{"shoulder", 1, 8.0, 0.05}, {"elbow", 1, 3.0, 0.02}};
+/// Exact recordings of `json` (10 s, 100 Hz), the fit started 30 % off
+/// (stiffness × 1.3, damping × 0.7): from the joint angles and from the
+/// gyroscopes alone, every coordinate back to 1e-4 of the truth — the
+/// difference of the simulator's and the fit's integrators (rkmk4 at 1 ms
+/// against RK4 at 5 ms). (Under the sanitizers 2 s: the fits integrate in
+/// Jets, ~20× slower there.)
+void expectFittedFromAnglesAndGyroscopes(const char* json, const std::vector<Truth>& truth) {
+  const Recording r = simulated(json, std::string(kSimulate) + (test::kSanitized ? "--t-end 2" : "--t-end 10"));
+  const SceneDescription start = parseScene(perturbed(json, 1.3, 0.7), "start.json");
   for (MechanismData data : {MechanismData::kAngles, MechanismData::kGyroscopes}) {
     SCOPED_TRACE(mechanismDataName(data));
     MechanismSpringOptions o;
@@ -193,27 +193,21 @@ TEST(CalibMechanismSprings, DoublePendulumFromAnglesAndFromGyroscopes) {
     const MechanismSpringFit f = fitMechanismSprings(start, r, o);
     EXPECT_TRUE(f.converged) << f.message;
     EXPECT_EQ(f.data, mechanismDataName(data));
-    expectRecovered(f, truth, 1e-4);
-  }
-}
-
-/// A rotation-only body in the mechanism (the flywheel's hub): both joints'
-/// springs and dashpots from the angles and from the gyroscopes alone,
-/// started 30 % off, as for the double pendulum.
-TEST(CalibMechanismSprings, FlywheelWithARotationOnlyHub) {
-  const Recording r = simulated(kFlywheel, std::string(kSimulate) + (test::kSanitized ? "--t-end 2" : "--t-end 10"));
-  const SceneDescription start = parseScene(perturbed(kFlywheel, 1.3, 0.7), "start.json");
-  const std::vector<Truth> truth = {{"hub", 1, 6.0, 0.04}, {"hanger", 1, 2.5, 0.02}};
-  for (MechanismData data : {MechanismData::kAngles, MechanismData::kGyroscopes}) {
-    SCOPED_TRACE(mechanismDataName(data));
-    MechanismSpringOptions o;
-    o.data = data;
-    const MechanismSpringFit f = fitMechanismSprings(start, r, o);
-    EXPECT_TRUE(f.converged) << f.message;
     for (const CoordinateSpring& c : f.coordinates)
       std::printf("%s %s: k %.6f c %.6f\n", mechanismDataName(data), c.joint.c_str(), c.stiffness, c.damping);
     expectRecovered(f, truth, 1e-4);
   }
+}
+
+/// The sprung double pendulum (a child-first elbow).
+TEST(CalibMechanismSprings, DoublePendulumFromAnglesAndFromGyroscopes) {
+  expectFittedFromAnglesAndGyroscopes(kSprungPendulum, {{"shoulder", 1, 8.0, 0.05}, {"elbow", 1, 3.0, 0.02}});
+}
+
+/// A rotation-only body in the mechanism: the flywheel's hub (measured
+/// k 6.000001 and 2.500002, c 0.040000 and 0.020000 from both data).
+TEST(CalibMechanismSprings, FlywheelWithARotationOnlyHub) {
+  expectFittedFromAnglesAndGyroscopes(kFlywheel, {{"hub", 1, 6.0, 0.04}, {"hanger", 1, 2.5, 0.02}});
 }
 
 /// The inverse-dynamics start (mechanism_spring_start.hpp) from the angles
