@@ -601,8 +601,12 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
         j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
         j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
         j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
-        j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias "
-                              "along its axis: reported 0)";
+        j["gyro_bias_note"] =
+            fit.likelihood.fitted_gyro_bias
+                ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
+                  "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
+                : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
+                  "axis: reported 0)";
       }
       if (options.estimator == calibration::HingeEstimator::kLikelihood) {
         j["estimator"] = "likelihood";

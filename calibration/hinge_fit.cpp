@@ -138,9 +138,8 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
       throw InvalidInput(samples.source, std::string("--estimator likelihood with --use ") + dataUseName(options.use) +
                                              ": the likelihood fit models the two gyroscopes alone (use --use "
                                              "gyroscopes or auto)");
-    if (options.fit_gyro_bias || options.fit_time_offset)
-      throw InvalidInput(samples.source,
-                         "--estimator likelihood does not estimate gyroscope biases or clock offsets yet");
+    if (options.fit_time_offset)
+      throw InvalidInput(samples.source, "--estimator likelihood does not estimate a clock offset yet");
     if (!samples.hasAngularVelocities())
       throw InvalidInput(samples.source, "--estimator likelihood needs both bodies' gyroscopes");
   }
@@ -294,8 +293,13 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
   if (options.estimator == HingeEstimator::kLikelihood) {
-    // Refine by maximum likelihood over the joint angle (hinge_likelihood.hpp).
-    const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary);
+    // Refine by maximum likelihood over the joint angle (hinge_likelihood.hpp),
+    // with the biases from the constraint fit's where they are fitted.
+    HingeLikelihoodOptions ml_options;
+    ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
+    ml_options.gyro_bias_main_start = fit.gyro_bias_main;
+    ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
+    const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary, ml_options);
     fit.constraint_sigma_main_deg = fit.sigma_main_deg;
     fit.constraint_sigma_secondary_deg = fit.sigma_secondary_deg;
     const double flip = canonicalSign(ml.axis_main);
@@ -303,6 +307,12 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
     fit.axis_secondary = flip * ml.axis_secondary;
     fit.sigma_main_deg = ml.sigma_main_deg;
     fit.sigma_secondary_deg = ml.sigma_secondary_deg;
+    if (ml.fitted_gyro_bias) {
+      fit.gyro_bias_main = ml.gyro_bias_main;
+      fit.gyro_bias_secondary = ml.gyro_bias_secondary;
+      fit.gyro_bias_main_sigma = ml.gyro_bias_main_sigma;
+      fit.gyro_bias_secondary_sigma = ml.gyro_bias_secondary_sigma;
+    }
     fit.likelihood = ml;
     fit.sign = "R1 j1 = R2 j2 from the joint angle that turns the perpendicular rates (likelihood); overall sign: "
                "largest component of axis_main positive";

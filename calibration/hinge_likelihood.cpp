@@ -25,27 +25,32 @@ constexpr int kHalfStencil = 2;
 /// Largest relative spread of the sampling interval (φ̇ by a fixed stencil).
 constexpr double kUniformSampling = 1e-3;
 
-/// (ω₁,k − m₁,k) · w.
+/// (ω₁,k + B₁ b₁ − m₁,k) · w: B₁ = [E₁ | j₁] of the start (orthonormal), b₁
+/// the main gyroscope's bias in it (held at 0 without fit_gyro_bias).
 struct MainGyro {
   Eigen::Vector3d measured;
+  Eigen::Matrix3d basis;
   double weight;
   template <typename T>
-  bool operator()(const T* w1, T* r) const {
-    for (int i = 0; i < 3; ++i) r[i] = weight * (w1[i] - measured[i]);
+  bool operator()(const T* w1, const T* b1, T* r) const {
+    for (int i = 0; i < 3; ++i)
+      r[i] = weight * (w1[i] + basis(i, 0) * b1[0] + basis(i, 1) * b1[1] + basis(i, 2) * b1[2] - measured[i]);
     return true;
   }
 };
 
-/// (Cᵀ[exp(−φ j₁) ω₁ + φ̇ j₁] − m₂,k) · w, equation (1) of the header, φ̇ the
-/// five-point difference of φ_{k−2} … φ_{k+2}; C as a unit quaternion
-/// (w, x, y, z), Ceres' convention.
+/// (Cᵀ[exp(−φ j₁) ω₁ + φ̇ j₁] + E₂ b₂ − m₂,k) · w, equation (1) of the
+/// header, φ̇ the five-point difference of φ_{k−2} … φ_{k+2}; C as a unit
+/// quaternion (w, x, y, z), Ceres' convention; E₂ b₂ the secondary
+/// gyroscope's bias perpendicular to the start's j₂.
 struct SecondaryGyro {
   Eigen::Vector3d measured;
+  Eigen::Matrix<double, 3, 2> basis;
   double inverse_step;  ///< 1/h
   double weight;
   template <typename T>
   bool operator()(const T* w1, const T* pm2, const T* pm1, const T* p0, const T* pp1, const T* pp2, const T* j1,
-                  const T* q, T* r) const {
+                  const T* q, const T* b2, T* r) const {
     using std::cos;
     using std::sin;
     const T rate = (pm2[0] - 8.0 * pm1[0] + 8.0 * pp1[0] - pp2[0]) * (inverse_step / 12.0);
@@ -57,18 +62,35 @@ struct SecondaryGyro {
     const T conjugate[4] = {q[0], -q[1], -q[2], -q[3]};
     T out[3];
     ceres::QuaternionRotatePoint(conjugate, v, out);
-    for (int i = 0; i < 3; ++i) r[i] = weight * (out[i] - measured[i]);
+    for (int i = 0; i < 3; ++i) r[i] = weight * (out[i] + basis(i, 0) * b2[0] + basis(i, 1) * b2[1] - measured[i]);
     return true;
   }
 };
 
-/// The problem's parameters: ω₁,k, φ_k, j₁, C.
+/// The problem's parameters: ω₁,k, φ_k, j₁, C, and the biases: b₁ in B₁ =
+/// [E₁ | j₁] (all three components), b₂ in the plane E₂ perpendicular to the
+/// start's j₂. Along the axis only the difference of the two biases is
+/// observable — the same rate about the axis on both gyroscopes is the whole
+/// hinge turning, which ω₁,k absorbs; a different one drifts the joint angle
+/// and so the phase of the perpendicular rates —, so b₂'s component along j₂
+/// is held at 0 and b₁'s along j₁ is the difference.
 struct Parameters {
   std::vector<Eigen::Vector3d> w1;
   std::vector<double> phi;
   double j1[3];
   double q[4];  ///< w, x, y, z
+  double b1[3] = {0.0, 0.0, 0.0}, b2[2] = {0.0, 0.0};
+  Eigen::Matrix3d B1 = Eigen::Matrix3d::Zero();
+  Eigen::Matrix<double, 3, 2> E2 = Eigen::Matrix<double, 3, 2>::Zero();
 };
+
+/// Columns spanning the plane perpendicular to the unit vector a.
+Eigen::Matrix<double, 3, 2> perpendicularBasis(const Eigen::Vector3d& a) {
+  Eigen::Matrix<double, 3, 2> E;
+  E.col(0) = orthogonalUnit(a);
+  E.col(1) = a.cross(E.col(0));
+  return E;
+}
 
 double uniformStep(const std::vector<double>& t, const std::string& source) {
   const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
@@ -82,24 +104,30 @@ double uniformStep(const std::vector<double>& t, const std::string& source) {
 /// The least-squares problem of the header on `p`, residuals times `weight`.
 class LikelihoodProblem {
  public:
+  /// With `biases`, b₁ and b₂ are unknowns (else held at their values).
   LikelihoodProblem(Parameters* p, const std::vector<Eigen::Vector3d>& m1, const std::vector<Eigen::Vector3d>& m2,
-                    double h, double weight)
+                    double h, double weight, bool biases)
       : problem_(options()) {
     const int n = static_cast<int>(p->w1.size());
     for (int k = 0; k < n; ++k)
-      problem_.AddResidualBlock(new ceres::AutoDiffCostFunction<MainGyro, 3, 3>(new MainGyro{m1[k], weight}), nullptr,
-                                p->w1[k].data());
+      problem_.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<MainGyro, 3, 3, 3>(new MainGyro{m1[k], p->B1, weight}), nullptr,
+          p->w1[k].data(), p->b1);
     for (int k = kHalfStencil; k + kHalfStencil < n; ++k)
       problem_.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4>(
-              new SecondaryGyro{m2[k], 1.0 / h, weight}),
+          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2>(
+              new SecondaryGyro{m2[k], p->E2, 1.0 / h, weight}),
           nullptr, p->w1[k].data(), &p->phi[k - 2], &p->phi[k - 1], &p->phi[k], &p->phi[k + 1], &p->phi[k + 2], p->j1,
-          p->q);
+          p->q, p->b2);
     problem_.SetManifold(p->j1, &sphere_);
     problem_.SetManifold(p->q, &quaternion_);
     problem_.SetParameterBlockConstant(&p->phi[0]);  // gauge: φ₀ against C's turn about j₁
+    if (!biases) {
+      problem_.SetParameterBlockConstant(p->b1);
+      problem_.SetParameterBlockConstant(p->b2);
+    }
     residuals_ = 3 * n + 3 * (n - 2 * kHalfStencil);
-    free_parameters_ = 3 * n + (n - 1) + 2 + 3;
+    free_parameters_ = 3 * n + (n - 1) + 2 + 3 + (biases ? 5 : 0);
   }
 
   ceres::Problem& problem() { return problem_; }
@@ -135,14 +163,29 @@ Eigen::Vector3d secondaryAxis(const double* j1, const double* q, Eigen::Matrix<d
 }
 
 /// The axes' RMS angles (rad) from the covariance of (j₁, q) (ambient; times
-/// `scale`), or false when Ceres finds it rank deficient.
-bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigma1, double* sigma2) {
+/// `scale`), and with `bias_sigmas` the biases' RMS [rad/s] (√trace of each
+/// b's covariance: E's columns are orthonormal); false when Ceres finds the
+/// covariance rank deficient.
+bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigma1, double* sigma2,
+                double* bias_sigmas = nullptr) {
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::SPARSE_QR;
   options.num_threads = 1;
   ceres::Covariance covariance(options);
   std::vector<std::pair<const double*, const double*>> blocks = {{p.j1, p.j1}, {p.q, p.q}, {p.j1, p.q}};
+  if (bias_sigmas) {
+    blocks.emplace_back(p.b1, p.b1);
+    blocks.emplace_back(p.b2, p.b2);
+  }
   if (!covariance.Compute(blocks, &lp.problem())) return false;
+  if (bias_sigmas) {
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c1;
+    Eigen::Matrix<double, 2, 2, Eigen::RowMajor> c2;
+    covariance.GetCovarianceBlock(p.b1, p.b1, c1.data());
+    covariance.GetCovarianceBlock(p.b2, p.b2, c2.data());
+    bias_sigmas[0] = std::sqrt(scale * c1.trace());
+    bias_sigmas[1] = std::sqrt(scale * c2.trace());
+  }
   Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c11;
   Eigen::Matrix<double, 4, 4, Eigen::RowMajor> cqq;
   Eigen::Matrix<double, 3, 4, Eigen::RowMajor> c1q;
@@ -190,6 +233,8 @@ double startFrom(const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std
   const double gamma = std::arg(sum);
   const Eigen::Quaterniond c = Eigen::Quaterniond(Eigen::AngleAxisd(gamma, j1)) * c0;
   for (int i = 0; i < 3; ++i) p->j1[i] = j1[i];
+  p->B1 << perpendicularBasis(j1), j1;
+  p->E2 = perpendicularBasis(j2);
   p->q[0] = c.w();
   p->q[1] = c.x();
   p->q[2] = c.y();
@@ -200,7 +245,7 @@ double startFrom(const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std
 }  // namespace
 
 HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
-                                      const Eigen::Vector3d& axis_secondary) {
+                                      const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options_in) {
   if (!samples.hasAngularVelocities())
     throw InvalidInput(samples.source, "the likelihood hinge fit needs both bodies' gyroscopes");
   const int n = samples.size();
@@ -208,12 +253,26 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   const double h = uniformStep(samples.time, samples.source);
   const std::vector<Eigen::Vector3d>& m1 = samples.main.angular_velocity;
   const std::vector<Eigen::Vector3d>& m2 = samples.secondary.angular_velocity;
+  // With biases, the start's rates are the measured ones less the start's
+  // biases.
+  std::vector<Eigen::Vector3d> c1 = m1, c2 = m2;
+  if (options_in.fit_gyro_bias)
+    for (int k = 0; k < n; ++k) {
+      c1[k] -= options_in.gyro_bias_main_start;
+      c2[k] -= options_in.gyro_bias_secondary_start;
+    }
   // j₂'s sign: the start whose perpendicular rates turn into each other.
   Parameters p, turned;
-  const double coherence = startFrom(axis_main, axis_secondary, m1, m2, h, &p);
-  if (startFrom(axis_main, -axis_secondary, m1, m2, h, &turned) > coherence) p = turned;
+  const double coherence = startFrom(axis_main, axis_secondary, c1, c2, h, &p);
+  if (startFrom(axis_main, -axis_secondary, c1, c2, h, &turned) > coherence) p = turned;
+  if (options_in.fit_gyro_bias) {
+    const Eigen::Vector3d b1 = p.B1.transpose() * options_in.gyro_bias_main_start;
+    const Eigen::Vector2d b2 = p.E2.transpose() * options_in.gyro_bias_secondary_start;
+    for (int i = 0; i < 3; ++i) p.b1[i] = b1[i];
+    for (int i = 0; i < 2; ++i) p.b2[i] = b2[i];
+  }
 
-  LikelihoodProblem lp(&p, m1, m2, h, 1.0);
+  LikelihoodProblem lp(&p, m1, m2, h, 1.0, options_in.fit_gyro_bias);
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_SCHUR;
   options.max_num_iterations = kMaxIterations;
@@ -227,6 +286,8 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   for (double& phi : p.phi) ordering->AddElementToGroup(&phi, 1);
   ordering->AddElementToGroup(p.j1, 1);
   ordering->AddElementToGroup(p.q, 1);
+  ordering->AddElementToGroup(p.b1, 1);
+  ordering->AddElementToGroup(p.b2, 1);
   options.linear_solver_ordering = ordering;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &lp.problem(), &summary);
@@ -240,11 +301,18 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   fit.message = summary.message;
   const double s2 = 2.0 * summary.final_cost / lp.degreesOfFreedom();
   fit.noise_sigma = std::sqrt(s2);
-  double sigma1 = 0.0, sigma2 = 0.0;
-  if (!axisSigmas(lp, p, s2, &sigma1, &sigma2))
+  double sigma1 = 0.0, sigma2 = 0.0, bias_sigmas[2] = {0.0, 0.0};
+  if (!axisSigmas(lp, p, s2, &sigma1, &sigma2, options_in.fit_gyro_bias ? bias_sigmas : nullptr))
     throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
   fit.sigma_main_deg = sigma1 * kRadToDeg;
   fit.sigma_secondary_deg = sigma2 * kRadToDeg;
+  if (options_in.fit_gyro_bias) {
+    fit.fitted_gyro_bias = true;
+    fit.gyro_bias_main = p.B1 * Eigen::Vector3d(p.b1[0], p.b1[1], p.b1[2]);
+    fit.gyro_bias_secondary = p.E2 * Eigen::Vector2d(p.b2[0], p.b2[1]);
+    fit.gyro_bias_main_sigma = bias_sigmas[0];
+    fit.gyro_bias_secondary_sigma = bias_sigmas[1];
+  }
   return fit;
 }
 
@@ -255,6 +323,8 @@ HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
   p.w1 = truth.main_rate;
   p.phi = truth.angle;
   for (int i = 0; i < 3; ++i) p.j1[i] = truth.axis_main.normalized()[i];
+  p.B1 << perpendicularBasis(truth.axis_main.normalized()), truth.axis_main.normalized();
+  p.E2 = perpendicularBasis(truth.mount.inverse() * truth.axis_main.normalized());
   const Eigen::Quaterniond c = truth.mount.quaternion();
   p.q[0] = c.w();
   p.q[1] = c.x();
@@ -262,7 +332,7 @@ HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
   p.q[3] = c.z();
   // Exact "measurements": the model's own values, so the Jacobian is the truth's.
   std::vector<Eigen::Vector3d> m2(n, Eigen::Vector3d::Zero());
-  LikelihoodProblem lp(&p, truth.main_rate, m2, h, 1.0 / rate_sigma);
+  LikelihoodProblem lp(&p, truth.main_rate, m2, h, 1.0 / rate_sigma, false);
   HingeBound bound;
   double sigma1 = 0.0, sigma2 = 0.0;
   if (!axisSigmas(lp, p, 1.0, &sigma1, &sigma2)) throw NotIdentifiable("the recording's information is singular");

@@ -33,12 +33,34 @@
 namespace lieflow {
 namespace calibration {
 
+/// With fit_gyro_bias, a constant bias per gyroscope is an unknown too (the
+/// measurements are ω + b), started at the given values (a constraint fit's
+/// biases). Unlike Seel's constraint, the joint angle sees the biases along
+/// the axis, but only their difference: the same rate about the axis on both
+/// gyroscopes is the whole hinge turning. So the secondary's bias is fitted
+/// perpendicular to the start's j₂, and the main one's whole, its component
+/// along j₁ being the difference (main − secondary) of the two.
+struct HingeLikelihoodOptions {
+  bool fit_gyro_bias = false;
+  Eigen::Vector3d gyro_bias_main_start = Eigen::Vector3d::Zero();       ///< rad/s, main body axes
+  Eigen::Vector3d gyro_bias_secondary_start = Eigen::Vector3d::Zero();  ///< rad/s, secondary body axes
+};
+
 struct HingeLikelihoodFit {
   Eigen::Vector3d axis_main;       ///< j₁, unit
   Eigen::Vector3d axis_secondary;  ///< j₂ = Cᵀ j₁ (sign: R₁ j₁ = R₂ j₂)
   double sigma_main_deg = 0.0;     ///< RMS angle: √trace of j₁'s ambient covariance
   double sigma_secondary_deg = 0.0;
   double noise_sigma = 0.0;        ///< σ of one gyroscope axis, from the residuals [rad/s]
+  /// With HingeLikelihoodOptions::fit_gyro_bias: the biases [rad/s, body
+  /// axes; the secondary's perpendicular to its axis, the main one's along
+  /// its axis the difference of the two] and their RMS σ, the axes' σ
+  /// marginal over them.
+  bool fitted_gyro_bias = false;
+  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
+  double gyro_bias_main_sigma = 0.0;
+  double gyro_bias_secondary_sigma = 0.0;
   int iterations = 0;
   bool converged = false;
   std::string message;             ///< Ceres' reason for stopping
@@ -48,7 +70,7 @@ struct HingeLikelihoodFit {
 /// axes (any sign). Throws lieflow::InvalidInput without both bodies'
 /// gyroscopes or with non-uniform times, FitFailed when the solve fails.
 HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
-                                      const Eigen::Vector3d& axis_secondary);
+                                      const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options = {});
 
 /// The true motion of a hinge recording, for the bound.
 struct HingeTruthSamples {
