@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "calibration/recording.hpp"
+#include "calibration/synthetic_motion.hpp"
 #include "calibration/unit_axis.hpp"
 
 namespace lieflow {
@@ -56,6 +57,20 @@ constexpr bool kSanitized = false;
 #else
 constexpr bool kSanitized = false;
 #endif
+
+/// Gyroscopes alone, white noise σ per axis [rad/s] (no orientations).
+inline RecordingNoise gyroscopeNoise(double sigma) {
+  RecordingNoise n;
+  n.rate_sigma = sigma;
+  n.orientations = false;
+  return n;
+}
+
+/// The part of a bias a hinge's constraint can observe: perpendicular to the axis.
+inline Eigen::Vector3d perpendicular(const Eigen::Vector3d& b, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d a = axis.normalized();
+  return b - b.dot(a) * a;
+}
 
 }  // namespace test
 }  // namespace calibration

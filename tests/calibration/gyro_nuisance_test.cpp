@@ -32,18 +32,7 @@ constexpr int kTrials = test::kSanitized ? 12 : 50;
 constexpr double kRatioBound = test::kSanitized ? 2.5 : 1.6;
 constexpr double kRateHz = 100.0;
 
-RecordingNoise gyroscopes(double sigma) {
-  RecordingNoise n;
-  n.rate_sigma = sigma;
-  n.orientations = false;
-  return n;
-}
 
-/// The part of a bias a hinge can observe: perpendicular to the axis.
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& b, const Eigen::Vector3d& axis) {
-  const Eigen::Vector3d a = axis.normalized();
-  return b - b.dot(a) * a;
-}
 
 struct Outcome {
   double error_deg[2];
@@ -58,7 +47,7 @@ struct Outcome {
 Outcome fitOnce(std::mt19937& gen, double sigma, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2, double offset,
                 bool fit_bias, bool fit_offset) {
   const HingeMotion m = randomHingeMotion(gen);
-  RecordingNoise n = gyroscopes(sigma);
+  RecordingNoise n = test::gyroscopeNoise(sigma);
   n.gyro_bias_main = b1;
   n.gyro_bias_secondary = b2;
   n.secondary_clock_offset = offset;
@@ -72,8 +61,8 @@ Outcome fitOnce(std::mt19937& gen, double sigma, const Eigen::Vector3d& b1, cons
   out.sigma_deg[0] = f.sigma_main_deg;
   out.sigma_deg[1] = f.sigma_secondary_deg;
   if (fit_bias) {
-    out.bias_error[0] = (f.gyro_bias_main - perpendicular(b1, m.axis_main)).norm();
-    out.bias_error[1] = (f.gyro_bias_secondary - perpendicular(b2, m.axisSecondary())).norm();
+    out.bias_error[0] = (f.gyro_bias_main - test::perpendicular(b1, m.axis_main)).norm();
+    out.bias_error[1] = (f.gyro_bias_secondary - test::perpendicular(b2, m.axisSecondary())).norm();
     out.bias_sigma[0] = f.gyro_bias_main_sigma;
     out.bias_sigma[1] = f.gyro_bias_secondary_sigma;
   }

@@ -37,10 +37,7 @@ TEST(CalibHingeLikelihood, AtTheCramerRaoBoundAndHonest) {
   double ratio[2] = {0.0, 0.0}, efficiency_min = 1e9, efficiency_max = 0.0, constraint_excess = 0.0;
   for (int trial = 0; trial < 50; ++trial) {
     const HingeMotion m = randomHingeMotion(gen);
-    RecordingNoise noise;
-    noise.rate_sigma = 0.1;
-    noise.orientations = false;
-    const JointSamples s = recordMotion(m, kSamples, 100.0, noise, gen);
+    const JointSamples s = recordMotion(m, kSamples, 100.0, test::gyroscopeNoise(0.1), gen);
     AxisFitOptions o;
     o.estimator = HingeEstimator::kLikelihood;
     HingeFit f;
@@ -117,11 +114,6 @@ TEST(CalibHingeLikelihood, RefusedWithOtherData) {
   EXPECT_THROW(fitHinge(s, o), InvalidInput);
 }
 
-/// The part of a bias a hinge can observe: perpendicular to the axis.
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& b, const Eigen::Vector3d& axis) {
-  const Eigen::Vector3d a = axis.normalized();
-  return b - b.dot(a) * a;
-}
 
 /// Gyroscope biases as unknowns of the likelihood fit (--fit-gyro-bias):
 /// random hinge recordings (σ = 0.1 rad/s, 10 s at 100 Hz) with biases
@@ -138,9 +130,7 @@ TEST(CalibHingeLikelihood, GyroscopeBiasesAsUnknowns) {
   double ratio[2] = {0.0, 0.0}, bias_ratio[2] = {0.0, 0.0};
   for (int trial = 0; trial < trials; ++trial) {
     const HingeMotion m = randomHingeMotion(gen);
-    RecordingNoise noise;
-    noise.rate_sigma = 0.1;
-    noise.orientations = false;
+    RecordingNoise noise = test::gyroscopeNoise(0.1);
     noise.gyro_bias_main = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
     noise.gyro_bias_secondary = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
     const JointSamples s = recordMotion(m, kSamples, 100.0, noise, gen);
@@ -159,10 +149,10 @@ TEST(CalibHingeLikelihood, GyroscopeBiasesAsUnknowns) {
     const double sigma[2] = {f.sigma_main_deg, f.sigma_secondary_deg};
     // Along the axis only the difference is observable (hinge_likelihood.hpp).
     const Eigen::Vector3d j1 = m.axis_main.normalized(), j2 = m.axisSecondary().normalized();
-    const Eigen::Vector3d main_truth = perpendicular(noise.gyro_bias_main, j1) +
+    const Eigen::Vector3d main_truth = test::perpendicular(noise.gyro_bias_main, j1) +
                                        (noise.gyro_bias_main.dot(j1) - noise.gyro_bias_secondary.dot(j2)) * j1;
     const double bias_error[2] = {(f.gyro_bias_main - main_truth).norm(),
-                                  (f.gyro_bias_secondary - perpendicular(noise.gyro_bias_secondary, j2)).norm()};
+                                  (f.gyro_bias_secondary - test::perpendicular(noise.gyro_bias_secondary, j2)).norm()};
     const double bias_sigma[2] = {f.gyro_bias_main_sigma, f.gyro_bias_secondary_sigma};
     for (int a = 0; a < 2; ++a) {
       covered[a] += error[a] <= 3.0 * sigma[a];
