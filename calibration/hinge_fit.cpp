@@ -138,8 +138,6 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
       throw InvalidInput(samples.source, std::string("--estimator likelihood with --use ") + dataUseName(options.use) +
                                              ": the likelihood fit models the two gyroscopes alone (use --use "
                                              "gyroscopes or auto)");
-    if (options.fit_time_offset)
-      throw InvalidInput(samples.source, "--estimator likelihood does not estimate a clock offset yet");
     if (!samples.hasAngularVelocities())
       throw InvalidInput(samples.source, "--estimator likelihood needs both bodies' gyroscopes");
   }
@@ -292,37 +290,53 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   fit.summary.search_starts = search_starts;
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
-  if (options.estimator == HingeEstimator::kLikelihood) {
-    // Refine by maximum likelihood over the joint angle (hinge_likelihood.hpp),
-    // with the biases from the constraint fit's where they are fitted.
-    HingeLikelihoodOptions ml_options;
-    ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
-    ml_options.gyro_bias_main_start = fit.gyro_bias_main;
-    ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
-    const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary, ml_options);
-    fit.constraint_sigma_main_deg = fit.sigma_main_deg;
-    fit.constraint_sigma_secondary_deg = fit.sigma_secondary_deg;
-    const double flip = canonicalSign(ml.axis_main);
-    fit.axis_main = flip * ml.axis_main;
-    fit.axis_secondary = flip * ml.axis_secondary;
-    fit.sigma_main_deg = ml.sigma_main_deg;
-    fit.sigma_secondary_deg = ml.sigma_secondary_deg;
-    if (ml.fitted_gyro_bias) {
-      fit.gyro_bias_main = ml.gyro_bias_main;
-      fit.gyro_bias_secondary = ml.gyro_bias_secondary;
-      fit.gyro_bias_main_sigma = ml.gyro_bias_main_sigma;
-      fit.gyro_bias_secondary_sigma = ml.gyro_bias_secondary_sigma;
-    }
-    fit.likelihood = ml;
-    fit.sign = "R1 j1 = R2 j2 from the joint angle that turns the perpendicular rates (likelihood); overall sign: "
-               "largest component of axis_main positive";
-    if (!ml.converged) {
-      fit.summary.converged = false;
-      fit.summary.message = "the likelihood refinement did not converge: " + ml.message;
-    }
-  }
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
+}
+
+/// With --estimator likelihood: the constraint fit at `shift` refined by
+/// maximum likelihood over the joint angle (hinge_likelihood.hpp), with the
+/// biases and the clock offset where the constraint fit estimated them
+/// (started from its values).
+void refineByLikelihood(const JointSamples& samples, int shift, HingeFit* fit_out) {
+  const auto start_time = std::chrono::steady_clock::now();
+  HingeFit& fit = *fit_out;
+  HingeLikelihoodOptions ml_options;
+  ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
+  ml_options.gyro_bias_main_start = fit.gyro_bias_main;
+  ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
+  ml_options.fit_time_offset = fit.fitted_time_offset;
+  ml_options.offset_shift = shift;
+  if (fit.fitted_time_offset) {
+    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+    ml_options.offset_fraction_start = fit.time_offset - shift * h;
+  }
+  const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary, ml_options);
+  fit.constraint_sigma_main_deg = fit.sigma_main_deg;
+  fit.constraint_sigma_secondary_deg = fit.sigma_secondary_deg;
+  const double flip = canonicalSign(ml.axis_main);
+  fit.axis_main = flip * ml.axis_main;
+  fit.axis_secondary = flip * ml.axis_secondary;
+  fit.sigma_main_deg = ml.sigma_main_deg;
+  fit.sigma_secondary_deg = ml.sigma_secondary_deg;
+  if (ml.fitted_gyro_bias) {
+    fit.gyro_bias_main = ml.gyro_bias_main;
+    fit.gyro_bias_secondary = ml.gyro_bias_secondary;
+    fit.gyro_bias_main_sigma = ml.gyro_bias_main_sigma;
+    fit.gyro_bias_secondary_sigma = ml.gyro_bias_secondary_sigma;
+  }
+  if (ml.fitted_time_offset) {
+    fit.time_offset = ml.time_offset;
+    fit.time_offset_sigma = ml.time_offset_sigma;
+  }
+  fit.likelihood = ml;
+  fit.sign = "R1 j1 = R2 j2 from the joint angle that turns the perpendicular rates (likelihood); overall sign: "
+             "largest component of axis_main positive";
+  if (!ml.converged) {
+    fit.summary.converged = false;
+    fit.summary.message = "the likelihood refinement did not converge: " + ml.message;
+  }
+  fit.summary.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
 }
 
 }  // namespace
@@ -364,9 +378,11 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
 }
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  const bool likelihood = options.estimator == HingeEstimator::kLikelihood;
   if (!options.fit_time_offset) {
     HingeFit fit = fitHingeAtShift(samples, options, 0);
     checkForGyroscopeBias(samples, options, &fit);
+    if (likelihood) refineByLikelihood(samples, 0, &fit);
     return fit;
   }
   // The profile over whole samples: the fit at every shift within
@@ -411,7 +427,10 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
                             std::to_string(delta) + ", below " + std::to_string(kOffsetAmbiguity) +
                             "): a longer or more varied recording is needed to find the offset");
   }
-  return fit;
+  if (!likelihood) return fit;
+  HingeFit refined = fit;
+  refineByLikelihood(samples, best, &refined);
+  return refined;
 }
 
 }  // namespace calibration

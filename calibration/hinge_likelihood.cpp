@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/rate_derivative.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -39,18 +40,21 @@ struct MainGyro {
   }
 };
 
-/// (Cᵀ[exp(−φ j₁) ω₁ + φ̇ j₁] + E₂ b₂ − m₂,k) · w, equation (1) of the
-/// header, φ̇ the five-point difference of φ_{k−2} … φ_{k+2}; C as a unit
-/// quaternion (w, x, y, z), Ceres' convention; E₂ b₂ the secondary
-/// gyroscope's bias perpendicular to the start's j₂.
+/// (Cᵀ[exp(−φ j₁) ω₁ + φ̇ j₁] + E₂ b₂ − (m₂,k − ν ṁ₂,k)) · w, equation (1)
+/// of the header, φ̇ the five-point difference of φ_{k−2} … φ_{k+2}; C as a
+/// unit quaternion (w, x, y, z), Ceres' convention; E₂ b₂ the secondary
+/// gyroscope's bias perpendicular to the start's j₂; ν the fraction of a
+/// clock offset beyond its whole samples (m₂ at t_k + ν, moved back by the
+/// rates' slope; held at 0 without one).
 struct SecondaryGyro {
   Eigen::Vector3d measured;
+  Eigen::Vector3d slope;  ///< the measured rates' slope, for the clock offset's fraction ν
   Eigen::Matrix<double, 3, 2> basis;
   double inverse_step;  ///< 1/h
   double weight;
   template <typename T>
   bool operator()(const T* w1, const T* pm2, const T* pm1, const T* p0, const T* pp1, const T* pp2, const T* j1,
-                  const T* q, const T* b2, T* r) const {
+                  const T* q, const T* b2, const T* nu, T* r) const {
     using std::cos;
     using std::sin;
     const T rate = (pm2[0] - 8.0 * pm1[0] + 8.0 * pp1[0] - pp2[0]) * (inverse_step / 12.0);
@@ -62,7 +66,8 @@ struct SecondaryGyro {
     const T conjugate[4] = {q[0], -q[1], -q[2], -q[3]};
     T out[3];
     ceres::QuaternionRotatePoint(conjugate, v, out);
-    for (int i = 0; i < 3; ++i) r[i] = weight * (out[i] + basis(i, 0) * b2[0] + basis(i, 1) * b2[1] - measured[i]);
+    for (int i = 0; i < 3; ++i)
+      r[i] = weight * (out[i] + basis(i, 0) * b2[0] + basis(i, 1) * b2[1] - measured[i] + nu[0] * slope[i]);
     return true;
   }
 };
@@ -80,6 +85,7 @@ struct Parameters {
   double j1[3];
   double q[4];  ///< w, x, y, z
   double b1[3] = {0.0, 0.0, 0.0}, b2[2] = {0.0, 0.0};
+  double nu = 0.0;  ///< the clock offset's fraction [s]
   Eigen::Matrix3d B1 = Eigen::Matrix3d::Zero();
   Eigen::Matrix<double, 3, 2> E2 = Eigen::Matrix<double, 3, 2>::Zero();
 };
@@ -104,9 +110,11 @@ double uniformStep(const std::vector<double>& t, const std::string& source) {
 /// The least-squares problem of the header on `p`, residuals times `weight`.
 class LikelihoodProblem {
  public:
-  /// With `biases`, b₁ and b₂ are unknowns (else held at their values).
+  /// With `biases`, b₁ and b₂ are unknowns, with `offset` ν (else held at
+  /// their values); `slopes` the secondary's rate slopes (empty: zero).
   LikelihoodProblem(Parameters* p, const std::vector<Eigen::Vector3d>& m1, const std::vector<Eigen::Vector3d>& m2,
-                    double h, double weight, bool biases)
+                    double h, double weight, bool biases, bool offset = false,
+                    const std::vector<Eigen::Vector3d>& slopes = {})
       : problem_(options()) {
     const int n = static_cast<int>(p->w1.size());
     for (int k = 0; k < n; ++k)
@@ -115,10 +123,10 @@ class LikelihoodProblem {
           p->w1[k].data(), p->b1);
     for (int k = kHalfStencil; k + kHalfStencil < n; ++k)
       problem_.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2>(
-              new SecondaryGyro{m2[k], p->E2, 1.0 / h, weight}),
+          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2, 1>(new SecondaryGyro{
+              m2[k], slopes.empty() ? Eigen::Vector3d::Zero() : slopes[k], p->E2, 1.0 / h, weight}),
           nullptr, p->w1[k].data(), &p->phi[k - 2], &p->phi[k - 1], &p->phi[k], &p->phi[k + 1], &p->phi[k + 2], p->j1,
-          p->q, p->b2);
+          p->q, p->b2, &p->nu);
     problem_.SetManifold(p->j1, &sphere_);
     problem_.SetManifold(p->q, &quaternion_);
     problem_.SetParameterBlockConstant(&p->phi[0]);  // gauge: φ₀ against C's turn about j₁
@@ -126,8 +134,9 @@ class LikelihoodProblem {
       problem_.SetParameterBlockConstant(p->b1);
       problem_.SetParameterBlockConstant(p->b2);
     }
+    if (!offset) problem_.SetParameterBlockConstant(&p->nu);
     residuals_ = 3 * n + 3 * (n - 2 * kHalfStencil);
-    free_parameters_ = 3 * n + (n - 1) + 2 + 3 + (biases ? 5 : 0);
+    free_parameters_ = 3 * n + (n - 1) + 2 + 3 + (biases ? 5 : 0) + (offset ? 1 : 0);
   }
 
   ceres::Problem& problem() { return problem_; }
@@ -163,11 +172,11 @@ Eigen::Vector3d secondaryAxis(const double* j1, const double* q, Eigen::Matrix<d
 }
 
 /// The axes' RMS angles (rad) from the covariance of (j₁, q) (ambient; times
-/// `scale`), and with `bias_sigmas` the biases' RMS [rad/s] (√trace of each
-/// b's covariance: E's columns are orthonormal); false when Ceres finds the
-/// covariance rank deficient.
+/// `scale`), with `bias_sigmas` the biases' RMS [rad/s] (√trace of each b's
+/// covariance: the bases are orthonormal), with `offset_sigma` ν's σ [s];
+/// false when Ceres finds the covariance rank deficient.
 bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigma1, double* sigma2,
-                double* bias_sigmas = nullptr) {
+                double* bias_sigmas = nullptr, double* offset_sigma = nullptr) {
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::SPARSE_QR;
   options.num_threads = 1;
@@ -177,7 +186,13 @@ bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigm
     blocks.emplace_back(p.b1, p.b1);
     blocks.emplace_back(p.b2, p.b2);
   }
+  if (offset_sigma) blocks.emplace_back(&p.nu, &p.nu);
   if (!covariance.Compute(blocks, &lp.problem())) return false;
+  if (offset_sigma) {
+    double c = 0.0;
+    covariance.GetCovarianceBlock(&p.nu, &p.nu, &c);
+    *offset_sigma = std::sqrt(scale * c);
+  }
   if (bias_sigmas) {
     Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c1;
     Eigen::Matrix<double, 2, 2, Eigen::RowMajor> c2;
@@ -248,11 +263,24 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
                                       const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options_in) {
   if (!samples.hasAngularVelocities())
     throw InvalidInput(samples.source, "the likelihood hinge fit needs both bodies' gyroscopes");
-  const int n = samples.size();
+  uniformStep(samples.time, samples.source);
+  // The samples paired across the clock offset's whole samples: main k with
+  // secondary k − shift, and the secondary's slope there (its window inside).
+  const bool offset = options_in.fit_time_offset;
+  const int all = samples.size(), shift = offset ? options_in.offset_shift : 0, edge = offset ? kRateWindow : 0;
+  std::vector<Eigen::Vector3d> m1, m2, slopes;
+  std::vector<double> times;
+  for (int k = 0; k < all; ++k) {
+    const int k2 = k - shift;
+    if (k2 < edge || k2 >= all - edge) continue;
+    m1.push_back(samples.main.angular_velocity[k]);
+    m2.push_back(samples.secondary.angular_velocity[k2]);
+    if (offset) slopes.push_back(rateDerivative(samples.time, samples.secondary.angular_velocity, k2));
+    times.push_back(samples.time[k]);
+  }
+  const int n = static_cast<int>(m1.size());
   if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
-  const double h = uniformStep(samples.time, samples.source);
-  const std::vector<Eigen::Vector3d>& m1 = samples.main.angular_velocity;
-  const std::vector<Eigen::Vector3d>& m2 = samples.secondary.angular_velocity;
+  const double h = uniformStep(times, samples.source);
   // With biases, the start's rates are the measured ones less the start's
   // biases.
   std::vector<Eigen::Vector3d> c1 = m1, c2 = m2;
@@ -265,6 +293,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   Parameters p, turned;
   const double coherence = startFrom(axis_main, axis_secondary, c1, c2, h, &p);
   if (startFrom(axis_main, -axis_secondary, c1, c2, h, &turned) > coherence) p = turned;
+  p.nu = offset ? options_in.offset_fraction_start : 0.0;
   if (options_in.fit_gyro_bias) {
     const Eigen::Vector3d b1 = p.B1.transpose() * options_in.gyro_bias_main_start;
     const Eigen::Vector2d b2 = p.E2.transpose() * options_in.gyro_bias_secondary_start;
@@ -272,7 +301,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
     for (int i = 0; i < 2; ++i) p.b2[i] = b2[i];
   }
 
-  LikelihoodProblem lp(&p, m1, m2, h, 1.0, options_in.fit_gyro_bias);
+  LikelihoodProblem lp(&p, m1, m2, h, 1.0, options_in.fit_gyro_bias, offset, slopes);
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_SCHUR;
   options.max_num_iterations = kMaxIterations;
@@ -288,6 +317,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   ordering->AddElementToGroup(p.q, 1);
   ordering->AddElementToGroup(p.b1, 1);
   ordering->AddElementToGroup(p.b2, 1);
+  ordering->AddElementToGroup(&p.nu, 1);
   options.linear_solver_ordering = ordering;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &lp.problem(), &summary);
@@ -301,8 +331,9 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   fit.message = summary.message;
   const double s2 = 2.0 * summary.final_cost / lp.degreesOfFreedom();
   fit.noise_sigma = std::sqrt(s2);
-  double sigma1 = 0.0, sigma2 = 0.0, bias_sigmas[2] = {0.0, 0.0};
-  if (!axisSigmas(lp, p, s2, &sigma1, &sigma2, options_in.fit_gyro_bias ? bias_sigmas : nullptr))
+  double sigma1 = 0.0, sigma2 = 0.0, bias_sigmas[2] = {0.0, 0.0}, offset_sigma = 0.0;
+  if (!axisSigmas(lp, p, s2, &sigma1, &sigma2, options_in.fit_gyro_bias ? bias_sigmas : nullptr,
+                  offset ? &offset_sigma : nullptr))
     throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
   fit.sigma_main_deg = sigma1 * kRadToDeg;
   fit.sigma_secondary_deg = sigma2 * kRadToDeg;
@@ -312,6 +343,11 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
     fit.gyro_bias_secondary = p.E2 * Eigen::Vector2d(p.b2[0], p.b2[1]);
     fit.gyro_bias_main_sigma = bias_sigmas[0];
     fit.gyro_bias_secondary_sigma = bias_sigmas[1];
+  }
+  if (offset) {
+    fit.fitted_time_offset = true;
+    fit.time_offset = shift * h + p.nu;
+    fit.time_offset_sigma = offset_sigma;
   }
   return fit;
 }

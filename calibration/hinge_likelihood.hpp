@@ -40,10 +40,21 @@ namespace calibration {
 /// gyroscopes is the whole hinge turning. So the secondary's bias is fitted
 /// perpendicular to the start's j₂, and the main one's whole, its component
 /// along j₁ being the difference (main − secondary) of the two.
+///
+/// With fit_time_offset, the secondary sensor's clock offset δ (its sample
+/// stamped t was taken at t + δ) is an unknown too: its whole samples
+/// `offset_shift` pair main sample k with secondary sample k − shift (a
+/// constraint fit's profile chose them), and the fraction ν beyond them moves
+/// the secondary's rates back by their slope, ω₂(t_k) ≈ m₂,k−shift − ν ṁ₂
+/// (rate_derivative.hpp, as the constraint fit), started at
+/// offset_fraction_start.
 struct HingeLikelihoodOptions {
   bool fit_gyro_bias = false;
   Eigen::Vector3d gyro_bias_main_start = Eigen::Vector3d::Zero();       ///< rad/s, main body axes
   Eigen::Vector3d gyro_bias_secondary_start = Eigen::Vector3d::Zero();  ///< rad/s, secondary body axes
+  bool fit_time_offset = false;
+  int offset_shift = 0;                ///< whole samples
+  double offset_fraction_start = 0.0;  ///< s
 };
 
 struct HingeLikelihoodFit {
@@ -61,6 +72,11 @@ struct HingeLikelihoodFit {
   Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
   double gyro_bias_main_sigma = 0.0;
   double gyro_bias_secondary_sigma = 0.0;
+  /// With HingeLikelihoodOptions::fit_time_offset: δ = shift · h + ν [s] and
+  /// its σ (ν's), the axes' σ marginal over it.
+  bool fitted_time_offset = false;
+  double time_offset = 0.0;
+  double time_offset_sigma = 0.0;
   int iterations = 0;
   bool converged = false;
   std::string message;             ///< Ceres' reason for stopping
