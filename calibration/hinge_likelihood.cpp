@@ -263,24 +263,23 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
                                       const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options_in) {
   if (!samples.hasAngularVelocities())
     throw InvalidInput(samples.source, "the likelihood hinge fit needs both bodies' gyroscopes");
-  uniformStep(samples.time, samples.source);
+  // Consecutive samples of the uniform series stay uniform: one step h for
+  // the paired ones below.
+  const double h = uniformStep(samples.time, samples.source);
   // The samples paired across the clock offset's whole samples: main k with
   // secondary k − shift, and the secondary's slope there (its window inside).
   const bool offset = options_in.fit_time_offset;
   const int all = samples.size(), shift = offset ? options_in.offset_shift : 0, edge = offset ? kRateWindow : 0;
   std::vector<Eigen::Vector3d> m1, m2, slopes;
-  std::vector<double> times;
   for (int k = 0; k < all; ++k) {
     const int k2 = k - shift;
     if (k2 < edge || k2 >= all - edge) continue;
     m1.push_back(samples.main.angular_velocity[k]);
     m2.push_back(samples.secondary.angular_velocity[k2]);
     if (offset) slopes.push_back(rateDerivative(samples.time, samples.secondary.angular_velocity, k2));
-    times.push_back(samples.time[k]);
   }
   const int n = static_cast<int>(m1.size());
   if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
-  const double h = uniformStep(times, samples.source);
   // With biases, the start's rates are the measured ones less the start's
   // biases.
   std::vector<Eigen::Vector3d> c1 = m1, c2 = m2;
