@@ -24,6 +24,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "calibration/hinge_fit.hpp"
+#include "calibration/low_pass.hpp"
 #include "calibration/joint_centre.hpp"
 #include "calibration/mechanism_spring_fit.hpp"
 #include "calibration/recording.hpp"
@@ -87,6 +88,10 @@ constexpr const char* kUsage =
     "                            gyro_bias_secondary [rad/s] and _sigma; axis sigmas marginal)\n"
     "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
     "                            (time_offset [s]: its sample stamped t was taken at t + offset)\n"
+    "  --low-pass HZ             hinge: low-pass the gyroscopes and accelerometers at HZ before\n"
+    "                            fitting (zero-phase Butterworth; sensors wobbling on soft tissue);\n"
+    "                            sigma accounts for the filter, gyro_misfit says how well a hinge\n"
+    "                            explains the filtered rates\n"
     "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
     "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
     "                            an extra starting point (the closed-form one is always tried)\n"
@@ -145,6 +150,7 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.estimator = calibration::parseHingeEstimator(args.value("--estimator", "constraint"), "--estimator");
   o.fit_gyro_bias = args.has("--fit-gyro-bias");
   o.fit_time_offset = args.has("--fit-time-offset");
+  if (args.has("--low-pass")) o.low_pass_hz = args.positiveNumber("--low-pass", 0.0);
   if (args.has("--start-main") != args.has("--start-secondary"))
     throw UsageError("--start-main and --start-secondary go together");
   if (args.has("--start-main"))
@@ -431,7 +437,7 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   if (!args.has("--scene"))
     throw UsageError("calibrate spring needs --scene SCENE (the body, its inertia and the joint's geometry)");
   for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
-                           "--fit-gyro-bias", "--fit-time-offset"})
+                           "--fit-gyro-bias", "--fit-time-offset", "--low-pass"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate hinge|universal, not spring");
   calibration::SpringFitOptions o;
   const int coordinate = args.positiveInt("--coordinate", 1);
@@ -523,7 +529,7 @@ const std::set<std::string>& calibrateValueFlags() {
       "--start-secondary", "--max-iterations", "--max-sigma-deg", "--min-samples", "--scene",      "--joint",
       "--coordinate",    "--stiffness-start", "--damping-start", "--rest-angle-start", "--shooting", "--segments",
       "--integrator",    "--substeps",      "--max-input-mb",  "--max-bodies", "--max-substeps", "--max-rows",
-      "--estimator",     "--data",          "--start"};
+      "--estimator",     "--data",          "--start",      "--low-pass"};
   return flags;
 }
 
@@ -581,7 +587,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   const std::string what = "calibrate " + kind + " " + pos[1];
   if (kind == "spherical") {
     for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
-                           "--fit-gyro-bias", "--fit-time-offset"})
+                           "--fit-gyro-bias", "--fit-time-offset", "--low-pass"})
       if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of the axis fits, not of spherical");
     return runSpherical(joint, what);
   }
@@ -619,7 +625,15 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
         j["time_offset"] = fit.time_offset;
         j["time_offset_sigma"] = fit.time_offset_sigma;
       }
-      addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
+      if (fit.gyro_misfit >= 0.0) j["gyro_misfit"] = fit.gyro_misfit;
+      if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;
+      if (fit.low_pass_hz > 0.0) {
+        j["low_pass_hz"] = fit.low_pass_hz;
+        j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
+        addJointCentre(j, calibration::lowPassed(joint, fit.low_pass_hz), &fit.axis_main, &fit.axis_secondary);
+      } else {
+        addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
+      }
       return finish(j, fit.summary.converged, fit.summary.message, what);
     }
     const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);

@@ -83,6 +83,14 @@ struct AxisFitOptions {
   /// fraction [s] (hinge_fit.cpp wholeSampleOffset).
   double max_time_offset = 0.5;
 
+  /// Hinge fits: low-pass the gyroscopes and accelerometers at this cutoff
+  /// [Hz] before fitting (low_pass.hpp: zero-phase Butterworth; 0 = off), for
+  /// sensors that wobble on soft tissue. The statistics then account for the
+  /// filter (two_axis_solver.hpp, LowPassNoise), the residual-to-noise check
+  /// is not made (third differences no longer measure the noise), and the
+  /// misfit is reported relative to the signal (HingeFit::gyro_misfit).
+  double low_pass_hz = 0.0;
+
   /// Starts tried besides the closed-form one (which is always tried); the
   /// solution of lowest cost wins.
   std::vector<AxisPair> extra_starts;

@@ -16,6 +16,7 @@
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
 #include "calibration/joint_centre.hpp"
+#include "calibration/low_pass.hpp"
 #include "calibration/rate_derivative.hpp"
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
@@ -45,15 +46,18 @@ constexpr double kSignChiSquare = 25.0;
 
 /// The accelerometer residual kind: the centre's acceleration in both bodies'
 /// axes at a point of the axis (joint_centre.hpp), one block per interior sample.
-std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std::vector<NamedStart>* starts) {
-  Eigen::Vector3d o1, o2;
-  solveJointCentre(samples, &o1, &o2);
-  const CentreForces c = centreSpecificForces(samples, o1, o2);
+/// The centre is solved from `samples` and returned in `centre`, or, when
+/// `starts` is null (the unfiltered twin of a low-passed fit), taken from it.
+std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std::vector<NamedStart>* starts,
+                                                AxisPair* centre) {
+  if (starts) solveJointCentre(samples, &centre->axis1, &centre->axis2);
+  const CentreForces c = centreSpecificForces(samples, centre->axis1, centre->axis2);
   std::vector<AccelerometerHingeResidual> blocks;
   blocks.reserve(c.main.size());
   for (std::size_t k = 0; k < c.main.size(); ++k) blocks.emplace_back(c.main[k], c.secondary[k]);
-  for (const AxisPair& a : hingeStartsFromCentreForces(c.main, c.secondary))
-    starts->push_back({a, "closed form (accelerometers)"});
+  if (starts)
+    for (const AxisPair& a : hingeStartsFromCentreForces(c.main, c.secondary))
+      starts->push_back({a, "closed form (accelerometers)"});
   return std::make_unique<SampleResidualKind<AccelerometerHingeResidual, 1>>(
       "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
 }
@@ -130,8 +134,50 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
       std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
 }
 
+/// The gyroscopes' plain kind, the secondary's rates `shift` samples back.
+std::unique_ptr<ResidualKind> gyroKind(const JointSamples& samples, int shift) {
+  std::vector<GyroHingeResidual> blocks;
+  for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k)
+    blocks.emplace_back(samples.main.angular_velocity[k], samples.secondary.angular_velocity[k - shift]);
+  return std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(kGyroKindName, "rad/s", 1, std::move(blocks));
+}
+
+/// A low-passed fit's unfiltered recording and the filter's noise power gain.
+struct Unfiltered {
+  const JointSamples* samples = nullptr;
+  double power_gain = 1.0;
+};
+
+/// How well the hinge explains the data, per kind, as a fraction of the
+/// signal it compares: RMS(‖ω₁×j₁‖ − ‖ω₂×j₂‖) over the RMS mean of the two
+/// (gyroscopes), RMS(j₁·f_c,1 − j₂·f_c,2) over the RMS of ‖f_c‖ (accelerometers).
+void modelMisfit(const JointSamples& samples, int shift, const Eigen::Vector3d& j1, const Eigen::Vector3d& j2,
+                 const AxisPair* centre, HingeFit* fit) {
+  if (samples.hasAngularVelocities()) {
+    double d2 = 0.0, m2 = 0.0;
+    for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
+      const double a = samples.main.angular_velocity[k].cross(j1).norm();
+      const double b = samples.secondary.angular_velocity[k - shift].cross(j2).norm();
+      d2 += (a - b) * (a - b);
+      m2 += 0.25 * (a + b) * (a + b);
+    }
+    if (m2 > 0.0) fit->gyro_misfit = std::sqrt(d2 / m2);
+  }
+  if (centre) {
+    const CentreForces c = centreSpecificForces(samples, centre->axis1, centre->axis2);
+    double d2 = 0.0, m2 = 0.0;
+    for (std::size_t k = 0; k < c.main.size(); ++k) {
+      const double d = j1.dot(c.main[k]) - j2.dot(c.secondary[k]);
+      d2 += d * d;
+      m2 += 0.5 * (c.main[k].squaredNorm() + c.secondary[k].squaredNorm());
+    }
+    if (m2 > 0.0) fit->accelerometer_misfit = std::sqrt(d2 / m2);
+  }
+}
+
 /// The fit with the clock offset's whole samples given (0 without one).
-HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift) {
+HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift,
+                         const Unfiltered& unfiltered = Unfiltered()) {
   const auto start_time = std::chrono::steady_clock::now();
   if (options.estimator == HingeEstimator::kLikelihood) {
     if (options.use != DataUse::kAuto && options.use != DataUse::kAngularVelocities)
@@ -207,23 +253,19 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
     }
     // The gyroscopes' kind, with the nuisance block when biases or a clock
     // offset are estimated (its bias planes from the first start's axes).
-    if (nuisance.count() > 0) {
-      const AxisPair& at = starts.front().axes;
-      kinds.push_back(gyroNuisanceKind(samples, at.axis1, at.axis2, shift, options.fit_time_offset));
-    } else {
-      std::vector<GyroHingeResidual> blocks;
-      blocks.reserve(w1.size());
-      for (std::size_t k = 0; k < w1.size(); ++k) blocks.emplace_back(w1[k], w2[k]);
-      kinds.push_back(std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(kGyroKindName, "rad/s", 1,
-                                                                                 std::move(blocks)));
-    }
-    kinds.back()->setIndependentNoise(
-        std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
-        "the third differences of the recorded angular velocities");
+    const AxisPair& at = starts.front().axes;
+    kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(samples, at.axis1, at.axis2, shift, options.fit_time_offset)
+                                         : gyroKind(samples, shift));
+    // (After a low-pass filter third differences no longer measure the noise.)
+    if (!unfiltered.samples)
+      kinds.back()->setIndependentNoise(
+          std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
+          "the third differences of the recorded angular velocities");
   }
   const ResidualKind* accelerometers = nullptr;
+  AxisPair centre;
   if (data.accelerometers) {
-    kinds.push_back(accelerometerKind(samples, &starts));
+    kinds.push_back(accelerometerKind(samples, &starts, &centre));
     accelerometers = kinds.back().get();
     context.hint = kAccelerometerHint;
   }
@@ -232,7 +274,28 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
 
   std::vector<const ResidualKind*> kind_list;
   for (const auto& k : kinds) kind_list.push_back(k.get());
-  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context, nuisance);
+  // A low-passed fit: the same kinds on the unfiltered signals (LowPassNoise).
+  std::vector<std::unique_ptr<ResidualKind>> raw_kinds;
+  LowPassNoise low_pass;
+  if (unfiltered.samples) {
+    const JointSamples& raw = *unfiltered.samples;
+    if (data.orientations) {
+      std::vector<OrientationHingeResidual> blocks;
+      for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
+      raw_kinds.push_back(std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>(
+          "orientation hinge constraint R1 j1 = R2 j2", "rad", 2, std::move(blocks)));
+    }
+    if (data.rates) {
+      const AxisPair& at = starts.front().axes;
+      raw_kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(raw, at.axis1, at.axis2, shift, false)
+                                               : gyroKind(raw, shift));
+    }
+    if (data.accelerometers) raw_kinds.push_back(accelerometerKind(raw, nullptr, &centre));
+    low_pass.power_gain = unfiltered.power_gain;
+    for (const auto& k : raw_kinds) low_pass.raw_kinds.push_back(k.get());
+  }
+  const TwoAxisSolution solution =
+      solveTwoAxes(kind_list, starts, options, context, nuisance, unfiltered.samples ? &low_pass : nullptr);
 
   HingeFit fit;
   Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
@@ -285,6 +348,8 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
     fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
     fit.fitted_time_offset = true;
   }
+  modelMisfit(samples, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centre : nullptr, &fit);
+  if (!data.rates) fit.gyro_misfit = -1.0;
   fit.information = solution.information;
   fit.summary = solution.summary;
   fit.summary.search_starts = search_starts;
@@ -379,6 +444,24 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   const bool likelihood = options.estimator == HingeEstimator::kLikelihood;
+  if (options.low_pass_hz > 0.0) {
+    // The likelihood fit and the clock offset model white gyroscope noise
+    // sample by sample; the filtered residuals are neither white nor of that size.
+    if (likelihood || options.fit_time_offset)
+      throw InvalidInput(samples.source, std::string("--low-pass with ") +
+                                             (likelihood ? "--estimator likelihood" : "--fit-time-offset") +
+                                             ": it models the gyroscopes' white noise sample by sample, which a "
+                                             "filter colours; fit without --low-pass");
+    LowPassFilter filter;
+    const JointSamples filtered = lowPassed(samples, options.low_pass_hz, "--low-pass", &filter);
+    Unfiltered raw;
+    raw.samples = &samples;
+    raw.power_gain = filter.noisePowerGain();
+    HingeFit fit = fitHingeAtShift(filtered, options, 0, raw);
+    fit.low_pass_hz = options.low_pass_hz;
+    fit.low_pass_noise_gain = raw.power_gain;
+    return fit;
+  }
   if (!options.fit_time_offset) {
     HingeFit fit = fitHingeAtShift(samples, options, 0);
     checkForGyroscopeBias(samples, options, &fit);

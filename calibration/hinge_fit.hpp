@@ -72,6 +72,17 @@ struct HingeFit {
   bool fitted_time_offset = false;
   double time_offset = 0.0;
   double time_offset_sigma = 0.0;
+  /// How well a hinge explains the data the fit used, as a fraction of the
+  /// signal each residual compares: gyroscopes RMS(‖ω₁×j₁‖ − ‖ω₂×j₂‖) over
+  /// the RMS of their mean, accelerometers RMS(j₁·f_c,1 − j₂·f_c,2) over the
+  /// RMS of ‖f_c‖ at the joint centre (−1: not used). Noise alone gives about
+  /// √2 σ/|ω⊥|; a real knee 0.1–0.3.
+  double gyro_misfit = -1.0;
+  double accelerometer_misfit = -1.0;
+  /// With AxisFitOptions::low_pass_hz: the cutoff and the filter's white-noise
+  /// power gain (low_pass.hpp); 0 without a filter.
+  double low_pass_hz = 0.0;
+  double low_pass_noise_gain = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
 

@@ -106,7 +106,7 @@ void setTangentCovariance(AxisProblem& p, const Eigen::Matrix4d& tangent, TwoAxi
 
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
                              const AxisFitOptions& options, const IdentifiabilityContext& context,
-                             const NuisanceSelection& nuisance) {
+                             const NuisanceSelection& nuisance, const LowPassNoise* low_pass) {
   if (kinds.empty() || starts.empty()) throw std::logic_error("solveTwoAxes: needs residuals and a start");
   AxisProblem p(kinds, options, nuisance);
   const int parameters = 4 + p.nuisanceCount();
@@ -209,8 +209,28 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   Eigen::MatrixXd profile;
   informationAtAxes(p, &H, &H_noise, &cost, &profile);
   const int m = p.noiseComponents();
-  const double s2 = m > parameters ? 2.0 * cost / (m - parameters) : 0.0;
-  out.summary.reduced_chi_square = s2;
+  const double reduced_chi_square = m > parameters ? 2.0 * cost / (m - parameters) : 0.0;
+  out.summary.reduced_chi_square = reduced_chi_square;
+  // Low-passed signals (LowPassNoise): the residuals' variance is the noise's
+  // times the filter's power gain g, and they are correlated over ~f_s/2f_c
+  // samples; for a motion within the band the axes' covariance is the white
+  // noise's, σ²(JᵀJ)⁻¹ = (s²/g)(JᵀJ)⁻¹, and Δχ² counts in units of s²/g too.
+  // The noise's share of the information is the unfiltered problem's times g
+  // (second differences cannot tell filtered noise from motion).
+  const double inflation = low_pass ? 1.0 / low_pass->power_gain : 1.0;
+  const double s2 = reduced_chi_square * inflation;
+  if (low_pass) {
+    AxisProblem raw(low_pass->raw_kinds, options, nuisance);
+    if (raw.kindCount() != p.kindCount()) throw std::logic_error("two-axis fit: raw kinds do not match the filtered ones");
+    for (std::size_t k = 0; k < p.kindCount(); ++k) raw.setWeight(k, p.weight(k));
+    raw.setAxes(p.axes());
+    raw.setActiveNuisance(p.activeNuisance());
+    Eigen::Matrix4d H_raw, H_noise_raw;
+    Eigen::MatrixXd raw_profile;
+    double raw_cost = 0.0;
+    informationAtAxes(raw, &H_raw, &H_noise_raw, &raw_cost, &raw_profile);
+    H_noise = low_pass->power_gain * H_noise_raw;
+  }
   out.information = analyseInformation(H, H_noise, s2);
   requireIdentifiable(out.information, options, context);
 
@@ -249,7 +269,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   // fit (kinds that have one; the others count with the fit's): a short
   // recording lets the best fit absorb part of the noise (seen: residuals 0.7
   // times the noise), which would inflate Δχ².
-  double s2_starts = m > parameters ? 2.0 * best_cost / (m - parameters) : 0.0;
+  double s2_starts = m > parameters ? 2.0 * best_cost / (m - parameters) * inflation : 0.0;
   {
     double independent = 0.0;
     for (std::size_t k = 0; k < p.kindCount(); ++k) {
@@ -363,7 +383,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   // 8. Under a robust loss: the sandwich.
   Eigen::Matrix4d sandwich;
   int batches = 0;
-  if (robust && sandwichCovariance(p, &sandwich, &batches)) {
+  if ((robust || low_pass) && sandwichCovariance(p, &sandwich, &batches)) {
     out.summary.gauss_newton_sigma_rad = std::max(out.sigma1_rad, out.sigma2_rad);
     out.summary.sigma_method = "Gauss-Newton (larger than the sandwich from " + std::to_string(batches) + " batches)";
   }

@@ -39,7 +39,7 @@
 ///     direction to the actual rise (below kFlatSecant · 9: NotIdentifiable).
 ///     The cost is evaluated by the kinds' functors directly (ResidualKind::cost).
 ///  8. Under a robust loss (a joint that is not an ideal hinge: soft tissue,
-///     a real knee), σ is a sandwich, H⁻¹ M H⁻¹ (Huber 1967; White 1980):
+///     a real knee) or on low-passed signals (LowPassNoise), σ is a sandwich, H⁻¹ M H⁻¹ (Huber 1967; White 1980):
 ///     H = J̃ᵀJ̃ of the robustified, whitened residuals (Ceres' corrector) and
 ///     M the covariance of the score Σ J̃ᵀr̃ estimated by batch means
 ///     (kSandwichBatches contiguous stretches of each kind's samples:
@@ -121,12 +121,27 @@ struct TwoAxisSolution {
   AxisFitSummary summary;             ///< all but data, samples and seconds
 };
 
+/// Kinds built from low-pass-filtered signals (low_pass.hpp): the filter's
+/// white-noise power gain g and the same kinds (same order and blocks, same
+/// joint centre) built from the unfiltered signals. The residuals then have
+/// variance g σ² and are correlated over ~f_s/2f_c samples, so the reduced
+/// chi-square s² is divided by g wherever it stands for the noise (the
+/// covariance, every Δχ², the identifiability σ), H_noise is the unfiltered
+/// problem's times g (after the filter, second differences cannot tell noise
+/// from motion), and σ is the larger of that and the sandwich (step 8), which
+/// also counts the misfit of a joint that is not ideal.
+struct LowPassNoise {
+  double power_gain = 1.0;
+  std::vector<const ResidualKind*> raw_kinds;
+};
+
 /// Fits the axes to `kinds` (the first is the primary one of the summary's
 /// rms_residual) from `starts` (at least one; the first sets the noise
 /// scales). Throws NotIdentifiable.
 TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, const std::vector<NamedStart>& starts,
                              const AxisFitOptions& options, const IdentifiabilityContext& context,
-                             const NuisanceSelection& nuisance = NuisanceSelection());
+                             const NuisanceSelection& nuisance = NuisanceSelection(),
+                             const LowPassNoise* low_pass = nullptr);
 
 }  // namespace calibration
 }  // namespace lieflow

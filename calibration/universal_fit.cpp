@@ -65,6 +65,9 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
     throw InvalidInput(samples.source, "gyroscope biases and clock offsets are estimated by the hinge fit only");
   if (options.estimator != HingeEstimator::kConstraint)
     throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
+  if (options.low_pass_hz > 0.0)
+    throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
+                                       "gyroscope residual by the rates' white noise, which a filter colours)");
   const auto start_time = std::chrono::steady_clock::now();
   const DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)

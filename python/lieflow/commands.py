@@ -399,13 +399,13 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
 _HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
-                  estimator=("--estimator", _text))
+                  estimator=("--estimator", _text), low_pass=("--low-pass", _number))
 
 
 def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None, start_main=None,
                     start_secondary=None, max_iterations=None, max_sigma_deg=None, min_samples=None,
                     max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False, fit_time_offset=False,
-                    estimator=None, partial=False):
+                    estimator=None, low_pass=None, partial=False):
     """The hinge axis in both bodies' frames, as ``lieflow calibrate hinge``.
     recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...).
     Returns the command's JSON object as a dict (axis_main, axis_secondary,
@@ -415,11 +415,14 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
     "failed" and "failure" added instead. fit_gyro_bias / fit_time_offset
     estimate the gyroscopes' biases and the secondary sensor's clock offset
     (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma);
-    estimator="likelihood" fits by maximum likelihood over the joint angle."""
+    estimator="likelihood" fits by maximum likelihood over the joint angle;
+    low_pass=HZ low-passes the gyroscopes and accelerometers first (sensors
+    wobbling on soft tissue; gyro_misfit says how well a hinge explains them)."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
                   min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
-                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset, estimator=estimator)
+                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset, estimator=estimator,
+                  low_pass=low_pass)
     return _calibrate("hinge", recording, _HINGE_FIT, values, partial)
 
 

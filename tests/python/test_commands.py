@@ -4,6 +4,7 @@ so they read back exactly), the same refusals with the same messages, and
 long runs that release the GIL and stop on Ctrl-C."""
 import csv
 import json
+import pathlib
 import os
 import signal
 import threading
@@ -180,6 +181,23 @@ def test_calibrate_hinge_gyro_bias_and_clock_offset(tmp_path, run_command):
     fit = lieflow.calibrate_hinge(recording, fit_gyro_bias=True, fit_time_offset=True)
     for key in set(command) - TIMING:
         assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_hinge_low_pass_on_a_real_knee(run_command):
+    knee = pathlib.Path(__file__).resolve().parents[1] / "data" / "qmt" / "right_knee_walking_90s_25s.csv"
+    status, out, err = run_command("calibrate", "hinge", knee, "--low-pass", "4")
+    assert status == 0, err
+    command = json.loads(out)
+    assert command["low_pass_hz"] == 4 and 0 < command["low_pass_noise_gain"] < 0.1
+    assert command["converged"] and 0 < command["gyro_misfit"] and 0 < command["accelerometer_misfit"]
+    fit = lieflow.calibrate_hinge(str(knee), low_pass=4)
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+    status, _, err = run_command("calibrate", "hinge", knee, "--low-pass", "45")  # above 0.8 of Nyquist
+    assert status == 2 and "--low-pass" in err, err
+    status, _, err = run_command("calibrate", "universal", knee, "--low-pass", "4")
+    assert status == 2, err
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")

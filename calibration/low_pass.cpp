@@ -1,0 +1,117 @@
+#include "calibration/low_pass.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+/// Reflections longer than this many time constants 1/(2π f_c) add nothing
+/// (the section's impulse response has decayed below 1e-6 after about 3 f_s/f_c samples).
+constexpr double kPaddingPerCutoff = 3.0;
+
+/// One causal pass of the biquad over x (stride 1), starting in the steady
+/// state of x[0] (DC gain 1: y = x for a constant input).
+template <class T>
+void pass(const LowPassFilter& f, std::vector<T>* x) {
+  if (x->empty()) return;
+  T x1 = (*x)[0], x2 = (*x)[0], y1 = (*x)[0], y2 = (*x)[0];
+  for (T& v : *x) {
+    const T y = f.b0 * v + f.b1 * x1 + f.b2 * x2 - f.a1 * y1 - f.a2 * y2;
+    x2 = x1;
+    x1 = v;
+    y2 = y1;
+    y1 = y;
+    v = y;
+  }
+}
+
+template <class T>
+std::vector<T> filtfilt(const LowPassFilter& f, const std::vector<T>& x) {
+  const int n = static_cast<int>(x.size());
+  if (n < 2) return x;
+  const int pad = std::min(n - 1, static_cast<int>(std::ceil(kPaddingPerCutoff * f.sample_rate_hz / f.cutoff_hz)));
+  // Odd reflection about each end sample: 2x₀ − x_i, which continues the
+  // signal's value and slope through the end.
+  std::vector<T> y;
+  y.reserve(n + 2 * pad);
+  for (int i = pad; i >= 1; --i) y.push_back(2.0 * x[0] - x[i]);
+  y.insert(y.end(), x.begin(), x.end());
+  for (int i = 1; i <= pad; ++i) y.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
+  pass(f, &y);
+  std::reverse(y.begin(), y.end());
+  pass(f, &y);
+  std::reverse(y.begin(), y.end());
+  return std::vector<T>(y.begin() + pad, y.begin() + pad + n);
+}
+
+}  // namespace
+
+LowPassFilter::LowPassFilter(double cutoff, double sample_rate) : cutoff_hz(cutoff), sample_rate_hz(sample_rate) {
+  // Bilinear transform of H(s) = 1/(s² + √2 s + 1) with s prewarped so that
+  // the digital cutoff is exactly f_c.
+  const double w0 = 2.0 * M_PI * cutoff / sample_rate;
+  const double alpha = std::sin(w0) / std::sqrt(2.0);  // sin(w₀)/(2Q), Q = 1/√2
+  const double c = std::cos(w0);
+  const double a0 = 1.0 + alpha;
+  b0 = 0.5 * (1.0 - c) / a0;
+  b1 = (1.0 - c) / a0;
+  b2 = b0;
+  a1 = -2.0 * c / a0;
+  a2 = (1.0 - alpha) / a0;
+}
+
+std::vector<Eigen::Vector3d> LowPassFilter::apply(const std::vector<Eigen::Vector3d>& x) const {
+  return filtfilt(*this, x);
+}
+
+std::vector<double> LowPassFilter::apply(const std::vector<double>& x) const { return filtfilt(*this, x); }
+
+double LowPassFilter::noisePowerGain() const {
+  // The zero-phase response to a unit impulse in the middle of a long zero
+  // signal (the reflections are then zero as well).
+  const int half = static_cast<int>(std::ceil(40.0 * sample_rate_hz / cutoff_hz)) + 8;
+  std::vector<double> impulse(2 * half + 1, 0.0);
+  impulse[half] = 1.0;
+  const std::vector<double> h = apply(impulse);
+  double sum = 0.0;
+  for (double v : h) sum += v * v;
+  return sum;
+}
+
+JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field, LowPassFilter* filter_out) {
+  const std::vector<double>& t = samples.time;
+  if (!(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz))
+    throw InvalidInput(samples.source, std::string(field) + ": the cutoff must be a positive frequency in Hz");
+  if (t.size() < 4) throw InvalidInput(samples.source, std::string(field) + " needs at least 4 samples");
+  const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    if (std::abs(t[k + 1] - t[k] - h) > kLowPassUniformSampling * h)
+      throw InvalidInput(samples.source, std::string(field) + " needs uniformly sampled times: t[" +
+                                             std::to_string(k + 1) + "] - t[" + std::to_string(k) +
+                                             "] differs from the mean interval by more than " +
+                                             std::to_string(kLowPassUniformSampling) + " of it");
+  const double rate = 1.0 / h;
+  if (cutoff_hz >= kMaxLowPassNyquistFraction * 0.5 * rate)
+    throw InvalidInput(samples.source, std::string(field) + " " + std::to_string(cutoff_hz) +
+                                           " Hz: the cutoff must lie below " +
+                                           std::to_string(kMaxLowPassNyquistFraction * 0.5 * rate) + " Hz (" +
+                                           std::to_string(kMaxLowPassNyquistFraction) +
+                                           " of the Nyquist frequency of the " + std::to_string(rate) +
+                                           " Hz sampling)");
+  const LowPassFilter filter(cutoff_hz, rate);
+  JointSamples out = samples;
+  for (BodySamples* b : {&out.main, &out.secondary}) {
+    if (b->hasAngularVelocity()) b->angular_velocity = filter.apply(b->angular_velocity);
+    if (b->hasSpecificForce()) b->specific_force = filter.apply(b->specific_force);
+  }
+  if (filter_out) *filter_out = filter;
+  return out;
+}
+
+}  // namespace calibration
+}  // namespace lieflow

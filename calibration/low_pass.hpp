@@ -1,0 +1,71 @@
+/// \file
+/// Zero-phase low-pass filtering of recorded rates and specific forces
+/// (`lieflow calibrate hinge --low-pass HZ`), and what the filter does to the
+/// noise the fits' statistics rest on.
+///
+/// Body-worn sensors move on soft tissue: on the real knee recording of
+/// tests/data/qmt the thigh's gyroscope reads ±5–10 rad/s at 7–50 Hz about the
+/// segment's long axis (85 % of that axis' power), a wobble of the sensor on
+/// the leg that no joint model describes, while the knee's own motion lies
+/// below 5 Hz. Biomechanics low-passes such signals before any joint model
+/// (Winter, *Biomechanics and Motor Control of Human Movement*, ch. 2: 6 Hz
+/// for gait), and so does this.
+///
+/// The filter: a second-order Butterworth section from the bilinear transform
+/// with the cutoff prewarped (Oppenheim & Schafer §7.1; the biquad of
+/// R. Bristow-Johnson's "Audio EQ cookbook" with Q = 1/√2), run forward and then
+/// backward over the signal (filtfilt: zero phase, |H(f)|² = 1/(1 + (f/f_c)⁴)
+/// the analogue prototype's magnitude, −6 dB at f_c, 4th-order roll-off). Each pass
+/// starts in the steady state of its first input, and the signal is extended at
+/// both ends by its odd reflection about the end sample (3 f_s/f_c samples, at
+/// most the signal's length − 1), so the ends carry no start-up transient.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "calibration/joint_samples.hpp"
+
+namespace lieflow {
+namespace calibration {
+
+/// The cutoff must lie below this fraction of the Nyquist frequency (the
+/// bilinear transform's warping grows without bound at Nyquist).
+constexpr double kMaxLowPassNyquistFraction = 0.8;
+/// Largest relative spread of the sampling interval a filtered recording may have.
+constexpr double kLowPassUniformSampling = 1e-3;
+
+/// One biquad: y_k = b₀x_k + b₁x_{k−1} + b₂x_{k−2} − a₁y_{k−1} − a₂y_{k−2}.
+struct LowPassFilter {
+  double cutoff_hz = 0.0;
+  double sample_rate_hz = 0.0;
+  double b0 = 1.0, b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;
+
+  LowPassFilter() = default;
+  /// Butterworth section for `cutoff_hz` at `sample_rate_hz`.
+  /// Preconditions: 0 < cutoff_hz < kMaxLowPassNyquistFraction · sample_rate_hz / 2.
+  LowPassFilter(double cutoff_hz, double sample_rate_hz);
+
+  /// The zero-phase (forward-backward) filtered signal, same length.
+  std::vector<Eigen::Vector3d> apply(const std::vector<Eigen::Vector3d>& x) const;
+  std::vector<double> apply(const std::vector<double>& x) const;
+
+  /// Σ h_k² of the zero-phase impulse response: the variance of white noise
+  /// after the filter over its variance before, ∫|H|⁴ over the band / Nyquist
+  /// ≈ (3π/8√2) · 2f_c/f_s = 0.833 · 2f_c/f_s for f_c ≪ f_s. The fits
+  /// use it to turn the filtered residuals' variance back into the noise
+  /// level that sets the axes' uncertainty (two_axis_solver.hpp, LowPassNoise).
+  double noisePowerGain() const;
+};
+
+/// `samples` with every body's angular velocities and specific forces
+/// filtered (orientations are left as recorded). Throws lieflow::InvalidInput
+/// naming `samples.source` and `field` for a cutoff that is not positive or
+/// not below kMaxLowPassNyquistFraction of the Nyquist frequency, for
+/// non-uniform times, or for fewer than 4 samples.
+JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field = "--low-pass",
+                       LowPassFilter* filter = nullptr);
+
+}  // namespace calibration
+}  // namespace lieflow
