@@ -84,8 +84,9 @@ constexpr const char* kUsage =
     "                            hinge from gyroscopes: Seel's constraint (default, fast) or\n"
     "                            maximum likelihood over the joint angle (sigma at the\n"
     "                            Cramer-Rao bound; constraint_axis_*_sigma_deg for comparison)\n"
-    "  --fit-gyro-bias           hinge: estimate each gyroscope's constant bias (gyro_bias_main,\n"
-    "                            gyro_bias_secondary [rad/s] and _sigma; axis sigmas marginal)\n"
+    "  --fit-gyro-bias           hinge, universal: estimate each gyroscope's constant bias\n"
+    "                            (gyro_bias_main, gyro_bias_secondary [rad/s] and _sigma; axis\n"
+    "                            sigmas marginal)\n"
     "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
     "                            (time_offset [s]: its sample stamped t was taken at t + offset)\n"
     "  --low-pass HZ             hinge: low-pass the gyroscopes and accelerometers at HZ before\n"
@@ -643,6 +644,14 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
     j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
     addSummary(j, fit.summary, joint);
     j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
+    if (fit.fitted_gyro_bias) {
+      j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
+      j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
+      j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
+      j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+      j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to that body's axis (the joint does not "
+                            "observe a bias along its axes: reported 0)";
+    }
     addJointCentre(j, joint, nullptr, nullptr);
     return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {

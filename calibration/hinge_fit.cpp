@@ -98,14 +98,6 @@ NuisanceSelection nuisanceOf(const JointSamples& samples, const DataSelection& d
   return n;
 }
 
-/// A unit basis (3 × 2) of the plane perpendicular to a.
-Eigen::Matrix<double, 3, 2> perpendicularBasis(const Eigen::Vector3d& a) {
-  Eigen::Matrix<double, 3, 2> B;
-  B.col(0) = orthogonalUnit(a);
-  B.col(1) = a.normalized().cross(B.col(0));
-  return B;
-}
-
 /// The gyroscopes' residual kind with the nuisance block; `shift` whole
 /// samples of clock offset (0 without one).
 std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, const Eigen::Vector3d& j1,

@@ -90,14 +90,6 @@ struct Parameters {
   Eigen::Matrix<double, 3, 2> E2 = Eigen::Matrix<double, 3, 2>::Zero();
 };
 
-/// Columns spanning the plane perpendicular to the unit vector a.
-Eigen::Matrix<double, 3, 2> perpendicularBasis(const Eigen::Vector3d& a) {
-  Eigen::Matrix<double, 3, 2> E;
-  E.col(0) = orthogonalUnit(a);
-  E.col(1) = a.cross(E.col(0));
-  return E;
-}
-
 double uniformStep(const std::vector<double>& t, const std::string& source) {
   const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
   for (std::size_t k = 0; k + 1 < t.size(); ++k)

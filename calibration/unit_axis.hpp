@@ -54,5 +54,14 @@ inline Eigen::Vector3d orthogonalUnit(const Eigen::Vector3d& a) {
   return a.cross(Eigen::Vector3d::Unit(i)).normalized();
 }
 
+/// A unit basis (3 × 2) of the plane perpendicular to a: the coordinates of
+/// a gyroscope bias the joint's constraint can observe.
+inline Eigen::Matrix<double, 3, 2> perpendicularBasis(const Eigen::Vector3d& a) {
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = orthogonalUnit(a);
+  B.col(1) = a.normalized().cross(B.col(0));
+  return B;
+}
+
 }  // namespace calibration
 }  // namespace lieflow

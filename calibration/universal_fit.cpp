@@ -61,8 +61,8 @@ std::vector<double> relativeRateScales(const JointSamples& samples, const std::v
 }  // namespace
 
 UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
-  if (options.fit_gyro_bias || options.fit_time_offset)
-    throw InvalidInput(samples.source, "gyroscope biases and clock offsets are estimated by the hinge fit only");
+  if (options.fit_time_offset)
+    throw InvalidInput(samples.source, "--fit-time-offset: the clock offset is estimated by the hinge fit only");
   if (options.estimator != HingeEstimator::kConstraint)
     throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
   if (options.low_pass_hz > 0.0)
@@ -76,6 +76,8 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
         samples.secondary.name +
         ".qw..): from gyroscopes alone there is no per-sample constraint (two unmeasured joint angles and "
         "their rates against three measured relative rates)");
+  if (options.fit_gyro_bias && !data.rates)
+    throw InvalidInput(samples.source, "--fit-gyro-bias needs both bodies' gyroscopes in the fit (--use both or auto)");
   requireEnoughSamples(samples.size(), options);
 
   const std::vector<Eigen::Matrix3d> R12 = relativeOrientations(samples);
@@ -89,18 +91,36 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   }
   std::vector<NamedStart> starts;
   const std::vector<AxisPair> closed_form = universalStartsFromOrientations(R12);
+  NuisanceSelection nuisance;
+  Eigen::Matrix<double, 3, 2> B1 = Eigen::Matrix<double, 3, 2>::Zero(), B2 = B1;
   if (data.rates) {
     const std::vector<Eigen::Vector3d> u = relativeRates(samples, R12);
     const std::vector<double> scales = relativeRateScales(samples, R12, u, closed_form.front());
-    std::vector<RelativeRateUniversalResidual> blocks;
-    blocks.reserve(R12.size());
-    for (std::size_t k = 0; k < R12.size(); ++k) {
-      blocks.emplace_back(R12[k], u[k]);
-      blocks.back().scale = scales[k];
+    const std::string kind = "relative angular velocity in span{R1 a1, R2 a2} (per-sample noise weights)";
+    if (options.fit_gyro_bias) {
+      B1 = perpendicularBasis(closed_form.front().axis1);
+      B2 = perpendicularBasis(closed_form.front().axis2);
+      std::vector<RelativeRateUniversalNuisanceResidual> blocks(R12.size());
+      for (std::size_t k = 0; k < R12.size(); ++k) {
+        blocks[k].R12 = R12[k];
+        blocks[k].u = u[k];
+        blocks[k].B1 = B1;
+        blocks[k].B2 = B2;
+        blocks[k].scale = scales[k];
+      }
+      kinds.push_back(std::make_unique<SampleResidualKind<RelativeRateUniversalNuisanceResidual, 1, true>>(
+          kind + " with gyroscope biases", "rad/s", 1, std::move(blocks)));
+      for (int i = 0; i < 4; ++i) nuisance.active[i] = true;
+    } else {
+      std::vector<RelativeRateUniversalResidual> blocks;
+      blocks.reserve(R12.size());
+      for (std::size_t k = 0; k < R12.size(); ++k) {
+        blocks.emplace_back(R12[k], u[k]);
+        blocks.back().scale = scales[k];
+      }
+      kinds.push_back(std::make_unique<SampleResidualKind<RelativeRateUniversalResidual, 1>>(kind, "rad/s", 1,
+                                                                                            std::move(blocks)));
     }
-    kinds.push_back(std::make_unique<SampleResidualKind<RelativeRateUniversalResidual, 1>>(
-        "relative angular velocity in span{R1 a1, R2 a2} (per-sample noise weights)", "rad/s", 1,
-        std::move(blocks)));
   }
   for (std::size_t i = 0; i < closed_form.size(); ++i)
     starts.push_back({closed_form[i], i == 0 ? std::string("closed form (orientations)")
@@ -118,7 +138,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
 
   std::vector<const ResidualKind*> kind_list;
   for (const auto& k : kinds) kind_list.push_back(k.get());
-  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context);
+  const TwoAxisSolution solution = solveTwoAxes(kind_list, starts, options, context, nuisance);
 
   UniversalFit fit;
   fit.axis1_main = canonicalSign(solution.axes.axis1) * solution.axes.axis1;
@@ -126,6 +146,13 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   fit.sigma1_deg = solution.sigma1_rad * kRadToDeg;
   fit.sigma2_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
+  if (options.fit_gyro_bias) {
+    fit.fitted_gyro_bias = true;
+    fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
+    fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);
+    fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
+    fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
+  }
   fit.information = solution.information;
   fit.summary = solution.summary;
   fit.summary.data = data.name();

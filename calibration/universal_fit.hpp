@@ -39,6 +39,15 @@ struct UniversalFit {
   double sigma1_deg = 0.0;          ///< 1σ angle of a₁ (RMS angular error)
   double sigma2_deg = 0.0;
   Eigen::Matrix4d covariance;       ///< rad², axis angles (a₁'s two, then a₂'s)
+  /// With AxisFitOptions::fit_gyro_bias: each gyroscope's constant bias
+  /// [rad/s] in its body's axes, perpendicular to that body's axis (a bias
+  /// along a₁ or a₂ leaves the relative-rate residual unchanged: reported 0),
+  /// and its RMS σ.
+  bool fitted_gyro_bias = false;
+  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
+  double gyro_bias_main_sigma = 0.0;
+  double gyro_bias_secondary_sigma = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
 };

@@ -60,5 +60,34 @@ struct RelativeRateUniversalResidual {
   }
 };
 
+/// RelativeRateUniversalResidual with a constant bias per gyroscope, each
+/// body's perpendicular to its axis (`--fit-gyro-bias`): the gyroscopes read
+/// ω + b, so u = R₁ᵀR₂(ω₂ − b₂) − (ω₁ − b₁) and the residual is
+/// (u_k + B₁ν₁ − R₁ᵀR₂ B₂ν₂) · (a₁ × R₁ᵀR₂a₂), b₁ = B₁ν₁, b₂ = B₂ν₂ with B
+/// unit bases of the planes perpendicular to the start's axes (nuisance
+/// ν[0..1], ν[2..3]). A bias along a₁ or a₂ does not change it (the normal is
+/// perpendicular to both world axes): not observable, reported 0, as for a hinge.
+struct RelativeRateUniversalNuisanceResidual {
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
+  Eigen::Vector3d u;    ///< R₁ᵀR₂ω₂ − ω₁ from the recorded (biased) rates
+  Eigen::Matrix<double, 3, 2> B1, B2;
+  double scale = 1.0;   ///< per-sample weight σ_ref/σₖ
+  const double* weight = nullptr;
+
+  template <typename T>
+  bool operator()(const T* a1_data, const T* a2_data, const T* nu, T* r) const {
+    const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
+    const Vector3<T> normal = Vector3<T>(a1).cross(mixed::mul(R12, Vector3<T>(a2)));
+    Vector3<T> b1, b2;
+    for (int i = 0; i < 3; ++i) {
+      b1[i] = B1(i, 0) * nu[0] + B1(i, 1) * nu[1];
+      b2[i] = B2(i, 0) * nu[2] + B2(i, 1) * nu[3];
+    }
+    const Vector3<T> corrected = b1 - mixed::mul(R12, b2);
+    r[0] = *weight * scale * (mixed::dot(u, normal) + corrected.dot(normal));
+    return true;
+  }
+};
+
 }  // namespace calibration
 }  // namespace lieflow

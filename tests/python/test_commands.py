@@ -184,6 +184,22 @@ def test_calibrate_hinge_gyro_bias_and_clock_offset(tmp_path, run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_universal_gyro_bias(tmp_path, run_command):
+    status, _, err = run_command("simulate", "universal-pair", "--every", "10", "--noise-gyro", "0.01", "--noise-quat",
+                                 "0.003", "--bias-gyro", "0.05", "--seed", "4", "--out", tmp_path / "rec.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "universal", tmp_path / "rec.csv", "--fit-gyro-bias")
+    assert status == 0, err
+    command = json.loads(out)
+    for key in ("gyro_bias_main", "gyro_bias_secondary", "gyro_bias_main_sigma", "gyro_bias_secondary_sigma"):
+        assert key in command, key
+    assert max(abs(b) for b in command["gyro_bias_main"]) > 3 * command["gyro_bias_main_sigma"]  # a bias is found
+    fit = lieflow.calibrate_universal(str(tmp_path / "rec.csv"), fit_gyro_bias=True)
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_hinge_low_pass_on_a_real_knee(run_command):
     knee = pathlib.Path(__file__).resolve().parents[1] / "data" / "qmt" / "right_knee_walking_90s_25s.csv"
     status, out, err = run_command("calibrate", "hinge", knee, "--low-pass", "4")
