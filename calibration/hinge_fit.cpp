@@ -445,9 +445,10 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
                                              ": it models the gyroscopes' white noise sample by sample, which a "
                                              "filter colours; fit without --low-pass");
     LowPassFilter filter;
-    const JointSamples filtered = lowPassed(samples, options.low_pass_hz, "--low-pass", &filter);
+    JointSamples trimmed;
+    const JointSamples filtered = lowPassed(samples, options.low_pass_hz, "--low-pass", &filter, &trimmed);
     Unfiltered raw;
-    raw.samples = &samples;
+    raw.samples = &trimmed;
     raw.power_gain = filter.noisePowerGain();
     HingeFit fit = fitHingeAtShift(filtered, options, 0, raw);
     fit.low_pass_hz = options.low_pass_hz;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "liegroup/invalid_input.hpp"
 
@@ -14,10 +16,10 @@ namespace {
 /// (the section's impulse response has decayed below 1e-6 after about 3 f_s/f_c samples).
 constexpr double kPaddingPerCutoff = 3.0;
 
-/// One causal pass of the biquad over x (stride 1), starting in the steady
-/// state of x[0] (DC gain 1: y = x for a constant input).
+/// One causal pass of a biquad over x, starting in the steady state of x[0]
+/// (DC gain 1: y = x for a constant input).
 template <class T>
-void pass(const LowPassFilter& f, std::vector<T>* x) {
+void pass(const LowPassFilter::Section& f, std::vector<T>* x) {
   if (x->empty()) return;
   T x1 = (*x)[0], x2 = (*x)[0], y1 = (*x)[0], y2 = (*x)[0];
   for (T& v : *x) {
@@ -28,6 +30,12 @@ void pass(const LowPassFilter& f, std::vector<T>* x) {
     y1 = y;
     v = y;
   }
+}
+
+/// One causal pass of the cascade.
+template <class T>
+void pass(const LowPassFilter& f, std::vector<T>* x) {
+  for (const LowPassFilter::Section& s : f.sections) pass(s, x);
 }
 
 template <class T>
@@ -52,17 +60,23 @@ std::vector<T> filtfilt(const LowPassFilter& f, const std::vector<T>& x) {
 }  // namespace
 
 LowPassFilter::LowPassFilter(double cutoff, double sample_rate) : cutoff_hz(cutoff), sample_rate_hz(sample_rate) {
-  // Bilinear transform of H(s) = 1/(s² + √2 s + 1) with s prewarped so that
+  // The analogue Butterworth-4 is 1/((s² + s/Q₁ + 1)(s² + s/Q₂ + 1)) with
+  // 1/Q = 2 cos(π/8), 2 cos(3π/8) (its poles at angles π/8, 3π/8 from the
+  // negative real axis); each factor's bilinear transform, prewarped so that
   // the digital cutoff is exactly f_c.
   const double w0 = 2.0 * M_PI * cutoff / sample_rate;
-  const double alpha = std::sin(w0) / std::sqrt(2.0);  // sin(w₀)/(2Q), Q = 1/√2
   const double c = std::cos(w0);
-  const double a0 = 1.0 + alpha;
-  b0 = 0.5 * (1.0 - c) / a0;
-  b1 = (1.0 - c) / a0;
-  b2 = b0;
-  a1 = -2.0 * c / a0;
-  a2 = (1.0 - alpha) / a0;
+  const double inverse_q[2] = {2.0 * std::cos(M_PI / 8.0), 2.0 * std::cos(3.0 * M_PI / 8.0)};
+  for (int i = 0; i < 2; ++i) {
+    const double alpha = 0.5 * std::sin(w0) * inverse_q[i];  // sin(w₀)/(2Q)
+    const double a0 = 1.0 + alpha;
+    Section& s = sections[i];
+    s.b0 = 0.5 * (1.0 - c) / a0;
+    s.b1 = (1.0 - c) / a0;
+    s.b2 = s.b0;
+    s.a1 = -2.0 * c / a0;
+    s.a2 = (1.0 - alpha) / a0;
+  }
 }
 
 std::vector<Eigen::Vector3d> LowPassFilter::apply(const std::vector<Eigen::Vector3d>& x) const {
@@ -83,7 +97,30 @@ double LowPassFilter::noisePowerGain() const {
   return sum;
 }
 
-JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field, LowPassFilter* filter_out) {
+namespace {
+
+/// Samples [from, to) of every column.
+JointSamples slice(const JointSamples& s, int from, int to) {
+  JointSamples out;
+  out.source = s.source;
+  out.time.assign(s.time.begin() + from, s.time.begin() + to);
+  const auto cut = [&](const auto& v) {
+    using V = std::decay_t<decltype(v)>;
+    return v.empty() ? V() : V(v.begin() + from, v.begin() + to);
+  };
+  for (const auto& pair : {std::make_pair(&s.main, &out.main), std::make_pair(&s.secondary, &out.secondary)}) {
+    pair.second->name = pair.first->name;
+    pair.second->orientation = cut(pair.first->orientation);
+    pair.second->angular_velocity = cut(pair.first->angular_velocity);
+    pair.second->specific_force = cut(pair.first->specific_force);
+  }
+  return out;
+}
+
+}  // namespace
+
+JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field, LowPassFilter* filter_out,
+                       JointSamples* unfiltered) {
   const std::vector<double>& t = samples.time;
   if (!(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz))
     throw InvalidInput(samples.source, std::string(field) + ": the cutoff must be a positive frequency in Hz");
@@ -103,6 +140,14 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
                                            std::to_string(kMaxLowPassNyquistFraction) +
                                            " of the Nyquist frequency of the " + std::to_string(rate) +
                                            " Hz sampling)");
+  const int n = static_cast<int>(t.size());
+  const int trim = static_cast<int>(std::ceil(kLowPassTrimPeriods * rate / cutoff_hz));
+  if (n < 4 * trim + 20)
+    throw InvalidInput(samples.source, std::string(field) + " " + std::to_string(cutoff_hz) + " Hz drops " +
+                                           std::to_string(trim) + " samples at each end (the filter's memory, " +
+                                           std::to_string(kLowPassTrimPeriods) + "/cutoff): the recording's " +
+                                           std::to_string(n) + " samples are too few (at least " +
+                                           std::to_string(4 * trim + 20) + "); record longer or raise the cutoff");
   const LowPassFilter filter(cutoff_hz, rate);
   JointSamples out = samples;
   for (BodySamples* b : {&out.main, &out.secondary}) {
@@ -110,7 +155,8 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
     if (b->hasSpecificForce()) b->specific_force = filter.apply(b->specific_force);
   }
   if (filter_out) *filter_out = filter;
-  return out;
+  if (unfiltered) *unfiltered = slice(samples, trim, n - trim);
+  return slice(out, trim, n - trim);
 }
 
 }  // namespace calibration

@@ -208,6 +208,22 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
   out.source = "synthetic";
   out.main.name = "main";
   out.secondary.name = "secondary";
+  // RecordingNoise::wobble_rate: axis, frequency and phase per body (drawn
+  // only when asked for, so that other recordings keep their random stream).
+  Eigen::Vector3d wobble_axis[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  double wobble_hz[2] = {0.0, 0.0}, wobble_phase[2] = {0.0, 0.0};
+  if (noise.wobble_rate > 0.0) {
+    std::uniform_real_distribution<double> frequency(noise.wobble_min_hz, noise.wobble_max_hz),
+        phase(0.0, 2.0 * M_PI);
+    for (int b = 0; b < 2; ++b) {
+      wobble_axis[b] = gaussian(1.0).normalized();
+      wobble_hz[b] = frequency(gen);
+      wobble_phase[b] = phase(gen);
+    }
+  }
+  const auto wobble = [&](int b, double t) -> Eigen::Vector3d {
+    return noise.wobble_rate * std::sin(2.0 * M_PI * wobble_hz[b] * t + wobble_phase[b]) * wobble_axis[b];
+  };
   for (int k = 0; k < n; ++k) {
     const double t = k / rate_hz;
     const TwoBodyState s = motion.at(t);
@@ -219,8 +235,9 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
       out.secondary.orientation.push_back((late.R2 * SO3d::exp(gaussian(noise.orientation_sigma))).normalized());
     }
     if (noise.rates) {
-      out.main.angular_velocity.push_back(s.w1 + noise.gyro_bias_main + gaussian(noise.rate_sigma));
-      out.secondary.angular_velocity.push_back(late.w2 + noise.gyro_bias_secondary + gaussian(noise.rate_sigma));
+      out.main.angular_velocity.push_back(s.w1 + noise.gyro_bias_main + wobble(0, t) + gaussian(noise.rate_sigma));
+      out.secondary.angular_velocity.push_back(late.w2 + noise.gyro_bias_secondary + wobble(1, t) +
+                                               gaussian(noise.rate_sigma));
     }
     if (noise.accelerometers) {
       Eigen::Vector3d f1, f2, unused;

@@ -132,6 +132,13 @@ struct RecordingNoise {
   /// The secondary sensor's clock offset δ [s]: its sample stamped t_k
   /// records the secondary body at t_k + δ.
   double secondary_clock_offset = 0.0;
+  /// A sensor wobbling on soft tissue [rad/s]: each gyroscope reads, on top
+  /// of its body's rate, wobble_rate · sin(2π f t + p) about a unit axis u of
+  /// the sensor, f uniform in [wobble_min_hz, wobble_max_hz], p and u random,
+  /// one draw per body (no joint model describes it; `--low-pass` removes it).
+  double wobble_rate = 0.0;
+  double wobble_min_hz = 10.0;
+  double wobble_max_hz = 20.0;
 };
 
 /// The true main-body rates and joint angles of n samples at `rate_hz` from

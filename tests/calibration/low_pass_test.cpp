@@ -3,7 +3,8 @@
 /// analogue prototype's response, and the hinge fit on low-passed gyroscopes
 /// (`--low-pass`): recordings whose sensors wobble at 10–20 Hz (a sensor
 /// moving on soft tissue), where the fit without the filter is many σ off and
-/// the filtered fit is honest over 50 random recordings.
+/// the filtered fit is honest over 50 random recordings (measured: unfiltered
+/// 58 of 100 axes within 3σ, mean (error/σ)² 58; filtered 100 of 100, 0.87).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,12 +40,12 @@ double maxDeviation(const std::vector<double>& y, const std::vector<double>& x, 
 TEST(CalibLowPass, ResponseIsTheButterworthSquaredWithZeroPhase) {
   const LowPassFilter f(5.0, kRateHz);
   const int n = 2000;
-  // Forward-backward: H_zero-phase(f) = |H(f)|², and the bilinear transform
-  // prewarped at f_c gives |H(f_c)|² = 1/2 exactly; at other f the digital
-  // response is the prototype's at the warped frequency tan(πf/f_s)/tan(πf_c/f_s).
+  // Forward-backward: H_zero-phase(f) = |H(f)|² = 1/(1 + w⁸) for the
+  // fourth-order Butterworth, w the warped frequency tan(πf/f_s)/tan(πf_c/f_s)
+  // (the bilinear transform prewarped at f_c: exactly 1/2 there).
   for (double fr : {0.5, 2.0, 5.0, 10.0, 20.0}) {
     const double warped = std::tan(M_PI * fr / kRateHz) / std::tan(M_PI * 5.0 / kRateHz);
-    const double gain = 1.0 / (1.0 + std::pow(warped, 4));
+    const double gain = 1.0 / (1.0 + std::pow(warped, 8));
     const std::vector<double> x = sine(fr, n);
     const std::vector<double> y = f.apply(x);
     // In phase (no lag) and scaled by the gain, away from the ends.
@@ -52,7 +53,7 @@ TEST(CalibLowPass, ResponseIsTheButterworthSquaredWithZeroPhase) {
   }
   // Near the ends the odd reflection continues a slow signal: 0.5 Hz within 2e-3 to the last sample.
   const std::vector<double> slow = sine(0.5, n);
-  EXPECT_LT(maxDeviation(f.apply(slow), slow, 1.0 / (1.0 + std::pow(0.1, 4)), 0, n), 2e-3);
+  EXPECT_LT(maxDeviation(f.apply(slow), slow, 1.0 / (1.0 + std::pow(0.1, 8)), 0, n), 2e-3);
   // A constant passes unchanged (each pass starts in its steady state).
   const std::vector<double> c(50, 3.25);
   EXPECT_LT(maxDeviation(f.apply(c), c, 1.0, 0, 50), 1e-12);
@@ -62,8 +63,8 @@ TEST(CalibLowPass, NoisePowerGainMatchesWhiteNoise) {
   for (double fc : {3.0, 5.0, 10.0}) {
     const LowPassFilter f(fc, kRateHz);
     const double g = f.noisePowerGain();
-    // ∫₀^∞ (1 + x⁴)⁻² dx = 3π/(8√2): the gain for f_c ≪ f_s.
-    EXPECT_NEAR(g, 3.0 * M_PI / (8.0 * std::sqrt(2.0)) * 2.0 * fc / kRateHz, 0.03 * g) << fc;
+    // ∫₀^∞ (1 + x⁸)⁻² dx = (7/8)(π/8)/sin(π/8): the gain for f_c ≪ f_s.
+    EXPECT_NEAR(g, 7.0 / 8.0 * (M_PI / 8.0) / std::sin(M_PI / 8.0) * 2.0 * fc / kRateHz, 0.03 * g) << fc;
     std::mt19937 gen(7);
     std::normal_distribution<double> normal;
     std::vector<double> x(200000);
@@ -95,20 +96,6 @@ TEST(CalibLowPass, RefusesCutoffsAndTimesItCannotFilter) {
   EXPECT_THROW(fitHinge(s, o), InvalidInput);
 }
 
-/// A sensor wobbling on soft tissue: each gyroscope reads, on top of its
-/// body's rate, a sinusoid of `amplitude` rad/s at 10–20 Hz about a random
-/// axis of the sensor (not a motion of the joint).
-void addWobble(std::mt19937& gen, double amplitude, JointSamples* s) {
-  std::uniform_real_distribution<double> freq(10.0, 20.0), phase(0.0, 2.0 * M_PI);
-  std::normal_distribution<double> normal;
-  for (BodySamples* b : {&s->main, &s->secondary}) {
-    const Eigen::Vector3d u = Eigen::Vector3d(normal(gen), normal(gen), normal(gen)).normalized();
-    const double f = freq(gen), p = phase(gen);
-    for (int k = 0; k < s->size(); ++k)
-      b->angular_velocity[k] += amplitude * std::sin(2.0 * M_PI * f * s->time[k] + p) * u;
-  }
-}
-
 struct Tally {
   int trials = 0, answered = 0, within3 = 0, converged = 0;
   double mean_ratio2 = 0.0, median_error = 0.0;
@@ -121,8 +108,9 @@ Tally wobbleTrials(double low_pass_hz, int trials) {
   double sum = 0.0;
   for (int i = 0; i < trials; ++i) {
     const HingeMotion m = randomHingeMotion(gen);
-    JointSamples s = recordMotion(m, 1000, kRateHz, test::gyroscopeNoise(0.05), gen);
-    addWobble(gen, 1.0, &s);
+    RecordingNoise noise = test::gyroscopeNoise(0.05);
+    noise.wobble_rate = 1.0;  // a sensor on soft tissue, 10–20 Hz
+    const JointSamples s = recordMotion(m, 1000, kRateHz, noise, gen);
     AxisFitOptions o;
     o.low_pass_hz = low_pass_hz;
     ++t.trials;
