@@ -70,6 +70,26 @@ void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_no
   }
 }
 
+bool gaussNewtonStep(AxisProblem& p, GaussNewtonStep* out) {
+  std::vector<double> r;
+  ceres::CRSMatrix J;
+  evaluateJacobian(p, false, nullptr, &r, &J);
+  const int n = J.num_cols;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+  for (int row = 0; row < J.num_rows; ++row) {
+    const Eigen::VectorXd j = jacobianRow(J, row, 1.0);
+    H.selfadjointView<Eigen::Lower>().rankUpdate(j);
+    g += r[row] * j;
+  }
+  H = Eigen::MatrixXd(H.selfadjointView<Eigen::Lower>());
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff())) return false;
+  out->step = -ldlt.solve(g);
+  out->decrease = -0.5 * g.dot(out->step);
+  return std::isfinite(out->decrease);
+}
+
 /// Step 8: the sandwich covariance of the axes in tangent coordinates
 /// (marginal: the axes' block of the whole H⁻¹MH⁻¹; file comment of
 /// two_axis_solver.hpp); `batches` receives B. Returns false when it cannot

@@ -187,6 +187,19 @@ class AxisProblem {
 void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost,
                        Eigen::MatrixXd* profile);
 
+/// One Gauss–Newton step from the problem's current axes and nuisance:
+/// g = Jᵀr and H = JᵀJ over the axes' tangent coordinates and the estimated
+/// nuisance, δ = −H⁻¹g, and the decrease of the cost it predicts, ½ gᵀH⁻¹g.
+/// At a fit without nuisance (ν = 0, the axes' gradient zero) 2·decrease/σ²
+/// is the score (Lagrange multiplier) statistic of the nuisance (Rao 1948):
+/// the Δχ² that fitting it would gain, to first order, without the refit.
+/// False when H is singular.
+struct GaussNewtonStep {
+  double decrease = 0.0;
+  Eigen::VectorXd step;  ///< tangent coordinates of the axes (4), then the nuisance
+};
+bool gaussNewtonStep(AxisProblem& p, GaussNewtonStep* out);
+
 /// Step 8 of two_axis_solver.hpp: the sandwich covariance of the axes in
 /// tangent coordinates (the axes' block of the whole H⁻¹MH⁻¹); `batches`
 /// receives B. False when it cannot be formed (too few samples, H singular).

@@ -9,6 +9,8 @@
 /// allocate nothing.
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "calibration/mixed_scalar.hpp"
@@ -46,6 +48,27 @@ struct GyroHingeResidual {
     const T p1 = mixed::cross(w1, Vector3<T>(j1)).squaredNorm();
     const T p2 = mixed::cross(w2, Vector3<T>(j2)).squaredNorm();
     r[0] = *weight * sampson(p1, p2, floor_sq);
+    return true;
+  }
+
+  /// The residual and its closed-form derivatives (residual_kind.hpp): with
+  /// p = ‖ω×j‖² = ‖ω‖²‖j‖² − (ω·j)² (the ambient function of j, as Ceres
+  /// differentiates it before the manifold), ∂p/∂j = 2(‖ω‖² j − (ω·j) ω), and
+  /// with S = p₁ + p₂ + floor, r = (p₁ − p₂)/2√S:
+  /// ∂r/∂p₁ = 1/2√S − r/2S, ∂r/∂p₂ = −1/2√S − r/2S (times the weight).
+  bool evaluate(const double* j1_data, const double* j2_data, double* r, double* d1, double* d2) const {
+    const Eigen::Map<const Eigen::Vector3d> j1(j1_data), j2(j2_data);
+    const double a1 = w1.dot(j1), a2 = w2.dot(j2);
+    const double n1 = w1.squaredNorm(), n2 = w2.squaredNorm();
+    const double p1 = n1 * j1.squaredNorm() - a1 * a1, p2 = n2 * j2.squaredNorm() - a2 * a2;
+    const double root = std::sqrt(p1 + p2 + floor_sq);
+    const double value = (p1 - p2) / (2.0 * root);
+    r[0] = *weight * value;
+    if (d1 || d2) {
+      const double half = 0.5 / root, slope = value / (2.0 * root * root);
+      if (d1) Eigen::Map<Eigen::Vector3d>{d1} = (*weight * (half - slope) * 2.0) * (n1 * j1 - a1 * w1);
+      if (d2) Eigen::Map<Eigen::Vector3d>{d2} = (*weight * (-half - slope) * 2.0) * (n2 * j2 - a2 * w2);
+    }
     return true;
   }
 

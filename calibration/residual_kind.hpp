@@ -6,12 +6,14 @@
 #pragma once
 
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
+#include <ceres/sized_cost_function.h>
 
 namespace lieflow {
 namespace calibration {
@@ -78,6 +80,29 @@ inline double blockCost(const double* r, int n, const ceres::LossFunction* loss)
   return 0.5 * s;
 }
 
+/// A functor that also has `bool evaluate(const double* axis1, const double*
+/// axis2, double* r, double* d1, double* d2) const` (the residuals and, where
+/// d1, d2 are not null, their closed-form derivatives, row-major kResiduals × 3)
+/// is differentiated by it rather than by ceres::Jet: on the gyroscope hinge
+/// constraint the Jets took 44 % of a fit.
+template <typename Functor, typename = void>
+struct HasClosedFormJacobian : std::false_type {};
+template <typename Functor>
+struct HasClosedFormJacobian<Functor, std::void_t<decltype(&Functor::evaluate)>> : std::true_type {};
+
+/// ceres::SizedCostFunction around such a functor.
+template <typename Functor, int kResiduals>
+class ClosedFormSampleCost final : public ceres::SizedCostFunction<kResiduals, 3, 3> {
+ public:
+  explicit ClosedFormSampleCost(const Functor& f) : f_(f) {}
+  bool Evaluate(double const* const* p, double* r, double** d) const override {
+    return f_.evaluate(p[0], p[1], r, d ? d[0] : nullptr, d ? d[1] : nullptr);
+  }
+
+ private:
+  Functor f_;
+};
+
 /// The residual kind of a functor with members `const double* weight` and
 /// `template <class T> bool operator()(const T* axis1, const T* axis2, T* r)`
 /// returning kResiduals residuals — or, with kUsesNuisance,
@@ -121,7 +146,11 @@ class SampleResidualKind final : public ResidualKind {
         ids->push_back(problem->AddResidualBlock(
             new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3, kNuisanceSize>(functor), loss, axis1, axis2,
             nuisance));
-      else
+      else if constexpr (HasClosedFormJacobian<Functor>::value) {
+        ids->push_back(
+            problem->AddResidualBlock(new ClosedFormSampleCost<Functor, kResiduals>(*functor), loss, axis1, axis2));
+        delete functor;
+      } else
         ids->push_back(problem->AddResidualBlock(
             new ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3>(functor), loss, axis1, axis2));
     }

@@ -16,6 +16,8 @@
 #include <string>
 
 #include "calibration/hinge_fit.hpp"
+#include "calibration/hinge_residuals.hpp"
+#include "calibration/residual_kind.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
@@ -49,6 +51,34 @@ void expectHinge(const HingeFit& fit, const HingeMotion& m, double tolerance_deg
   EXPECT_NEAR(fit.axis_main.norm(), 1.0, 1e-12);
   EXPECT_NEAR(fit.axis_secondary.norm(), 1.0, 1e-12);
   EXPECT_TRUE(fit.summary.converged) << fit.summary.message;
+}
+
+/// The gyroscope constraint's closed-form Jacobian (GyroHingeResidual::evaluate,
+/// what the fit uses) against Ceres' automatic derivative of the same residual,
+/// at random rates and at axes of any length (Ceres differentiates the ambient
+/// function before the manifold).
+TEST(CalibHinge, GyroscopeResidualJacobianMatchesJets) {
+  std::mt19937 gen(5);
+  std::normal_distribution<double> normal;
+  const auto random = [&] { return Eigen::Vector3d(normal(gen), normal(gen), normal(gen)); };
+  const double weight = 1.7;
+  for (int i = 0; i < 200; ++i) {
+    GyroHingeResidual f(3.0 * random(), 3.0 * random());
+    f.weight = &weight;
+    const Eigen::Vector3d j1 = random(), j2 = random();
+    const double* parameters[2] = {j1.data(), j2.data()};
+    double r_auto, r_closed, d_auto[2][3], d_closed[2][3];
+    double* jac_auto[2] = {d_auto[0], d_auto[1]};
+    double* jac_closed[2] = {d_closed[0], d_closed[1]};
+    ceres::AutoDiffCostFunction<GyroHingeResidual, 1, 3, 3> automatic(new GyroHingeResidual(f));
+    ASSERT_TRUE(automatic.Evaluate(parameters, &r_auto, jac_auto));
+    ClosedFormSampleCost<GyroHingeResidual, 1> closed(f);
+    ASSERT_TRUE(closed.Evaluate(parameters, &r_closed, jac_closed));
+    const double scale = std::abs(r_auto) + 1.0;
+    EXPECT_NEAR(r_closed, r_auto, 1e-13 * scale);
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(d_closed[b][c], d_auto[b][c], 1e-12 * scale) << i << " " << b << c;
+  }
 }
 
 TEST(CalibHinge, GyroscopesLowNoiseWithinATenthOfADegree) {
