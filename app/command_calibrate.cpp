@@ -89,10 +89,10 @@ constexpr const char* kUsage =
     "                            sigmas marginal)\n"
     "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
     "                            (time_offset [s]: its sample stamped t was taken at t + offset)\n"
-    "  --low-pass HZ             hinge: low-pass the gyroscopes and accelerometers at HZ before\n"
-    "                            fitting (zero-phase Butterworth; sensors wobbling on soft tissue);\n"
-    "                            sigma accounts for the filter, gyro_misfit says how well a hinge\n"
-    "                            explains the filtered rates\n"
+    "  --low-pass HZ             hinge, spherical: low-pass the gyroscopes and accelerometers at\n"
+    "                            HZ before fitting (zero-phase Butterworth; sensors wobbling on\n"
+    "                            soft tissue); sigma accounts for the filter, gyro_misfit says\n"
+    "                            how well a hinge explains the filtered rates\n"
     "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
     "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
     "                            an extra starting point (the closed-form one is always tried)\n"
@@ -179,11 +179,12 @@ void putJointCentre(Json& j, const calibration::JointCentreFit& c, bool hinge) {
 /// centre closest to the sensors) or null. Where the motion does not
 /// determine it, anchor_note says why and the axes' result stands.
 void addJointCentre(Json& j, const calibration::JointSamples& joint, const Eigen::Vector3d* axis_main,
-                    const Eigen::Vector3d* axis_secondary) {
+                    const Eigen::Vector3d* axis_secondary, int correlation_samples = 0) {
   if (!joint.hasAngularVelocities() || !joint.main.hasSpecificForce() || !joint.secondary.hasSpecificForce())
     return;
   try {
-    const calibration::JointCentreFit c = calibration::fitJointCentre(joint, axis_main, axis_secondary);
+    const calibration::JointCentreFit c =
+        calibration::fitJointCentre(joint, axis_main, axis_secondary, correlation_samples);
     putJointCentre(j, c, axis_main != nullptr);
     j["anchor_rms_residual"] = c.rms_residual;
     j["anchor_converged"] = c.converged;
@@ -257,16 +258,24 @@ CommandOutcome failed(const std::string& what, const std::exception& e) {
 }
 
 /// `calibrate spherical`: the centre of a ball joint (calibration/joint_centre.hpp).
-CommandOutcome runSpherical(const calibration::JointSamples& joint, const std::string& what) {
-  for (const calibration::BodySamples* b : {&joint.main, &joint.secondary})
+CommandOutcome runSpherical(const calibration::JointSamples& recorded, const std::string& what, double low_pass_hz) {
+  for (const calibration::BodySamples* b : {&recorded.main, &recorded.secondary})
     if (!b->hasAngularVelocity() || !b->hasSpecificForce())
-      throw InvalidInput(joint.source, "calibrate spherical needs both bodies' gyroscopes and accelerometers: body '" +
+      throw InvalidInput(recorded.source, "calibrate spherical needs both bodies' gyroscopes and accelerometers: body '" +
                                            b->name + "' has no " + (b->hasAngularVelocity() ? "B.ax, B.ay, B.az" : "B.wx, B.wy, B.wz") +
                                            " columns");
+  calibration::LowPassFilter filter;
+  const calibration::JointSamples joint =
+      low_pass_hz > 0.0 ? calibration::lowPassed(recorded, low_pass_hz, "--low-pass", &filter) : recorded;
   try {
-    const calibration::JointCentreFit c = calibration::fitJointCentre(joint, nullptr, nullptr);
+    const calibration::JointCentreFit c = calibration::fitJointCentre(
+        joint, nullptr, nullptr, low_pass_hz > 0.0 ? calibration::lowPassCorrelationSamples(filter) : 0);
     Json j;
     putJointCentre(j, c, false);
+    if (low_pass_hz > 0.0) {
+      j["low_pass_hz"] = low_pass_hz;
+      j["low_pass_noise_gain"] = filter.noisePowerGain();
+    }
     j["rms_residual"] = c.rms_residual;
     j["rms_residual_unit"] = "m/s^2";
     j["iterations"] = c.iterations;
@@ -588,9 +597,9 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   const std::string what = "calibrate " + kind + " " + pos[1];
   if (kind == "spherical") {
     for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
-                           "--fit-gyro-bias", "--fit-time-offset", "--low-pass"})
+                           "--fit-gyro-bias", "--fit-time-offset"})
       if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of the axis fits, not of spherical");
-    return runSpherical(joint, what);
+    return runSpherical(joint, what, options.low_pass_hz);
   }
   try {
     Json j;
@@ -631,7 +640,10 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       if (fit.low_pass_hz > 0.0) {
         j["low_pass_hz"] = fit.low_pass_hz;
         j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
-        addJointCentre(j, calibration::lowPassed(joint, fit.low_pass_hz), &fit.axis_main, &fit.axis_secondary);
+        calibration::LowPassFilter filter;
+        const calibration::JointSamples filtered = calibration::lowPassed(joint, fit.low_pass_hz, "--low-pass", &filter);
+        addJointCentre(j, filtered, &fit.axis_main, &fit.axis_secondary,
+                       calibration::lowPassCorrelationSamples(filter));
       } else {
         addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
       }

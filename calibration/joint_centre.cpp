@@ -156,7 +156,8 @@ void solveJointCentre(const JointSamples& samples, Eigen::Vector3d* anchor_main,
 }
 
 JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d* axis_main,
-                              const Eigen::Vector3d* axis_secondary) {
+                              const Eigen::Vector3d* axis_secondary, int correlation_samples) {
+  const int lags = std::max(kLags, correlation_samples);
   requireCentreData(samples);
   const std::size_t n = samples.time.size();
   double o1[3], o2[3];
@@ -207,10 +208,10 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
   Eigen::Matrix<double, 6, 6> B = Eigen::Matrix<double, 6, 6>::Zero(), M = Eigen::Matrix<double, 6, 6>::Zero();
   for (int k = 0; k < rows; ++k) {
     B.noalias() += g[k] * g[k].transpose();
-    for (int l = -kLags; l <= kLags; ++l) {
+    for (int l = -lags; l <= lags; ++l) {
       const int m = k + l;
       if (m < 0 || m >= rows) continue;
-      const double w = 1.0 - std::abs(l) / static_cast<double>(kLags + 1);
+      const double w = 1.0 - std::abs(l) / static_cast<double>(lags + 1);
       M.noalias() += (w * e[k] * e[m]) * g[k] * g[m].transpose();
     }
   }

@@ -75,8 +75,11 @@ void solveJointCentre(const JointSamples& samples, Eigen::Vector3d* anchor_main,
 /// universal). Throws lieflow::InvalidInput when the samples lack the
 /// gyroscope or accelerometer groups of either body, NotIdentifiable when the
 /// motion does not determine the centre (the covariance is rank deficient).
+/// `correlation_samples`: how far apart residuals can still be correlated
+/// beyond the rates' window (low-passed signals: low_pass.hpp,
+/// lowPassCorrelationSamples); the sandwich's lag window reaches at least that far.
 JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d* axis_main,
-                              const Eigen::Vector3d* axis_secondary);
+                              const Eigen::Vector3d* axis_secondary, int correlation_samples = 0);
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -73,6 +73,13 @@ struct LowPassFilter {
 /// of the ends, and σ twice too large).
 constexpr double kLowPassTrimPeriods = 1.0;
 
+/// Samples over which low-passed noise stays correlated, for a sandwich's lag
+/// window (the zero-phase response's autocorrelation has decayed to a few %
+/// after two periods of the cutoff).
+inline int lowPassCorrelationSamples(const LowPassFilter& f) {
+  return static_cast<int>(2.0 * f.sample_rate_hz / f.cutoff_hz + 1.0);
+}
+
 /// `samples` with every body's angular velocities and specific forces
 /// filtered (orientations are left as recorded), and kLowPassTrimPeriods/f_c
 /// of samples dropped at each end (every column, times included; `unfiltered`,

@@ -1,6 +1,7 @@
 // The hinge estimators against the Cramér–Rao bound, and what accelerometers
 // and gyroscope biases do (papers/hinge-axis-identification/, section
-// "Estimators, the bound, accelerometers and biases"). On random hinge
+// "Estimators, the Cramér–Rao bound, accelerometers, biases and wobbling
+// sensors"). On random hinge
 // motions (calibration/synthetic_motion.hpp: the main body turning about all
 // axes, the joint swinging, random axes and mount; sensors 5–25 cm from a
 // moving centre for the accelerometer cases), 100 Hz, TRIALS per point:

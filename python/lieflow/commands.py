@@ -444,17 +444,18 @@ def calibrate_universal(recording, main=None, secondary=None, use=None, loss=Non
 _CENTRE_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text),
                "max_iterations": ("--max-iterations", _integer), "min_samples": ("--min-samples", _integer),
                "max_input_mb": ("--max-input-mb", _integer), "max_rows": ("--max-rows", _integer),
-               "verbose": ("--verbose", None)}
+               "verbose": ("--verbose", None), "low_pass": ("--low-pass", _number)}
 
 
 def calibrate_spherical(recording, main=None, secondary=None, max_input_mb=None, max_rows=None, verbose=False,
-                        partial=False):
+                        low_pass=None, partial=False):
     """The centre of a ball joint from both bodies' gyroscopes and
     accelerometers (B.wx.., B.ax..), as ``lieflow calibrate spherical``:
     anchor_main, anchor_secondary [m] from each sensor point in its body's
     axes, their _sigma, rms_residual, converged, message; errors as
-    calibrate_hinge."""
-    values = dict(main=main, secondary=secondary, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose)
+    calibrate_hinge. low_pass=HZ low-passes both first (as calibrate_hinge)."""
+    values = dict(main=main, secondary=secondary, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
+                  low_pass=low_pass)
     return _calibrate("spherical", recording, _CENTRE_FIT, values, partial)
 
 

@@ -217,6 +217,20 @@ def test_calibrate_hinge_low_pass_on_a_real_knee(run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_spherical_low_pass(tmp_path, run_command):
+    status, _, err = run_command("simulate", "hinge-pair", "--imu", "--every", "10", "--noise-gyro", "0.01",
+                                 "--noise-acc", "0.05", "--seed", "2", "--out", tmp_path / "rec.csv", "--quiet")
+    assert status == 0, err
+    status, out, err = run_command("calibrate", "spherical", tmp_path / "rec.csv", "--low-pass", "5")
+    assert status == 0, err
+    command = json.loads(out)
+    assert command["low_pass_hz"] == 5 and command["anchor_main_sigma"] < 0.01
+    fit = lieflow.calibrate_spherical(str(tmp_path / "rec.csv"), low_pass=5)
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_spring_of_a_mechanism_equals_the_command(tmp_path, run_command):
     scene = {"name": "two", "gravity": [0, 0, -9.81], "t_end": 2,
              "integrator": {"name": "rkmk4", "dt": 0.001},
