@@ -87,8 +87,9 @@ constexpr const char* kUsage =
     "  --fit-gyro-bias           hinge, universal: estimate each gyroscope's constant bias\n"
     "                            (gyro_bias_main, gyro_bias_secondary [rad/s] and _sigma; axis\n"
     "                            sigmas marginal)\n"
-    "  --fit-time-offset         hinge, gyroscopes: estimate the secondary sensor's clock offset\n"
-    "                            (time_offset [s]: its sample stamped t was taken at t + offset)\n"
+    "  --fit-time-offset         hinge (gyroscopes), universal: estimate the secondary sensor's\n"
+    "                            clock offset (time_offset [s]: its sample stamped t was taken\n"
+    "                            at t + offset)\n"
     "  --low-pass HZ             hinge, spherical: low-pass the gyroscopes and accelerometers at\n"
     "                            HZ before fitting (zero-phase Butterworth; sensors wobbling on\n"
     "                            soft tissue); sigma accounts for the filter, gyro_misfit says\n"
@@ -663,6 +664,10 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
       j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to that body's axis (the joint does not "
                             "observe a bias along its axes: reported 0)";
+    }
+    if (fit.fitted_time_offset) {
+      j["time_offset"] = fit.time_offset;
+      j["time_offset_sigma"] = fit.time_offset_sigma;
     }
     addJointCentre(j, joint, nullptr, nullptr);
     return finish(j, fit.summary.converged, fit.summary.message, what);

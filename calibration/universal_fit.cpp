@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <limits>
 #include <vector>
 
 #include "calibration/data_selection.hpp"
+#include "calibration/rate_derivative.hpp"
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
 #include "calibration/unit_axis.hpp"
@@ -58,36 +60,68 @@ std::vector<double> relativeRateScales(const JointSamples& samples, const std::v
   return scales;
 }
 
-}  // namespace
+/// Moves of the whole-sample shift after the search, at most.
+constexpr int kUniversalOffsetRefits = 3;
 
-UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
-  if (options.fit_time_offset)
-    throw InvalidInput(samples.source, "--fit-time-offset: the clock offset is estimated by the hinge fit only");
-  if (options.estimator != HingeEstimator::kConstraint)
-    throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
-  if (options.low_pass_hz > 0.0)
-    throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
-                                       "gyroscope residual by the rates' white noise, which a filter colours)");
+/// The recording with the secondary's samples moved `m` back: sample k pairs
+/// the main body's sample k with the secondary's k − m (the main's times),
+/// over the samples both have; and, with `edge`, without the first and last
+/// `edge` of those (the secondary's rate slope needs them).
+JointSamples shifted(const JointSamples& s, int m, int edge) {
+  JointSamples out;
+  out.source = s.source;
+  out.main.name = s.main.name;
+  out.secondary.name = s.secondary.name;
+  const int n = s.size();
+  for (int k = std::max(0, m) + edge; k < n - edge && k - m < n - edge; ++k) {
+    if (k - m < edge) continue;
+    out.time.push_back(s.time[k]);
+    if (s.main.hasOrientation()) out.main.orientation.push_back(s.main.orientation[k]);
+    if (s.main.hasAngularVelocity()) out.main.angular_velocity.push_back(s.main.angular_velocity[k]);
+    if (s.secondary.hasOrientation()) out.secondary.orientation.push_back(s.secondary.orientation[k - m]);
+    if (s.secondary.hasAngularVelocity()) out.secondary.angular_velocity.push_back(s.secondary.angular_velocity[k - m]);
+  }
+  return out;
+}
+
+/// Mean of (a₁·R₁ᵀR₂a₂)² at the closed-form axes of the orientations paired at shift m.
+double orientationCostAtShift(const JointSamples& s, int m) {
+  const JointSamples paired = shifted(s, m, 0);
+  const std::vector<Eigen::Matrix3d> R12 = relativeOrientations(paired);
+  const AxisPair a = universalStartsFromOrientations(R12).front();
+  double sum = 0.0;
+  for (const Eigen::Matrix3d& R : R12) sum += std::pow(a.axis1.dot(R * a.axis2), 2);
+  return sum / static_cast<double>(R12.size());
+}
+
+/// The fit with the secondary's samples `shift` whole samples back.
+UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOptions& options, int shift,
+                                 const DataSelection& data) {
   const auto start_time = std::chrono::steady_clock::now();
-  const DataSelection data = selectData(samples, options.use, "universal joint");
-  if (!data.orientations)
-    throw NotIdentifiable(
-        "a universal joint's axes need both bodies' orientations (" + samples.main.name + ".qw.. and " +
-        samples.secondary.name +
-        ".qw..): from gyroscopes alone there is no per-sample constraint (two unmeasured joint angles and "
-        "their rates against three measured relative rates)");
-  if (options.fit_gyro_bias && !data.rates)
-    throw InvalidInput(samples.source, "--fit-gyro-bias needs both bodies' gyroscopes in the fit (--use both or auto)");
+  const bool offset = options.fit_time_offset;
+  const JointSamples whole = offset ? shifted(recorded, shift, 0) : recorded;
+  // (With the offset, the secondary's rate slope at the samples it is taken.)
+  const int edge = offset ? kRateWindow : 0;
+  const JointSamples samples = offset ? shifted(recorded, shift, edge) : recorded;
   requireEnoughSamples(samples.size(), options);
 
   const std::vector<Eigen::Matrix3d> R12 = relativeOrientations(samples);
   std::vector<std::unique_ptr<ResidualKind>> kinds;
-  {
+  const std::string orientation_kind = "orientation constraint (R1 a1) . (R2 a2) = 0";
+  if (offset) {
+    std::vector<OrientationUniversalOffsetResidual> blocks(R12.size());
+    for (std::size_t k = 0; k < R12.size(); ++k) {
+      blocks[k].R12 = R12[k];
+      blocks[k].w2 = samples.secondary.angular_velocity[k];
+    }
+    kinds.push_back(std::make_unique<SampleResidualKind<OrientationUniversalOffsetResidual, 1, true>>(
+        orientation_kind + " with the clock offset", "rad", 1, std::move(blocks)));
+  } else {
     std::vector<OrientationUniversalResidual> blocks;
     blocks.reserve(R12.size());
     for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
-    kinds.push_back(std::make_unique<SampleResidualKind<OrientationUniversalResidual, 1>>(
-        "orientation constraint (R1 a1) . (R2 a2) = 0", "rad", 1, std::move(blocks)));
+    kinds.push_back(
+        std::make_unique<SampleResidualKind<OrientationUniversalResidual, 1>>(orientation_kind, "rad", 1, std::move(blocks)));
   }
   std::vector<NamedStart> starts;
   const std::vector<AxisPair> closed_form = universalStartsFromOrientations(R12);
@@ -97,20 +131,26 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
     const std::vector<Eigen::Vector3d> u = relativeRates(samples, R12);
     const std::vector<double> scales = relativeRateScales(samples, R12, u, closed_form.front());
     const std::string kind = "relative angular velocity in span{R1 a1, R2 a2} (per-sample noise weights)";
-    if (options.fit_gyro_bias) {
-      B1 = perpendicularBasis(closed_form.front().axis1);
-      B2 = perpendicularBasis(closed_form.front().axis2);
+    if (options.fit_gyro_bias || offset) {
+      if (options.fit_gyro_bias) {
+        B1 = perpendicularBasis(closed_form.front().axis1);
+        B2 = perpendicularBasis(closed_form.front().axis2);
+        for (int i = 0; i < 4; ++i) nuisance.active[i] = true;
+      }
+      if (offset) nuisance.active[4] = true;
       std::vector<RelativeRateUniversalNuisanceResidual> blocks(R12.size());
       for (std::size_t k = 0; k < R12.size(); ++k) {
         blocks[k].R12 = R12[k];
-        blocks[k].u = u[k];
+        blocks[k].w1 = samples.main.angular_velocity[k];
+        blocks[k].w2 = samples.secondary.angular_velocity[k];
+        if (offset) blocks[k].dw2 = rateDerivative(whole.time, whole.secondary.angular_velocity, k + edge);
         blocks[k].B1 = B1;
         blocks[k].B2 = B2;
         blocks[k].scale = scales[k];
       }
       kinds.push_back(std::make_unique<SampleResidualKind<RelativeRateUniversalNuisanceResidual, 1, true>>(
-          kind + " with gyroscope biases", "rad/s", 1, std::move(blocks)));
-      for (int i = 0; i < 4; ++i) nuisance.active[i] = true;
+          kind + (options.fit_gyro_bias ? " with gyroscope biases" : "") + (offset ? " with the clock offset" : ""),
+          "rad/s", 1, std::move(blocks)));
     } else {
       std::vector<RelativeRateUniversalResidual> blocks;
       blocks.reserve(R12.size());
@@ -153,11 +193,74 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
     fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
     fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
   }
+  if (offset) {
+    const double h = (recorded.time.back() - recorded.time.front()) / (recorded.size() - 1);
+    fit.fitted_time_offset = true;
+    fit.time_offset = shift * h + solution.nuisance[4];
+    fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
+  }
   fit.information = solution.information;
   fit.summary = solution.summary;
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return fit;
+}
+
+}  // namespace
+
+UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+  if (options.estimator != HingeEstimator::kConstraint)
+    throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
+  if (options.low_pass_hz > 0.0)
+    throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
+                                       "gyroscope residual by the rates' white noise, which a filter colours)");
+  const DataSelection data = selectData(samples, options.use, "universal joint");
+  if (!data.orientations)
+    throw NotIdentifiable(
+        "a universal joint's axes need both bodies' orientations (" + samples.main.name + ".qw.. and " +
+        samples.secondary.name +
+        ".qw..): from gyroscopes alone there is no per-sample constraint (two unmeasured joint angles and "
+        "their rates against three measured relative rates)");
+  if ((options.fit_gyro_bias || options.fit_time_offset) && !data.rates)
+    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
+                                           " needs both bodies' gyroscopes in the fit (--use both or auto)");
+  requireEnoughSamples(samples.size(), options);
+  if (!options.fit_time_offset) return fitUniversalAtShift(samples, options, 0, data);
+
+  // The clock offset: uniform times; the whole samples by the closed-form
+  // orientation fit at every shift within ±max_time_offset (the orientations
+  // make that cost sharp in the shift), then the full fit with the fraction ν.
+  const std::vector<double>& t = samples.time;
+  const double h = (t.back() - t.front()) / (t.size() - 1);
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    if (std::abs(t[k + 1] - t[k] - h) > 1e-3 * h)
+      throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
+                                             "] - t[" + std::to_string(k) + "] differs from the mean interval");
+  const int reach = std::min(static_cast<int>(std::floor(options.max_time_offset / h)), samples.size() / 4);
+  int best = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int m = -reach; m <= reach; ++m) {
+    const double c = orientationCostAtShift(samples, m);
+    if (c < best_cost) {
+      best_cost = c;
+      best = m;
+    }
+  }
+  // The fit at the search's shift, moved while its fraction says the offset
+  // lies nearer another whole sample (|ν| > h/2). Choosing among the fits at
+  // neighbouring shifts by their residual instead (as the hinge fit's profile
+  // does) picked shifts one sample off, whose first-order rate shift fits
+  // worse while the orientations fit as well: axes' mean (error/σ)² 1.6 / 2.2
+  // with no offset at all, against 0.93 / 1.19 at the right shift.
+  UniversalFit fit = fitUniversalAtShift(samples, options, best, data);
+  for (int round = 0; round < kUniversalOffsetRefits; ++round) {
+    const int step = static_cast<int>(std::lround((fit.time_offset - best * h) / h));
+    if (step == 0) break;
+    best += step;
+    if (std::abs(best) > reach) break;
+    fit = fitUniversalAtShift(samples, options, best, data);
+  }
   return fit;
 }
 

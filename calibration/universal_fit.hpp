@@ -48,6 +48,11 @@ struct UniversalFit {
   Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
   double gyro_bias_main_sigma = 0.0;
   double gyro_bias_secondary_sigma = 0.0;
+  /// With AxisFitOptions::fit_time_offset: the secondary sensor's clock
+  /// offset δ [s] (its sample stamped t was taken at t + δ) and its σ.
+  bool fitted_time_offset = false;
+  double time_offset = 0.0;
+  double time_offset_sigma = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
 };

@@ -9,6 +9,7 @@
 /// depends on the unmeasured φ₁), so these residuals need orientations.
 #pragma once
 
+#include <ceres/rotation.h>
 #include <Eigen/Core>
 
 #include "calibration/mixed_scalar.hpp"
@@ -60,31 +61,63 @@ struct RelativeRateUniversalResidual {
   }
 };
 
-/// RelativeRateUniversalResidual with a constant bias per gyroscope, each
-/// body's perpendicular to its axis (`--fit-gyro-bias`): the gyroscopes read
-/// ω + b, so u = R₁ᵀR₂(ω₂ − b₂) − (ω₁ − b₁) and the residual is
-/// (u_k + B₁ν₁ − R₁ᵀR₂ B₂ν₂) · (a₁ × R₁ᵀR₂a₂), b₁ = B₁ν₁, b₂ = B₂ν₂ with B
-/// unit bases of the planes perpendicular to the start's axes (nuisance
-/// ν[0..1], ν[2..3]). A bias along a₁ or a₂ does not change it (the normal is
-/// perpendicular to both world axes): not observable, reported 0, as for a hinge.
+/// R₂ exp(−ν ω₂) v for a recorded secondary orientation R₁ᵀR₂ = R12 taken ν
+/// seconds late (the secondary's clock offset's fraction): the orientation at
+/// the main's time, turned back by the body rate ω₂ (ceres::AngleAxisRotatePoint,
+/// exact for any ν and safe in Jets at ν = 0), then into body 1's axes.
+template <typename T>
+Vector3<T> secondaryAtMainTime(const Eigen::Matrix3d& R12, const Eigen::Vector3d& w2, const T& nu, const Vector3<T>& v) {
+  const T turn[3] = {-nu * w2.x(), -nu * w2.y(), -nu * w2.z()};
+  Vector3<T> back;
+  ceres::AngleAxisRotatePoint(turn, v.data(), back.data());
+  return mixed::mul(R12, back);
+}
+
+/// OrientationUniversalResidual with the secondary sensor's clock offset
+/// (`--fit-time-offset`, nuisance ν[4] [s] after whole samples):
+/// a₁ · R₁ᵀR₂ exp(−ν ω₂) a₂.
+struct OrientationUniversalOffsetResidual {
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂ as recorded (the secondary's sample k − m)
+  Eigen::Vector3d w2;   ///< ω₂ of that sample
+  const double* weight = nullptr;
+
+  template <typename T>
+  bool operator()(const T* a1_data, const T* a2_data, const T* nu, T* r) const {
+    const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
+    r[0] = *weight * a1.dot(secondaryAtMainTime(R12, w2, nu[4], Vector3<T>(a2)));
+    return true;
+  }
+};
+
+/// RelativeRateUniversalResidual with a constant bias per gyroscope and/or
+/// the secondary sensor's clock offset (`--fit-gyro-bias`, `--fit-time-offset`).
+/// The gyroscopes read ω + b, so u = R₁ᵀR₂(ω₂ − b₂) − (ω₁ − b₁); b₁ = B₁ν₁,
+/// b₂ = B₂ν₂ with B unit bases of the planes perpendicular to the start's axes
+/// (nuisance ν[0..1], ν[2..3]): a bias along a₁ or a₂ does not change the
+/// residual (the normal a₁ × R₁ᵀR₂a₂ is perpendicular to both world axes), so
+/// it is not observable and reported 0, as for a hinge. With the clock offset's
+/// fraction ν[4] [s], the secondary's orientation and rate are moved back to
+/// the main's time: R₂ exp(−ν ω₂) and ω₂ − ν ω̇₂ (ω̇₂ the cubic slope of its
+/// recorded rates, rate_derivative.hpp).
 struct RelativeRateUniversalNuisanceResidual {
-  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂
-  Eigen::Vector3d u;    ///< R₁ᵀR₂ω₂ − ω₁ from the recorded (biased) rates
-  Eigen::Matrix<double, 3, 2> B1, B2;
+  Eigen::Matrix3d R12;  ///< R₁ᵀ R₂ as recorded
+  Eigen::Vector3d w1, w2;
+  Eigen::Vector3d dw2 = Eigen::Vector3d::Zero();  ///< ω̇₂ (zero without a clock offset)
+  Eigen::Matrix<double, 3, 2> B1 = Eigen::Matrix<double, 3, 2>::Zero(), B2 = Eigen::Matrix<double, 3, 2>::Zero();
   double scale = 1.0;   ///< per-sample weight σ_ref/σₖ
   const double* weight = nullptr;
 
   template <typename T>
   bool operator()(const T* a1_data, const T* a2_data, const T* nu, T* r) const {
     const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
-    const Vector3<T> normal = Vector3<T>(a1).cross(mixed::mul(R12, Vector3<T>(a2)));
-    Vector3<T> b1, b2;
+    Vector3<T> v1, v2;
     for (int i = 0; i < 3; ++i) {
-      b1[i] = B1(i, 0) * nu[0] + B1(i, 1) * nu[1];
-      b2[i] = B2(i, 0) * nu[2] + B2(i, 1) * nu[3];
+      v1[i] = w1[i] - B1(i, 0) * nu[0] - B1(i, 1) * nu[1];
+      v2[i] = w2[i] - dw2[i] * nu[4] - B2(i, 0) * nu[2] - B2(i, 1) * nu[3];
     }
-    const Vector3<T> corrected = b1 - mixed::mul(R12, b2);
-    r[0] = *weight * scale * (mixed::dot(u, normal) + corrected.dot(normal));
+    const Vector3<T> normal = Vector3<T>(a1).cross(secondaryAtMainTime(R12, w2, nu[4], Vector3<T>(a2)));
+    const Vector3<T> u = secondaryAtMainTime(R12, w2, nu[4], v2) - v1;
+    r[0] = *weight * scale * u.dot(normal);
     return true;
   }
 };

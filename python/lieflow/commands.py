@@ -398,7 +398,7 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "max_iterations": ("--max-iterations", _integer), "max_sigma_deg": ("--max-sigma-deg", _number),
              "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
-_UNIVERSAL_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None))
+_UNIVERSAL_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None))
 _HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
                   estimator=("--estimator", _text), low_pass=("--low-pass", _number))
 
@@ -430,14 +430,15 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
 def calibrate_universal(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None,
                         start_main=None, start_secondary=None, max_iterations=None, max_sigma_deg=None,
                         min_samples=None, max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False,
-                        partial=False):
+                        fit_time_offset=False, partial=False):
     """Both axes of a universal joint, as ``lieflow calibrate universal``
     (needs orientations); arguments and errors as calibrate_hinge
-    (fit_gyro_bias: the gyroscopes' biases perpendicular to each body's axis)."""
+    (fit_gyro_bias: the gyroscopes' biases perpendicular to each body's axis;
+    fit_time_offset: the secondary sensor's clock offset, time_offset)."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
                   min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
-                  fit_gyro_bias=fit_gyro_bias)
+                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset)
     return _calibrate("universal", recording, _UNIVERSAL_FIT, values, partial)
 
 

@@ -203,11 +203,11 @@ TEST(CalibGyroNuisance, RefusedWhereItCannotApply) {
   o.use = DataUse::kAuto;  // auto: the gyroscopes alone
   EXPECT_EQ(fitHinge(both, o).summary.data, "gyroscopes");
   AxisFitOptions u;
-  u.fit_time_offset = true;  // the universal fit estimates biases, not clock offsets
-  EXPECT_THROW(fitUniversal(both, u), InvalidInput);
-  u.fit_time_offset = false;
+  u.use = DataUse::kOrientations;  // biases and offsets need the gyroscopes in the fit
   u.fit_gyro_bias = true;
-  u.use = DataUse::kOrientations;  // biases need the gyroscopes in the fit
+  EXPECT_THROW(fitUniversal(both, u), InvalidInput);
+  u.fit_gyro_bias = false;
+  u.fit_time_offset = true;
   EXPECT_THROW(fitUniversal(both, u), InvalidInput);
   JointSamples uneven = recordMotion(m, 200, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
   uneven.time[100] += 0.003;

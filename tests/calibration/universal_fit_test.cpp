@@ -4,8 +4,8 @@
 /// noise, 1000 samples at 100 Hz), orientations alone, the exact closed form,
 /// any start, and the sign convention; the orientation noise estimate that
 /// weights the relative-rate residual per sample; gyroscope biases as
-/// nuisance parameters (measured over 50 recordings: axes within 3σ 50 / 50,
-/// mean (error/σ)² 1.05 / 1.27, biases 0.98 / 0.94; unfitted, 2.20 / 2.29).
+/// nuisance parameters and the secondary sensor's clock offset (measured in
+/// calibration/README.md, "Gyroscope biases and clock offsets").
 #include <gtest/gtest.h>
 
 #include <random>
@@ -124,23 +124,28 @@ namespace calibration {
 namespace {
 
 struct BiasTally {
-  int answered = 0, covered[2] = {0, 0}, bias_covered[2] = {0, 0};
-  double axis_ratio[2] = {0.0, 0.0}, bias_ratio[2] = {0.0, 0.0};
+  int answered = 0, covered[2] = {0, 0}, bias_covered[2] = {0, 0}, offset_covered = 0;
+  double axis_ratio[2] = {0.0, 0.0}, bias_ratio[2] = {0.0, 0.0}, offset_ratio = 0.0, offset_error = 0.0;
 };
 
 /// Universal-joint recordings (gyroscopes 0.01 rad/s, orientations 0.2°,
 /// 1000 samples at 100 Hz) whose gyroscopes carry biases N(0, 0.05²) per axis.
-BiasTally universalBiasTrials(bool fit_bias, int trials) {
+/// With `offset`, the secondary sensor's clock is also off by δ uniform in ±offset [s].
+BiasTally universalBiasTrials(bool fit_bias, int trials, double bias = 0.05, double offset = 0.0,
+                              bool fit_offset = false) {
   std::mt19937 gen(77);
   std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   BiasTally t;
   for (int i = 0; i < trials; ++i) {
     const UniversalMotion m = randomUniversalMotion(gen);
     RecordingNoise n{0.01, 0.2 * kDeg, true, true};
-    n.gyro_bias_main = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
-    n.gyro_bias_secondary = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
+    n.gyro_bias_main = bias * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
+    n.gyro_bias_secondary = bias * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
+    n.secondary_clock_offset = offset * uniform(gen);
     AxisFitOptions o;
     o.fit_gyro_bias = fit_bias;
+    o.fit_time_offset = fit_offset;
     try {
       const UniversalFit f = fitUniversal(recordMotion(m, kSamples, kRateHz, n, gen), o);
       ++t.answered;
@@ -149,6 +154,12 @@ BiasTally universalBiasTrials(bool fit_bias, int trials) {
       for (int a = 0; a < 2; ++a) {
         t.covered[a] += e[a] <= 3.0 * s[a];
         t.axis_ratio[a] += (e[a] / s[a]) * (e[a] / s[a]) / trials;
+      }
+      if (fit_offset) {
+        const double e = f.time_offset - n.secondary_clock_offset;
+        t.offset_covered += std::abs(e) <= 3.0 * f.time_offset_sigma;
+        t.offset_ratio += (e / f.time_offset_sigma) * (e / f.time_offset_sigma) / trials;
+        t.offset_error = std::max(t.offset_error, std::abs(e));
       }
       if (fit_bias) {
         const double be[2] = {(f.gyro_bias_main - test::perpendicular(n.gyro_bias_main, m.axis1_main)).norm(),
@@ -163,10 +174,12 @@ BiasTally universalBiasTrials(bool fit_bias, int trials) {
     } catch (const NotIdentifiable&) {
     }
   }
-  std::printf("universal, biases 0.05 rad/s, fitted %d: answered %d/%d, axes within 3 sigma %d %d, mean (e/s)^2 "
-              "%.2f %.2f; biases within 3 sigma %d %d, mean (e/s)^2 %.2f %.2f\n",
-              fit_bias, t.answered, trials, t.covered[0], t.covered[1], t.axis_ratio[0], t.axis_ratio[1],
-              t.bias_covered[0], t.bias_covered[1], t.bias_ratio[0], t.bias_ratio[1]);
+  std::printf("universal, biases %.2f rad/s, offsets within %.3f s, fitted %d%d: answered %d/%d, axes within 3 sigma "
+              "%d %d, mean (e/s)^2 %.2f %.2f; biases within 3 sigma %d %d, mean (e/s)^2 %.2f %.2f; offset within 3 "
+              "sigma %d, mean (e/s)^2 %.2f, largest error %.2e s\n",
+              bias, offset, fit_bias, fit_offset, t.answered, trials, t.covered[0], t.covered[1], t.axis_ratio[0],
+              t.axis_ratio[1], t.bias_covered[0], t.bias_covered[1], t.bias_ratio[0], t.bias_ratio[1],
+              t.offset_covered, t.offset_ratio, t.offset_error);
   return t;
 }
 
@@ -184,6 +197,33 @@ TEST(CalibUniversal, GyroscopeBiasesFitted) {
   }
   // Unmodelled, the biases leave σ too small by about 1.5 (measured: mean (error/σ)² 2.20 / 2.29).
   if (!test::kSanitized) EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 1.6);
+}
+
+/// The secondary sensor's clock off by up to ±50 ms (±5 samples), without biases.
+TEST(CalibUniversal, ClockOffsetFitted) {
+  constexpr int kTrials = test::kSanitized ? 10 : 50;
+  const BiasTally plain = universalBiasTrials(false, kTrials, 0.0, 0.05, false);
+  const BiasTally fitted = universalBiasTrials(false, kTrials, 0.0, 0.05, true);
+  EXPECT_EQ(fitted.answered, kTrials);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_GE(fitted.covered[a], kTrials - 2);
+    EXPECT_LT(fitted.axis_ratio[a], test::kSanitized ? 2.5 : 1.6);
+  }
+  EXPECT_GE(fitted.offset_covered, kTrials - 3);
+  EXPECT_GT(fitted.offset_ratio, test::kSanitized ? 0.3 : 0.5);
+  EXPECT_LT(fitted.offset_ratio, test::kSanitized ? 2.5 : 1.6);
+  // Unmodelled, the offset leaves the axes tens of σ off (measured: 77 / 85).
+  if (!test::kSanitized) EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 10.0);
+  // Biases and the offset together.
+  const BiasTally both = universalBiasTrials(true, kTrials, 0.05, 0.05, true);
+  EXPECT_EQ(both.answered, kTrials);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_GE(both.covered[a], kTrials - 2);
+    EXPECT_LT(both.axis_ratio[a], test::kSanitized ? 2.5 : 1.6);
+    EXPECT_LT(both.bias_ratio[a], test::kSanitized ? 2.5 : 1.6);
+  }
+  EXPECT_GE(both.offset_covered, kTrials - 3);
+  EXPECT_LT(both.offset_ratio, test::kSanitized ? 2.5 : 1.6);
 }
 
 }  // namespace

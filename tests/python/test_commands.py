@@ -188,13 +188,16 @@ def test_calibrate_universal_gyro_bias(tmp_path, run_command):
     status, _, err = run_command("simulate", "universal-pair", "--every", "10", "--noise-gyro", "0.01", "--noise-quat",
                                  "0.003", "--bias-gyro", "0.05", "--seed", "4", "--out", tmp_path / "rec.csv", "--quiet")
     assert status == 0, err
-    status, out, err = run_command("calibrate", "universal", tmp_path / "rec.csv", "--fit-gyro-bias")
+    status, out, err = run_command("calibrate", "universal", tmp_path / "rec.csv", "--fit-gyro-bias",
+                                   "--fit-time-offset")
     assert status == 0, err
     command = json.loads(out)
-    for key in ("gyro_bias_main", "gyro_bias_secondary", "gyro_bias_main_sigma", "gyro_bias_secondary_sigma"):
+    for key in ("gyro_bias_main", "gyro_bias_secondary", "gyro_bias_main_sigma", "gyro_bias_secondary_sigma",
+                "time_offset", "time_offset_sigma"):
         assert key in command, key
     assert max(abs(b) for b in command["gyro_bias_main"]) > 3 * command["gyro_bias_main_sigma"]  # a bias is found
-    fit = lieflow.calibrate_universal(str(tmp_path / "rec.csv"), fit_gyro_bias=True)
+    assert abs(command["time_offset"]) < 5 * command["time_offset_sigma"] + 1e-3  # no offset simulated
+    fit = lieflow.calibrate_universal(str(tmp_path / "rec.csv"), fit_gyro_bias=True, fit_time_offset=True)
     for key in set(command) - TIMING:
         assert fit[key] == command[key], key
 
