@@ -512,8 +512,22 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
                             "): a longer or more varied recording is needed to find the offset");
   }
   if (!likelihood) return fit;
+  // The likelihood moves the secondary's rates by the fraction to first order,
+  // so it is refined at the whole sample nearest the offset (the profile's
+  // best shift can be a sample away from its own estimate), and moved while
+  // its fraction says another whole sample is nearer (|ν| > h/2).
+  int shift = static_cast<int>(std::lround(fit.time_offset / h));
   HingeFit refined = fit;
-  refineByLikelihood(samples, best, &refined);
+  refineByLikelihood(samples, shift, &refined);
+  for (int round = 0; round < kOffsetRefits; ++round) {
+    const int step = static_cast<int>(std::lround((refined.time_offset - shift * h) / h));
+    if (step == 0 || std::abs(shift + step) > reach) break;
+    shift += step;
+    const double estimate = refined.time_offset;  // the fraction starts from the likelihood's estimate
+    refined = fit;
+    refined.time_offset = estimate;
+    refineByLikelihood(samples, shift, &refined);
+  }
   return refined;
 }
 
