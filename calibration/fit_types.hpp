@@ -185,6 +185,22 @@ struct AxisFitSummary {
   double seconds = 0.0;     ///< wall time of the whole fit
 };
 
+/// What a fit estimated of the sensors besides the joint (AxisFitOptions::
+/// fit_gyro_bias, fit_time_offset): each gyroscope's constant bias [rad/s, its
+/// body's axes] with its RMS σ, and the secondary sensor's clock offset δ [s]
+/// (its sample stamped t was taken at t + δ) with its σ. Which components of
+/// a bias a joint observes is the fit's to say (hinge_fit.hpp, universal_fit.hpp).
+struct SensorNuisanceEstimate {
+  bool fitted_gyro_bias = false;
+  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
+  double gyro_bias_main_sigma = 0.0;
+  double gyro_bias_secondary_sigma = 0.0;
+  bool fitted_time_offset = false;
+  double time_offset = 0.0;
+  double time_offset_sigma = 0.0;
+};
+
 /// v to 6 significant digits, for the fits' messages.
 inline std::string formatNumber(double v) {
   std::ostringstream s;

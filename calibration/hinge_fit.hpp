@@ -46,37 +46,27 @@
 namespace lieflow {
 namespace calibration {
 
-struct HingeFit {
+/// Biases (SensorNuisanceEstimate) with AxisFitOptions::fit_gyro_bias:
+/// perpendicular to the axis (the component along a hinge's axis leaves
+/// ‖ω × j‖ unchanged: not observable, reported 0) — or, with the likelihood
+/// estimator, as HingeLikelihoodFit says; the clock offset with fit_time_offset.
+struct HingeFit : SensorNuisanceEstimate {
   Eigen::Vector3d axis_main;       ///< j₁, unit, main body frame
   Eigen::Vector3d axis_secondary;  ///< j₂, unit, secondary body frame
   double sigma_main_deg = 0.0;     ///< 1σ angle of j₁ (RMS angular error)
   double sigma_secondary_deg = 0.0;
   std::string sign;                ///< how the signs were fixed
   Eigen::Matrix4d covariance;      ///< rad², axis angles (j₁'s two, then j₂'s)
-  /// With AxisFitOptions::fit_gyro_bias: each gyroscope's constant bias [rad/s]
-  /// in its body's axes, perpendicular to the axis (the component along a
-  /// hinge's axis leaves ‖ω × j‖ unchanged: not observable, reported 0), and
-  /// its RMS σ.
-  bool fitted_gyro_bias = false;
-  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
-  double gyro_bias_main_sigma = 0.0;
-  double gyro_bias_secondary_sigma = 0.0;
   /// With HingeEstimator::kLikelihood: the refinement (its σ is the
   /// Cramér–Rao bound at the estimate) and the constraint fit's σ it replaced.
   HingeLikelihoodFit likelihood;
   double constraint_sigma_main_deg = 0.0;
   double constraint_sigma_secondary_deg = 0.0;
-  /// With AxisFitOptions::fit_time_offset: the secondary sensor's clock
-  /// offset δ [s] (its sample stamped t was taken at t + δ) and its σ.
-  bool fitted_time_offset = false;
-  double time_offset = 0.0;
-  double time_offset_sigma = 0.0;
   /// How well a hinge explains the data the fit used, as a fraction of the
   /// signal each residual compares: gyroscopes RMS(‖ω₁×j₁‖ − ‖ω₂×j₂‖) over
   /// the RMS of their mean, accelerometers RMS(j₁·f_c,1 − j₂·f_c,2) over the
   /// RMS of ‖f_c‖ at the joint centre (−1: not used). Noise alone gives about
-  /// √2 σ/|ω⊥|; a real knee 0.1–0.3.
+  /// √2 σ/|ω⊥|; a real walking knee about 0.5 (gyroscopes) and 0.2.
   double gyro_misfit = -1.0;
   double accelerometer_misfit = -1.0;
   /// With AxisFitOptions::low_pass_hz: the cutoff and the filter's white-noise

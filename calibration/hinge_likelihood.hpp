@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "calibration/fit_types.hpp"
 #include "calibration/joint_samples.hpp"
 #include "liegroup/so3.hpp"
 
@@ -57,26 +58,16 @@ struct HingeLikelihoodOptions {
   double offset_fraction_start = 0.0;  ///< s
 };
 
-struct HingeLikelihoodFit {
+/// Biases (SensorNuisanceEstimate) with HingeLikelihoodOptions::fit_gyro_bias:
+/// the secondary's perpendicular to its axis, the main one's along its axis
+/// the difference of the two; the axes' σ marginal over them. The clock
+/// offset with fit_time_offset: δ = shift · h + ν and ν's σ.
+struct HingeLikelihoodFit : SensorNuisanceEstimate {
   Eigen::Vector3d axis_main;       ///< j₁, unit
   Eigen::Vector3d axis_secondary;  ///< j₂ = Cᵀ j₁ (sign: R₁ j₁ = R₂ j₂)
   double sigma_main_deg = 0.0;     ///< RMS angle: √trace of j₁'s ambient covariance
   double sigma_secondary_deg = 0.0;
   double noise_sigma = 0.0;        ///< σ of one gyroscope axis, from the residuals [rad/s]
-  /// With HingeLikelihoodOptions::fit_gyro_bias: the biases [rad/s, body
-  /// axes; the secondary's perpendicular to its axis, the main one's along
-  /// its axis the difference of the two] and their RMS σ, the axes' σ
-  /// marginal over them.
-  bool fitted_gyro_bias = false;
-  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
-  double gyro_bias_main_sigma = 0.0;
-  double gyro_bias_secondary_sigma = 0.0;
-  /// With HingeLikelihoodOptions::fit_time_offset: δ = shift · h + ν [s] and
-  /// its σ (ν's), the axes' σ marginal over it.
-  bool fitted_time_offset = false;
-  double time_offset = 0.0;
-  double time_offset_sigma = 0.0;
   int iterations = 0;
   bool converged = false;
   std::string message;             ///< Ceres' reason for stopping

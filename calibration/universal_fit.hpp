@@ -33,26 +33,16 @@
 namespace lieflow {
 namespace calibration {
 
-struct UniversalFit {
+/// Biases (SensorNuisanceEstimate) with AxisFitOptions::fit_gyro_bias:
+/// perpendicular to each body's axis (a bias along a₁ or a₂ leaves the
+/// relative-rate residual unchanged: reported 0); the clock offset with
+/// fit_time_offset.
+struct UniversalFit : SensorNuisanceEstimate {
   Eigen::Vector3d axis1_main;       ///< a₁, unit, main body frame
   Eigen::Vector3d axis2_secondary;  ///< a₂, unit, secondary body frame
   double sigma1_deg = 0.0;          ///< 1σ angle of a₁ (RMS angular error)
   double sigma2_deg = 0.0;
   Eigen::Matrix4d covariance;       ///< rad², axis angles (a₁'s two, then a₂'s)
-  /// With AxisFitOptions::fit_gyro_bias: each gyroscope's constant bias
-  /// [rad/s] in its body's axes, perpendicular to that body's axis (a bias
-  /// along a₁ or a₂ leaves the relative-rate residual unchanged: reported 0),
-  /// and its RMS σ.
-  bool fitted_gyro_bias = false;
-  Eigen::Vector3d gyro_bias_main = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_bias_secondary = Eigen::Vector3d::Zero();
-  double gyro_bias_main_sigma = 0.0;
-  double gyro_bias_secondary_sigma = 0.0;
-  /// With AxisFitOptions::fit_time_offset: the secondary sensor's clock
-  /// offset δ [s] (its sample stamped t was taken at t + δ) and its σ.
-  bool fitted_time_offset = false;
-  double time_offset = 0.0;
-  double time_offset_sigma = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
 };
