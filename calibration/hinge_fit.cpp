@@ -1,5 +1,4 @@
 #include "calibration/hinge_fit.hpp"
-#include "calibration/axis_problem.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -9,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "calibration/axis_problem.hpp"
 #include "calibration/data_selection.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_likelihood.hpp"
@@ -127,6 +127,15 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
       std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
 }
 
+/// The orientations' kind: R₁ j₁ = R₂ j₂ per sample.
+std::unique_ptr<ResidualKind> orientationKind(const std::vector<Eigen::Matrix3d>& R12) {
+  std::vector<OrientationHingeResidual> blocks;
+  blocks.reserve(R12.size());
+  for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
+  return std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>("orientation hinge constraint R1 j1 = R2 j2",
+                                                                           "rad", 2, std::move(blocks));
+}
+
 /// The gyroscopes' plain kind, the secondary's rates `shift` samples back.
 std::unique_ptr<ResidualKind> gyroKind(const JointSamples& samples, int shift) {
   std::vector<GyroHingeResidual> blocks;
@@ -204,11 +213,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   context.axis1 = "the axis in the main body '" + samples.main.name + "'";
   context.axis2 = "the axis in the secondary body '" + samples.secondary.name + "'";
   if (data.orientations) {
-    std::vector<OrientationHingeResidual> blocks;
-    blocks.reserve(R12.size());
-    for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
-    kinds.push_back(std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>(
-        "orientation hinge constraint R1 j1 = R2 j2", "rad", 2, std::move(blocks)));
+    kinds.push_back(orientationKind(R12));
     starts.push_back({hingeAxesFromOrientations(R12), "closed form (orientations)"});
     context.hint = kOrientationHint;
   }
@@ -272,12 +277,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   LowPassNoise low_pass;
   if (unfiltered.samples) {
     const JointSamples& raw = *unfiltered.samples;
-    if (data.orientations) {
-      std::vector<OrientationHingeResidual> blocks;
-      for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
-      raw_kinds.push_back(std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>(
-          "orientation hinge constraint R1 j1 = R2 j2", "rad", 2, std::move(blocks)));
-    }
+    if (data.orientations) raw_kinds.push_back(orientationKind(R12));
     if (data.rates) {
       const AxisPair& at = starts.front().axes;
       raw_kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(raw, at.axis1, at.axis2, shift, false)
@@ -424,12 +424,12 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
   problem.setAxes({fit->axis_main, fit->axis_secondary});
   GaussNewtonStep step;
   if (!gaussNewtonStep(problem, &step)) return;
-  const double delta = 2.0 * step.decrease / (plain->independent_noise * plain->independent_noise);
+  const double sigma2 = plain->independent_noise * plain->independent_noise;
+  const double delta = 2.0 * step.decrease / sigma2;
   fit->summary.bias_check_delta_chi_square = delta;
   if (delta <= kBiasChiSquare) return;
   // A residual far above the noise that the biases would not bring near it
   // is another misfit (the fit already says so); the bias is not its cause.
-  const double sigma2 = plain->independent_noise * plain->independent_noise;
   const double biased_rms2 = plain->rms * plain->rms - 2.0 * step.decrease / std::max(1, plain->samples);
   const double bound = options.max_residual_to_noise > 0.0 ? options.max_residual_to_noise : 2.0;
   if (plain->rms * plain->rms > bound * bound * sigma2 && biased_rms2 > bound * bound * sigma2) return;

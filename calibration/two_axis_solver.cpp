@@ -380,7 +380,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
     }
   }
 
-  // 8. Under a robust loss: the sandwich.
+  // 8. Under a robust loss or on low-passed signals: the sandwich.
   Eigen::Matrix4d sandwich;
   int batches = 0;
   if ((robust || low_pass) && sandwichCovariance(p, &sandwich, &batches)) {
