@@ -140,6 +140,15 @@ struct AccelerometerHingeResidual {
     r[0] = *weight * (mixed::dot(c1, Vector3<T>(j1)) - mixed::dot(c2, Vector3<T>(j2)));
     return true;
   }
+
+  /// Linear in the axes: ∂r/∂j₁ = w f_c,1, ∂r/∂j₂ = −w f_c,2 (residual_kind.hpp).
+  bool evaluate(const double* j1, const double* j2, double* r, double* d1, double* d2) const {
+    const Eigen::Map<const Eigen::Vector3d> a(j1), b(j2);
+    r[0] = *weight * (c1.dot(a) - c2.dot(b));
+    if (d1) Eigen::Map<Eigen::Vector3d>{d1} = *weight * c1;
+    if (d2) Eigen::Map<Eigen::Vector3d>{d2} = -*weight * c2;
+    return true;
+  }
 };
 
 /// Orientations: j₁ − R₁ᵀR₂ j₂ = 0 (the axis as one world line, in body 1's
@@ -157,6 +166,15 @@ struct OrientationHingeResidual {
     const Eigen::Map<const Vector3<T>> j1(j1_data), j2(j2_data);
     const Vector3<T> d = mixed::mul(R12, Vector3<T>(j2)) - j1;
     for (int i = 0; i < 3; ++i) r[i] = *weight * d[i];
+    return true;
+  }
+
+  /// Linear in the axes: ∂r/∂j₁ = −w I, ∂r/∂j₂ = w R₁ᵀR₂ (row-major 3 × 3).
+  bool evaluate(const double* j1, const double* j2, double* r, double* d1, double* d2) const {
+    const Eigen::Map<const Eigen::Vector3d> a(j1), b(j2);
+    Eigen::Map<Eigen::Vector3d>{r} = *weight * (R12 * b - a);
+    if (d1) Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{d1} = -*weight * Eigen::Matrix3d::Identity();
+    if (d2) Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{d2} = *weight * R12;
     return true;
   }
 };

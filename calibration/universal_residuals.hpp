@@ -32,6 +32,16 @@ struct OrientationUniversalResidual {
     r[0] = *weight * a1.dot(mixed::mul(R12, Vector3<T>(a2)));
     return true;
   }
+
+  /// ∂r/∂a₁ = w R₁₂a₂, ∂r/∂a₂ = w R₁₂ᵀa₁ (residual_kind.hpp).
+  bool evaluate(const double* a1_data, const double* a2_data, double* r, double* d1, double* d2) const {
+    const Eigen::Map<const Eigen::Vector3d> a1(a1_data), a2(a2_data);
+    const Eigen::Vector3d b = R12 * a2;
+    r[0] = *weight * a1.dot(b);
+    if (d1) Eigen::Map<Eigen::Vector3d>{d1} = *weight * b;
+    if (d2) Eigen::Map<Eigen::Vector3d>{d2} = *weight * (R12.transpose() * a1);
+    return true;
+  }
 };
 
 /// Orientations and gyroscopes: u · (a₁ × R₁ᵀR₂a₂) = 0 with u = R₁ᵀR₂ω₂ − ω₁ the
@@ -57,6 +67,18 @@ struct RelativeRateUniversalResidual {
     const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
     const Vector3<T> normal = Vector3<T>(a1).cross(mixed::mul(R12, Vector3<T>(a2)));
     r[0] = *weight * scale * mixed::dot(u, normal);
+    return true;
+  }
+
+  /// With b = R₁₂a₂, u·(a₁ × b) = a₁·(b × u) = b·(u × a₁): ∂r/∂a₁ = w s (b × u),
+  /// ∂r/∂a₂ = w s R₁₂ᵀ(u × a₁) (residual_kind.hpp).
+  bool evaluate(const double* a1_data, const double* a2_data, double* r, double* d1, double* d2) const {
+    const Eigen::Map<const Eigen::Vector3d> a1(a1_data), a2(a2_data);
+    const Eigen::Vector3d b = R12 * a2;
+    const double ws = *weight * scale;
+    r[0] = ws * u.dot(a1.cross(b));
+    if (d1) Eigen::Map<Eigen::Vector3d>{d1} = ws * b.cross(u);
+    if (d2) Eigen::Map<Eigen::Vector3d>{d2} = ws * (R12.transpose() * u.cross(a1));
     return true;
   }
 };

@@ -18,6 +18,8 @@
 #include "calibration/hinge_fit.hpp"
 #include "calibration/hinge_residuals.hpp"
 #include "calibration/residual_kind.hpp"
+#include "calibration/universal_residuals.hpp"
+#include "liegroup/so3.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_search.hpp"
 #include "calibration/hinge_sign.hpp"
@@ -53,32 +55,54 @@ void expectHinge(const HingeFit& fit, const HingeMotion& m, double tolerance_deg
   EXPECT_TRUE(fit.summary.converged) << fit.summary.message;
 }
 
-/// The gyroscope constraint's closed-form Jacobian (GyroHingeResidual::evaluate,
-/// what the fit uses) against Ceres' automatic derivative of the same residual,
-/// at random rates and at axes of any length (Ceres differentiates the ambient
-/// function before the manifold).
-TEST(CalibHinge, GyroscopeResidualJacobianMatchesJets) {
+/// A closed-form Jacobian (`evaluate`, what the fits use) against Ceres'
+/// automatic derivative of the same functor at `trials` random axes of any
+/// length (Ceres differentiates the ambient function before the manifold).
+template <typename Functor, int kResiduals, typename Make>
+void expectClosedFormMatchesJets(Make make, const char* name) {
   std::mt19937 gen(5);
   std::normal_distribution<double> normal;
   const auto random = [&] { return Eigen::Vector3d(normal(gen), normal(gen), normal(gen)); };
   const double weight = 1.7;
   for (int i = 0; i < 200; ++i) {
-    GyroHingeResidual f(3.0 * random(), 3.0 * random());
+    Functor f = make(random);
     f.weight = &weight;
     const Eigen::Vector3d j1 = random(), j2 = random();
     const double* parameters[2] = {j1.data(), j2.data()};
-    double r_auto, r_closed, d_auto[2][3], d_closed[2][3];
+    double r_auto[kResiduals], r_closed[kResiduals], d_auto[2][3 * kResiduals], d_closed[2][3 * kResiduals];
     double* jac_auto[2] = {d_auto[0], d_auto[1]};
     double* jac_closed[2] = {d_closed[0], d_closed[1]};
-    ceres::AutoDiffCostFunction<GyroHingeResidual, 1, 3, 3> automatic(new GyroHingeResidual(f));
-    ASSERT_TRUE(automatic.Evaluate(parameters, &r_auto, jac_auto));
-    ClosedFormSampleCost<GyroHingeResidual, 1> closed(f);
-    ASSERT_TRUE(closed.Evaluate(parameters, &r_closed, jac_closed));
-    const double scale = std::abs(r_auto) + 1.0;
-    EXPECT_NEAR(r_closed, r_auto, 1e-13 * scale);
-    for (int b = 0; b < 2; ++b)
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(d_closed[b][c], d_auto[b][c], 1e-12 * scale) << i << " " << b << c;
+    ceres::AutoDiffCostFunction<Functor, kResiduals, 3, 3> automatic(new Functor(f));
+    ASSERT_TRUE(automatic.Evaluate(parameters, r_auto, jac_auto));
+    ClosedFormSampleCost<Functor, kResiduals> closed(f);
+    ASSERT_TRUE(closed.Evaluate(parameters, r_closed, jac_closed));
+    for (int k = 0; k < kResiduals; ++k) {
+      const double scale = std::abs(r_auto[k]) + 1.0;
+      EXPECT_NEAR(r_closed[k], r_auto[k], 1e-13 * scale) << name;
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(d_closed[b][3 * k + c], d_auto[b][3 * k + c], 1e-12 * scale) << name << " " << i << " " << b << c;
+    }
   }
+}
+
+TEST(CalibHinge, ClosedFormJacobiansMatchJets) {
+  const auto rotation = [](const Eigen::Vector3d& v) { return SO3d::exp(v).matrix(); };
+  expectClosedFormMatchesJets<GyroHingeResidual, 1>(
+      [](auto random) { return GyroHingeResidual(3.0 * random(), 3.0 * random()); }, "gyroscope hinge");
+  expectClosedFormMatchesJets<AccelerometerHingeResidual, 1>(
+      [](auto random) { return AccelerometerHingeResidual(9.0 * random(), 9.0 * random()); }, "accelerometer hinge");
+  expectClosedFormMatchesJets<OrientationHingeResidual, 3>(
+      [&](auto random) { return OrientationHingeResidual(rotation(random())); }, "orientation hinge");
+  expectClosedFormMatchesJets<OrientationUniversalResidual, 1>(
+      [&](auto random) { return OrientationUniversalResidual(rotation(random())); }, "orientation universal");
+  expectClosedFormMatchesJets<RelativeRateUniversalResidual, 1>(
+      [&](auto random) {
+        RelativeRateUniversalResidual f(rotation(random()), 3.0 * random());
+        f.scale = 0.7;
+        return f;
+      },
+      "relative rate universal");
 }
 
 TEST(CalibHinge, GyroscopesLowNoiseWithinATenthOfADegree) {
