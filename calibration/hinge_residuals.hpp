@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "calibration/gyro_nuisance.hpp"
 #include "calibration/mixed_scalar.hpp"
 #include "liegroup/scalar.hpp"
 
@@ -105,10 +106,7 @@ struct GyroHingeNuisanceResidual {
   bool operator()(const T* j1_data, const T* j2_data, const T* nu, T* r) const {
     const Eigen::Map<const Vector3<T>> j1(j1_data), j2(j2_data);
     Vector3<T> v1, v2;
-    for (int i = 0; i < 3; ++i) {
-      v1[i] = w1[i] - B1(i, 0) * nu[0] - B1(i, 1) * nu[1];
-      v2[i] = w2[i] - dw2[i] * nu[4] - B2(i, 0) * nu[2] - B2(i, 1) * nu[3];
-    }
+    correctedRates(w1, w2, dw2, B1, B2, nu, &v1, &v2);
     r[0] = *weight * GyroHingeResidual::sampson<T>(v1.cross(Vector3<T>(j1)).squaredNorm(),
                                                    v2.cross(Vector3<T>(j2)).squaredNorm(), floor_sq);
     return true;

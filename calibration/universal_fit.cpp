@@ -99,10 +99,16 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
                                  const DataSelection& data) {
   const auto start_time = std::chrono::steady_clock::now();
   const bool offset = options.fit_time_offset;
-  const JointSamples whole = offset ? shifted(recorded, shift, 0) : recorded;
-  // (With the offset, the secondary's rate slope at the samples it is taken.)
+  // With the offset: the pairs at the shift, and the same less kRateWindow at
+  // each end (the secondary's rate slope needs them); without, the recording.
   const int edge = offset ? kRateWindow : 0;
-  const JointSamples samples = offset ? shifted(recorded, shift, edge) : recorded;
+  JointSamples whole_pairs, pairs;
+  if (offset) {
+    whole_pairs = shifted(recorded, shift, 0);
+    pairs = shifted(recorded, shift, edge);
+  }
+  const JointSamples& whole = offset ? whole_pairs : recorded;
+  const JointSamples& samples = offset ? pairs : recorded;
   requireEnoughSamples(samples.size(), options);
 
   const std::vector<Eigen::Matrix3d> R12 = relativeOrientations(samples);

@@ -12,6 +12,7 @@
 #include <ceres/rotation.h>
 #include <Eigen/Core>
 
+#include "calibration/gyro_nuisance.hpp"
 #include "calibration/mixed_scalar.hpp"
 #include "liegroup/scalar.hpp"
 
@@ -133,10 +134,7 @@ struct RelativeRateUniversalNuisanceResidual {
   bool operator()(const T* a1_data, const T* a2_data, const T* nu, T* r) const {
     const Eigen::Map<const Vector3<T>> a1(a1_data), a2(a2_data);
     Vector3<T> v1, v2;
-    for (int i = 0; i < 3; ++i) {
-      v1[i] = w1[i] - B1(i, 0) * nu[0] - B1(i, 1) * nu[1];
-      v2[i] = w2[i] - dw2[i] * nu[4] - B2(i, 0) * nu[2] - B2(i, 1) * nu[3];
-    }
+    correctedRates(w1, w2, dw2, B1, B2, nu, &v1, &v2);
     const Vector3<T> normal = Vector3<T>(a1).cross(secondaryAtMainTime(R12, w2, nu[4], Vector3<T>(a2)));
     const Vector3<T> u = secondaryAtMainTime(R12, w2, nu[4], v2) - v1;
     r[0] = *weight * scale * u.dot(normal);
