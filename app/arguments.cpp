@@ -9,6 +9,7 @@
 
 #include "app/cli.hpp"
 #include "joints/import/model_import.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace app {
@@ -56,11 +57,24 @@ std::string Arguments::value(const std::string& flag, const std::string& fallbac
   return it == values_.end() ? fallback : it->second;
 }
 
-double parsePositiveNumber(const std::string& what, const std::string& text) {
+std::string quotedValue(const std::string& text) {
+  constexpr std::size_t kShown = 40;
+  return "'" + (text.size() <= kShown ? text : text.substr(0, kShown) + "…") + "'";
+}
+
+double parseNumber(const std::string& what, const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
-    throw UsageError(what + ": expected a positive number, got '" + text + "'");
+  if (text.empty() || *end != '\0') throw UsageError(what + ": expected a number, got " + quotedValue(text));
+  if (const std::string problem = inputNumberProblem(v); !problem.empty())
+    throw UsageError(what + ": " + quotedValue(text) + " " +
+                     (std::isfinite(v) ? problem.substr(problem.find(" is beyond") + 1) : std::string("is not finite")));
+  return v;
+}
+
+double parsePositiveNumber(const std::string& what, const std::string& text) {
+  const double v = parseNumber(what, text);
+  if (!(v > 0.0)) throw UsageError(what + ": expected a positive number, got " + quotedValue(text));
   return v;
 }
 
@@ -76,7 +90,7 @@ int Arguments::positiveInt(const std::string& flag, int fallback) const {
   errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);
   if (text.empty() || *end != '\0' || errno == ERANGE || v < 1 || v > 1000000000)
-    throw UsageError(flag + ": expected a positive integer, got '" + text + "'");
+    throw UsageError(flag + ": expected a positive integer, got " + quotedValue(text));
   return static_cast<int>(v);
 }
 
@@ -92,7 +106,7 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
   const long v = std::strtol(text.c_str(), &end, 10);
   if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max)
     throw UsageError(flag + ": expected an integer from " + std::to_string(min) + " to " + std::to_string(max) +
-                     ", got '" + text + "'");
+                     ", got " + quotedValue(text));
   return v;
 }
 

@@ -44,7 +44,15 @@ class Arguments {
   std::set<std::string> switches_set_;
 };
 
-/// Parses a decimal number; a UsageError naming `what` if malformed.
+/// `text` quoted for a message, cut to its first 40 characters ("'1000…'").
+std::string quotedValue(const std::string& text);
+
+/// Parses a number as every command-line number is read: the whole text,
+/// finite and within ±kMaxInputMagnitude (liegroup/input_number.hpp); a
+/// UsageError naming `what` otherwise.
+double parseNumber(const std::string& what, const std::string& text);
+
+/// parseNumber, and positive.
 double parsePositiveNumber(const std::string& what, const std::string& text);
 
 /// The resource limits (joints/resource_limits.hpp) raised by the options

@@ -132,11 +132,7 @@ Eigen::Vector3d parseAxis(const Arguments& args, const std::string& flag) {
   const std::vector<std::string> items = args.list(flag);
   if (items.size() != 3) throw UsageError(flag + ": expected three numbers X,Y,Z");
   Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) {
-    char* end = nullptr;
-    v[i] = std::strtod(items[i].c_str(), &end);
-    if (*end != '\0' || !std::isfinite(v[i])) throw UsageError(flag + ": '" + items[i] + "' is not a number");
-  }
+  for (int i = 0; i < 3; ++i) v[i] = parseNumber(flag, items[i]);
   if (!(v.norm() > 0.0)) throw UsageError(flag + ": the zero vector is no axis");
   return v;
 }
@@ -337,11 +333,7 @@ calibration::FitProgress fitProgressOnStderr(const std::string& what) {
 
 std::optional<double> optionalNumber(const Arguments& args, const std::string& flag) {
   if (!args.has(flag)) return std::nullopt;
-  const std::string text = args.value(flag, "");
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError(flag + ": '" + text + "' is not a number");
-  return v;
+  return parseNumber(flag, args.value(flag, ""));
 }
 
 /// The joint to fit: --joint, or the scene's revolute/universal joint between

@@ -25,10 +25,12 @@ class CsvWriter {
  public:
   explicit CsvWriter(std::ostream& out) : out_(out) {}
 
+  /// The header, written with the first row: a run refused or failed before
+  /// its first row leaves nothing behind (no header on stdout, no
+  /// FILE.partial holding only a header).
   void header(const std::vector<std::string>& columns) {
     columns_ = columns;
-    for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
-    out_ << '\n';
+    header_pending_ = true;
   }
 
   /// Writes one row (values[0] is the time `t`).
@@ -41,6 +43,11 @@ class CsvWriter {
                               (std::isnan(values[i]) ? "NaN" : "infinite") + " in the row of t = " + t +
                               " (row " + std::to_string(rows_ + 1) + "); nothing of that row was written");
       }
+    if (header_pending_) {
+      for (std::size_t i = 0; i < columns_.size(); ++i) out_ << (i ? "," : "") << columns_[i];
+      out_ << '\n';
+      header_pending_ = false;
+    }
     ++rows_;
     char buffer[32];
     for (std::size_t i = 0; i < values.size(); ++i) {
@@ -54,6 +61,7 @@ class CsvWriter {
  private:
   std::ostream& out_;
   std::vector<std::string> columns_;
+  bool header_pending_ = false;
   long rows_ = 0;
 };
 

@@ -3,7 +3,9 @@
 /// never left looking complete when the work failed:
 /// - `AtomicOutputFile` writes FILE.partial beside FILE and renames it to FILE
 ///   only on success (`commit`); a failed run leaves FILE as it was and its
-///   rows in FILE.partial, and says so (`abandon`).
+///   rows in FILE.partial, and says so (`abandon`). A symbolic link is
+///   followed (its target is replaced, not the link); a device or pipe
+///   (/dev/null, a FIFO) is written directly, never replaced.
 /// - `prepareOutputDirectory` creates an --out directory and proves it
 ///   writable before a study or stability scan spends minutes computing.
 #pragma once
@@ -34,9 +36,11 @@ class AtomicOutputFile {
   std::string abandon();
 
  private:
-  std::string path_;
-  std::string partial_;
+  std::string path_;     ///< as given (for messages)
+  std::string target_;   ///< the file it names, symbolic links followed
+  std::string partial_;  ///< target_ + ".partial"
   std::ofstream file_;
+  bool direct_ = false;  ///< a device or pipe, written in place
   bool done_ = false;
 };
 

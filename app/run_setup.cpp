@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -18,11 +19,7 @@ std::map<std::string, double> parseOptionList(const std::vector<std::string>& it
     if (eq == std::string::npos || eq == 0)
       throw UsageError("--options: expected KEY=VALUE, got '" + item + "'");
     const std::string key = item.substr(0, eq);
-    char* end = nullptr;
-    const std::string text = item.substr(eq + 1);
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw UsageError("--options: " + key + " needs a finite number, got '" + text + "'");
+    const double v = parseNumber("--options: " + key, item.substr(eq + 1));
     if (out.count(key)) throw UsageError("--options: " + key + " given twice");
     out[key] = v;
   }

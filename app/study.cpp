@@ -8,6 +8,7 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "app/plotting.hpp"
@@ -15,7 +16,10 @@
 #include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "joints/import/mujoco_peer.hpp"
+#include "joints/invariants.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
+#include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace app {
@@ -30,10 +34,52 @@ constexpr double kCheckAtol = 1e-13;
 /// Drift curves keep about this many samples per integrator.
 constexpr int kDriftSamples = 400;
 
-double omegaError(const std::vector<double>& a, const std::vector<double>& ref) {
-  const Eigen::Vector3d w(a[5], a[6], a[7]);
-  const Eigen::Vector3d w_ref(ref[5], ref[6], ref[7]);
-  return (w - w_ref).norm() / std::max(w_ref.norm(), 1e-300);
+/// The bodies' orientations and angular velocities at the end of a run,
+/// the ones the study's errors compare.
+struct BodyStates {
+  std::vector<Eigen::Quaterniond> q;
+  std::vector<Eigen::Vector3d> w;
+};
+
+/// Where each body's qw and wx sit in the scene's rows (B.qw, B.wx columns).
+struct BodyColumns {
+  std::vector<std::size_t> qw, wx;
+  explicit BodyColumns(const std::vector<std::string>& columns) {
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      const std::string& c = columns[i];
+      if (c.size() > 3 && c.compare(c.size() - 3, 3, ".qw") == 0) qw.push_back(i);
+      if (c.size() > 3 && c.compare(c.size() - 3, 3, ".wx") == 0) wx.push_back(i);
+    }
+  }
+  BodyStates of(const std::vector<double>& row) const {
+    BodyStates s;
+    for (std::size_t b = 0; b < qw.size(); ++b) {
+      const double* x = row.data() + qw[b];
+      s.q.emplace_back(x[0], x[1], x[2], x[3]);
+      s.w.emplace_back(row[wx[b]], row[wx[b] + 1], row[wx[b] + 2]);
+    }
+    return s;
+  }
+};
+
+/// The largest angle between a body's orientation in `a` and in `ref` [rad]:
+/// every body counts (a first body that does not turn hides nothing).
+double orientationError(const BodyStates& a, const BodyStates& ref) {
+  double e = 0.0;
+  for (std::size_t b = 0; b < a.q.size() && b < ref.q.size(); ++b)
+    e = std::max(e, (SO3d(a.q[b].normalized()).inverse() * SO3d(ref.q[b].normalized())).log().norm());
+  return e;
+}
+
+/// The largest ‖ω_b − ω_b,ref‖ over the bodies, relative to the largest
+/// ‖ω_b,ref‖ (relativeDrift: absolute when no body of the reference turns).
+double omegaError(const BodyStates& a, const BodyStates& ref) {
+  double e = 0.0, scale = 0.0;
+  for (std::size_t b = 0; b < a.w.size() && b < ref.w.size(); ++b) {
+    e = std::max(e, (a.w[b] - ref.w[b]).norm());
+    scale = std::max(scale, ref.w[b].norm());
+  }
+  return relativeDrift(e, scale);
 }
 
 /// The heartbeat before a run and as the run's progress callback.
@@ -54,7 +100,17 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   o.t_end = t_end;
   o.diagnostics = false;
   if (integrator == "rkmk45") o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
-  const SimulationResult r = sim.run(o);
+  SimulationResult r;
+  try {
+    r = sim.run(o);
+  } catch (const InvalidInput& e) {
+    // Its step is the study's, not one the user gave: say whose it is.
+    throw InvalidInput(e.field(), e.reason() + " (in the study's reference run, " + integrator +
+                                      (integrator == "rkmk45" ? std::string(" at rtol ") + formatNumber(rtol)
+                                                              : " at h = " + formatNumber(dt) +
+                                                                    ", the smallest studied step / 32 or / 16") +
+                                      ")");
+  }
   if (r.failed) throw std::runtime_error("the reference run (" + integrator + ") failed: " + r.failure);
   return r.final_row;
 }
@@ -89,20 +145,9 @@ std::vector<double> peerInvariants(const std::vector<std::string>& names, double
   return out;
 }
 
-/// A row with the first body's quaternion and angular velocity where
-/// orientationErrorBetweenRows reads them (t, qw, qx, qy, qz, wx, wy, wz).
-std::vector<double> peerRow(double t, const MujocoPeerRun& run) {
-  const Eigen::Quaterniond& q = run.orientations.front();
-  const Eigen::Vector3d& w = run.angular_velocities.front();
-  return {t, q.w(), q.x(), q.y(), q.z(), w.x(), w.y(), w.z()};
-}
+/// A MuJoCo run's end state, body by body in the scene's order.
+BodyStates peerStates(const MujocoPeerRun& run) { return {run.orientations, run.angular_velocities}; }
 
-std::string number(double v) {
-  if (!std::isfinite(v)) return "nan";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
-  return buffer;
-}
 
 std::string csvNumber(double v) {
   char buffer[32];
@@ -113,10 +158,11 @@ std::string csvNumber(double v) {
 /// MuJoCo's integrators on the model at the study's steps (--with-mujoco):
 /// the same measurements as lieflow's rows, from MuJoCo's own quantities,
 /// and MuJoCo RK4 at the reference's step as a check of the reference.
-void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>& dts, double drift_dt,
-                 const std::vector<double>& ref, const StudyOptions& options, StudyResult* result) {
+void studyMujoco(const MujocoPeer* peer_or_null, double t_end, const std::vector<double>& dts, double drift_dt,
+                 const BodyStates& ref, const StudyOptions& options, StudyResult* result) {
   std::string why;
-  if (!mujocoPeerAvailable(&why)) {
+  if (!peer_or_null) {
+    mujocoPeerAvailable(&why);
     for (const std::string& name : mujocoPeerIntegrators()) {
       StudyRow row;
       row.integrator = name;
@@ -127,7 +173,7 @@ void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>&
     }
     return;
   }
-  const MujocoPeer peer(options.mujoco_model, options.mujoco_import, sim.scene());
+  const MujocoPeer& peer = *peer_or_null;
   const std::vector<std::string>& names = result->invariant_names;
   const std::string version = "MuJoCo " + mujocoPeerVersion();
   int done = 0;
@@ -143,7 +189,7 @@ void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>&
       row.options = version;
       const long steps = stepCount(0.0, t_end, dt);
       if (steps > options.max_steps)
-        throw InvalidInput("--max-steps", "MuJoCo's " + std::to_string(steps) + " steps at dt " + number(dt) +
+        throw InvalidInput("--max-steps", "MuJoCo's " + std::to_string(steps) + " steps at dt " + formatNumber(dt) +
                                               " exceed the limit " + std::to_string(options.max_steps));
       const MujocoPeerRun diag =
           peer.run(name, dt, t_end, true, std::max(1L, steps / kDriftSamples), options.heartbeat);
@@ -161,22 +207,22 @@ void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>&
       row.momentum_drift = diag.momentum_drift;
       row.invariant_drifts = peerInvariants(names, diag.momentum_drift, diag.com_momentum_drift,
                                             diag.energy_balance_drift);
-      const std::vector<double> last = peerRow(t_end, diag);
-      row.orientation_error = orientationErrorBetweenRows(last, ref);
+      const BodyStates last = peerStates(diag);
+      row.orientation_error = orientationError(last, ref);
       row.omega_error = omegaError(last, ref);
       if (dt == drift_dt) {
         const MujocoPeerSample& s0 = diag.samples.front();
-        const double e_scale = std::max(std::abs(s0.energy), 1e-300);
         for (const MujocoPeerSample& s : diag.samples) {
           DriftSample d;
           d.integrator = name;
           d.dt = dt;
           d.t = s.t;
-          d.energy_error = (s.energy - s0.energy) / e_scale;
-          d.momentum_error = (s.L - s0.L).norm() / std::max(s0.L.norm(), 1e-300);
+          d.energy_error = relativeDrift(s.energy - s0.energy, s0.energy);
+          d.momentum_error = relativeDrift((s.L - s0.L).norm(), s0.L.norm());
           d.invariant_errors = peerInvariants(names, d.momentum_error,
-                                              (s.L_com - s0.L_com).norm() / std::max(s0.L_com.norm(), 1e-300),
-                                              std::abs(s.energy + s.dissipated_work - s0.energy) / e_scale);
+                                              relativeDrift((s.L_com - s0.L_com).norm(), s0.L_com.norm()),
+                                              relativeDrift(std::abs(s.energy + s.dissipated_work - s0.energy),
+                                                            s0.energy));
           result->drift.push_back(d);
         }
       }
@@ -192,10 +238,10 @@ void studyMujoco(const Simulation& sim, double t_end, const std::vector<double>&
   const MujocoPeerRun check = peer.run("mujoco-rk4", h_check, t_end, false, 1, options.heartbeat);
   std::ostringstream s;
   if (check.failed)
-    s << "; MuJoCo RK4 at h = " << number(h_check) << " failed: " << check.failure;
+    s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " failed: " << check.failure;
   else
-    s << "; MuJoCo RK4 at h = " << number(h_check) << " differs from it by "
-      << number(orientationErrorBetweenRows(peerRow(t_end, check), ref)) << " rad";
+    s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " differs from it by "
+      << formatNumber(orientationError(peerStates(check), ref)) << " rad";
   result->reference += s.str();
 }
 
@@ -210,12 +256,47 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   if (dts.empty()) {
     const double dt = sim.scene().has_integrator ? sim.scene().integrator.dt : t_end / 1000.0;
     dts = {4 * dt, 2 * dt, dt, dt / 2, dt / 4};
+    if (dts.front() > t_end)
+      throw InvalidInput("--t-end", "the study's steps are 4, 2, 1, 1/2 and 1/4 times the scene's step " + formatNumber(dt) +
+                                        " s, and the longest, " + formatNumber(dts.front()) +
+                                        " s, is longer than the run (t_end = " + formatNumber(t_end) +
+                                        " s): give a longer --t-end or the steps (--dt)");
   }
   std::sort(dts.rbegin(), dts.rend());
+  if (dts.front() > t_end)
+    throw InvalidInput("--dt", "the step " + formatNumber(dts.front()) + " s is longer than the run (t_end = " +
+                                   formatNumber(t_end) + " s): give steps no longer than t_end");
+
+  // The integrators, checked before any run: a scene that none of them can
+  // run (in the formulation asked for) is refused here, not answered with an
+  // empty table after the reference was computed.
+  std::string why;
+  std::vector<std::string> integrators = options.integrators;
+  if (integrators.empty()) {
+    std::string first_why;
+    for (const IntegratorInfo& info : integratorRegistry()) {
+      if (info.name == "exact") continue;
+      if (sim.supports(info.name, &why, options.formulation))
+        integrators.push_back(info.name);
+      else if (first_why.empty())
+        first_why = why;
+    }
+    if (integrators.empty())
+      throw InvalidInput(options.formulation.empty() ? "scene" : "--formulation",
+                         first_why.empty() ? std::string("no integrator can run this scene") : first_why);
+  }
+  for (const std::string& name : integrators)
+    if (!sim.supports(name, &why, options.formulation)) throw InvalidInput("--integrators", why);
+  checkOptionKeysUsed(options.integrator_options, integrators);
+  // MuJoCo beside lieflow: its model is compiled and matched to the scene
+  // now, so that a model MuJoCo cannot run is refused before lieflow's runs.
+  std::unique_ptr<MujocoPeer> peer;
+  if (!options.mujoco_model.empty() && mujocoPeerAvailable(nullptr))
+    peer = std::make_unique<MujocoPeer>(options.mujoco_model, options.mujoco_import, sim.scene());
 
   // The reference.
+  const BodyColumns bodies(sim.columns());
   std::vector<double> ref;
-  std::string why;
   const bool exact_reference = sim.supports("exact", &why);
   if (exact_reference) {
     ref = referenceRow(sim, t_end, "exact", 0, 0, t_end, options.max_steps, options.heartbeat);
@@ -232,10 +313,10 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps, options.heartbeat);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps, options.heartbeat);
-    result.reference_error = orientationErrorBetweenRows(ref, check) / 15.0;
+    result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) / 15.0;
     std::ostringstream s;
-    s << "projected rkmk4 at h = " << number(h_ref) << "; its orientation error is estimated at "
-      << number(result.reference_error) << " rad by Richardson from a run at h = " << number(2 * h_ref);
+    s << "projected rkmk4 at h = " << formatNumber(h_ref) << "; its orientation error is estimated at "
+      << formatNumber(result.reference_error) << " rad by Richardson from a run at h = " << formatNumber(2 * h_ref);
     result.reference = s.str();
   } else {
     if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
@@ -243,21 +324,14 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
                        options.heartbeat);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps, options.heartbeat);
-    result.reference_error = orientationErrorBetweenRows(ref, check) * (kReferenceRtol / kCheckRtol);
+    result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) * (kReferenceRtol / kCheckRtol);
     std::ostringstream s;
     s << "converged rkmk45 run (Dormand-Prince 5(4) on the group, rtol " << kReferenceRtol
       << ", atol " << kReferenceAtol << "); its orientation error is estimated at "
-      << number(result.reference_error) << " rad from a run at rtol " << kCheckRtol;
+      << formatNumber(result.reference_error) << " rad from a run at rtol " << kCheckRtol;
     result.reference = s.str();
   }
 
-  std::vector<std::string> integrators = options.integrators;
-  if (integrators.empty())
-    for (const IntegratorInfo& info : integratorRegistry())
-      if (info.name != "exact" && sim.supports(info.name, nullptr, options.formulation)) integrators.push_back(info.name);
-  for (const std::string& name : integrators)
-    if (!sim.supports(name, &why, options.formulation)) throw InvalidInput("--integrators", why);
-  checkOptionKeysUsed(options.integrator_options, integrators);
   result.invariant_names = sim.invariantNames();
 
   const std::vector<std::string> columns = sim.columns();
@@ -308,10 +382,10 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
         s.dt = dt;
         s.t = r[0];
         const double e0 = first[energy_col];
-        s.energy_error = (r[energy_col] - e0) / std::max(std::abs(e0), 1e-300);
+        s.energy_error = relativeDrift(r[energy_col] - e0, e0);
         const Eigen::Vector3d L0(first[lx_col], first[lx_col + 1], first[lx_col + 2]);
         const Eigen::Vector3d L(r[lx_col], r[lx_col + 1], r[lx_col + 2]);
-        s.momentum_error = (L - L0).norm() / std::max(L0.norm(), 1e-300);
+        s.momentum_error = relativeDrift((L - L0).norm(), L0.norm());
         result.drift.push_back(s);
       });
       row.steps = diag.steps;
@@ -330,8 +404,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
         result.rows.push_back(row);
         continue;
       }
-      row.orientation_error = orientationErrorBetweenRows(diag.final_row, ref);
-      row.omega_error = omegaError(diag.final_row, ref);
+      row.orientation_error = orientationError(bodies.of(diag.final_row), bodies.of(ref));
+      row.omega_error = omegaError(bodies.of(diag.final_row), bodies.of(ref));
 
       // Timing runs: diagnostics off, repeated; the median is reported.
       o.diagnostics = false;
@@ -340,7 +414,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       result.rows.push_back(row);
     }
   }
-  if (!options.mujoco_model.empty()) studyMujoco(sim, t_end, dts, drift_dt, ref, options, &result);
+  if (!options.mujoco_model.empty()) studyMujoco(peer.get(), t_end, dts, drift_dt, bodies.of(ref), options, &result);
   return result;
 }
 
@@ -395,15 +469,15 @@ void printStudyTable(std::ostream& out, const StudyResult& result) {
          "energy drift | momentum drift | Newton its |\n";
   out << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyRow& r : result.rows) {
-    out << "| " << r.integrator << " | " << number(r.dt) << " | " << r.steps << " | ";
+    out << "| " << r.integrator << " | " << formatNumber(r.dt) << " | " << r.steps << " | ";
     if (r.failed) {
       out << "failed | failed | failed: " << r.failure << " | | | | |\n";
       continue;
     }
-    out << number(1e3 * r.wall_seconds) << " | " << number(r.ns_per_step) << " | ";
-    out << number(r.orientation_error) << " | " << number(r.omega_error) << " | "
-        << number(r.energy_drift) << " | " << (r.momentum_conserved ? number(r.momentum_drift) : "n/a")
-        << " | " << (r.implicit ? number(r.newton_iterations_mean) : "-") << " |\n";
+    out << formatNumber(1e3 * r.wall_seconds) << " | " << formatNumber(r.ns_per_step) << " | ";
+    out << formatNumber(r.orientation_error) << " | " << formatNumber(r.omega_error) << " | "
+        << formatNumber(r.energy_drift) << " | " << (r.momentum_conserved ? formatNumber(r.momentum_drift) : "n/a")
+        << " | " << (r.implicit ? formatNumber(r.newton_iterations_mean) : "-") << " |\n";
   }
 }
 

@@ -60,8 +60,10 @@ struct StudyRow {
   int repeats = 0;
   double wall_seconds = 0.0;  ///< median over the repeats, diagnostics off
   double ns_per_step = 0.0;
-  double orientation_error = 0.0;  ///< angle of R_ref(T)⁻¹ R(T), radians
-  double omega_error = 0.0;        ///< ‖ω(T) − ω_ref(T)‖ / ‖ω_ref(T)‖
+  /// max over the bodies of the angle of R_ref(T)⁻¹ R(T), radians
+  double orientation_error = 0.0;
+  /// max_b ‖ω_b(T) − ω_b,ref(T)‖ / max_b ‖ω_b,ref(T)‖ (absolute when no body turns)
+  double omega_error = 0.0;
   double energy_drift = 0.0;
   bool momentum_conserved = false;
   double momentum_drift = 0.0;

@@ -8,6 +8,7 @@
 #include "calibration/data_selection.hpp"
 #include "calibration/hinge_initial.hpp"
 #include "calibration/hinge_search.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -17,7 +18,8 @@ namespace {
 int reachOf(const JointSamples& samples, double max_offset) {
   const int n = samples.size();
   const double h = (samples.time.back() - samples.time.front()) / (n - 1);
-  return std::min(static_cast<int>(std::floor(max_offset / h)), n / 2);
+  // In double first: a recording's step can make the quotient exceed an int.
+  return static_cast<int>(std::min(std::floor(max_offset / h), static_cast<double>(n / 2)));
 }
 
 }  // namespace
@@ -74,8 +76,8 @@ int wholeSampleOffset(const JointSamples& samples, double max_offset) {
       const double delta = (n - std::abs(best)) *
                            (costs[static_cast<std::size_t>(m + reach)] - costs[static_cast<std::size_t>(best + reach)]) / noise;
       if (delta < kOffsetAmbiguity)
-        throw NotIdentifiable("clock offsets of " + std::to_string(best * h) + " s and " + std::to_string(m * h) +
-                              " s fit the gyroscopes about as well (Δχ² = " + std::to_string(delta) +
+        throw NotIdentifiable("clock offsets of " + formatNumber(best * h) + " s and " + formatNumber(m * h) +
+                              " s fit the gyroscopes about as well (Δχ² = " + formatNumber(delta) +
                               "): a longer or more varied recording is needed to find the offset");
     }
   return best;

@@ -15,6 +15,8 @@
 
 #include <Eigen/Core>
 
+#include "liegroup/number_text.hpp"
+
 namespace lieflow {
 namespace calibration {
 
@@ -201,13 +203,6 @@ struct SensorNuisanceEstimate {
   double time_offset_sigma = 0.0;
 };
 
-/// v to 6 significant digits, for the fits' messages.
-inline std::string formatNumber(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 /// A fit that could not be carried out (the model could not be evaluated
 /// from the start, the solver stopped on a failure): exit status 1, and

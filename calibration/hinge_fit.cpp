@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -22,7 +23,9 @@
 #include "calibration/residual_kind.hpp"
 #include "calibration/two_axis_solver.hpp"
 #include "calibration/unit_axis.hpp"
+#include "liegroup/number_text.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -93,7 +96,7 @@ NuisanceSelection nuisanceOf(const JointSamples& samples, const DataSelection& d
       if (std::abs(t[k + 1] - t[k] - h) > kUniformSampling * h)
         throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
                                                "] - t[" + std::to_string(k) + "] differs from the mean interval " +
-                                               "by more than " + std::to_string(kUniformSampling) + " of it");
+                                               "by more than " + formatNumber(kUniformSampling) + " of it");
     n.active[4] = true;
   }
   return n;
@@ -477,7 +480,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   // (on 3 s recordings with biases the search alone, or the fit from its
   // shift, stayed two samples off with σ a tenth of that).
   const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
-  const int reach = std::min(static_cast<int>(std::floor(options.max_time_offset / h)), samples.size() / 2);
+  const int reach = clampedInt(std::floor(options.max_time_offset / h), 0, samples.size() / 2);
   std::map<int, HingeFit> fits;
   const auto meanSquare = [](const HingeFit& f) { return std::pow(f.summary.residuals.front().rms, 2); };
   int best = wholeSampleOffset(samples, options.max_time_offset);
@@ -506,9 +509,9 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     if (std::abs(other.time_offset - fit.time_offset) <= 1.5 * h || noise <= 0.0) continue;
     const double delta = fit.summary.samples * (meanSquare(other) - meanSquare(fit)) / noise;
     if (delta < kOffsetAmbiguity)
-      throw NotIdentifiable("clock offsets of " + std::to_string(fit.time_offset) + " s and " +
-                            std::to_string(other.time_offset) + " s fit the gyroscopes about as well (Δχ² = " +
-                            std::to_string(delta) + ", below " + std::to_string(kOffsetAmbiguity) +
+      throw NotIdentifiable("clock offsets of " + formatNumber(fit.time_offset) + " s and " +
+                            formatNumber(other.time_offset) + " s fit the gyroscopes about as well (Δχ² = " +
+                            formatNumber(delta) + ", below " + formatNumber(kOffsetAmbiguity) +
                             "): a longer or more varied recording is needed to find the offset");
   }
   if (!likelihood) return fit;
@@ -516,11 +519,11 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   // so it is refined at the whole sample nearest the offset (the profile's
   // best shift can be a sample away from its own estimate), and moved while
   // its fraction says another whole sample is nearer (|ν| > h/2).
-  int shift = static_cast<int>(std::lround(fit.time_offset / h));
+  int shift = clampedInt(std::round(fit.time_offset / h), -samples.size(), samples.size());
   HingeFit refined = fit;
   refineByLikelihood(samples, shift, &refined);
   for (int round = 0; round < kOffsetRefits; ++round) {
-    const int step = static_cast<int>(std::lround((refined.time_offset - shift * h) / h));
+    const int step = clampedInt(std::round((refined.time_offset - shift * h) / h), -samples.size(), samples.size());
     if (step == 0 || std::abs(shift + step) > reach) break;
     shift += step;
     const double estimate = refined.time_offset;  // the fraction starts from the likelihood's estimate

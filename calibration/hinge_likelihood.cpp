@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/solver_options.hpp"
 #include "calibration/rate_derivative.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -312,7 +313,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   options.linear_solver_ordering = ordering;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &lp.problem(), &summary);
-  if (!summary.IsSolutionUsable()) throw FitFailed("the likelihood hinge fit failed: " + summary.message);
+  if (!summary.IsSolutionUsable()) throw FitFailed("the likelihood hinge fit failed: " + solverFailureReason(summary));
 
   HingeLikelihoodFit fit;
   fit.axis_main = Eigen::Vector3d(p.j1[0], p.j1[1], p.j1[2]);

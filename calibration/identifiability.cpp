@@ -93,13 +93,13 @@ void requireIdentifiable(const AxisInformation& info, const AxisFitOptions& opti
     reason += whichAxis(info.directions.col(weakest), context) + ") is not constrained at all; ";
   } else if (countMotionDetermined(info, options) < 4) {
     reason += whichAxis(info.motion_directions.col(0), context) + ") draws " +
-              number(std::max(0.0, info.motion_to_noise[0]), "%.2g") +
+              formatNumber(std::max(0.0, info.motion_to_noise[0]), 2) +
               " times as much information from the motion as from the noise (needs ≥ " +
-              number(options.min_motion_to_noise, "%g") + "); ";
+              formatNumber(options.min_motion_to_noise) + "); ";
   } else {
     reason += whichAxis(info.directions.col(weakest), context) + ") has 1σ = " +
-              number(info.sigma_rad[weakest] * kRadToDeg, "%.3g") + "° (needs ≤ " +
-              number(options.max_sigma_deg, "%g") + "°); ";
+              formatNumber(info.sigma_rad[weakest] * kRadToDeg, 3) + "° (needs ≤ " +
+              formatNumber(options.max_sigma_deg) + "°); ";
   }
   throw NotIdentifiable(reason + context.hint);
 }

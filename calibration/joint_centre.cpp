@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibration/fit_types.hpp"
+#include "calibration/solver_options.hpp"
 #include "calibration/rate_derivative.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -29,9 +30,22 @@ constexpr double kMinInformation = 1e-10;
 template <typename T>
 using Vec3 = Eigen::Matrix<T, 3, 1>;
 
+/// The norms of the residual are √(‖v‖² + ε²) with this ε [m/s²], far below
+/// any accelerometer's noise: ‖v‖ has no derivative at v = 0, where a
+/// recording with zero specific force (no gravity, a body at rest or in free
+/// fall) puts the solve's start o = 0, and the solve would stop there on
+/// non-finite Jacobians.
+constexpr double kNormSmoothing = 1e-9;
+
 /// e = ‖f₁ + ω̇₁ × o₁ + ω₁ × (ω₁ × o₁)‖ − ‖f₂ + ω̇₂ × o₂ + ω₂ × (ω₂ × o₂)‖.
 struct CentreResidual {
   Eigen::Vector3d f1, w1, a1, f2, w2, a2;
+
+  template <typename T>
+  static T smoothNorm(const Vec3<T>& v) {
+    using std::sqrt;
+    return sqrt(v.squaredNorm() + T(kNormSmoothing * kNormSmoothing));
+  }
 
   template <typename T>
   static Vec3<T> moved(const Eigen::Vector3d& f, const Eigen::Vector3d& w, const Eigen::Vector3d& a,
@@ -43,7 +57,7 @@ struct CentreResidual {
   template <typename T>
   bool operator()(const T* o1_data, const T* o2_data, T* r) const {
     const Eigen::Map<const Vec3<T>> o1(o1_data), o2(o2_data);
-    r[0] = moved<T>(f1, w1, a1, Vec3<T>(o1)).norm() - moved<T>(f2, w2, a2, Vec3<T>(o2)).norm();
+    r[0] = smoothNorm<T>(moved<T>(f1, w1, a1, Vec3<T>(o1))) - smoothNorm<T>(moved<T>(f2, w2, a2, Vec3<T>(o2)));
     return true;
   }
 };
@@ -128,7 +142,7 @@ ceres::Solver::Summary solveCentre(const JointSamples& samples, const Eigen::Vec
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   if (!summary.IsSolutionUsable())
-    throw FitFailed("the joint-centre solve failed: " + summary.message);
+    throw FitFailed("the joint-centre solve failed: " + solverFailureReason(summary));
   return summary;
 }
 

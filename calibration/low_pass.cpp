@@ -1,12 +1,15 @@
 #include "calibration/low_pass.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <string>
 #include <type_traits>
 #include <utility>
 
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -42,7 +45,7 @@ template <class T>
 std::vector<T> filtfilt(const LowPassFilter& f, const std::vector<T>& x) {
   const int n = static_cast<int>(x.size());
   if (n < 2) return x;
-  const int pad = std::min(n - 1, static_cast<int>(std::ceil(kPaddingPerCutoff * f.sample_rate_hz / f.cutoff_hz)));
+  const int pad = clampedInt(std::ceil(kPaddingPerCutoff * f.sample_rate_hz / f.cutoff_hz), 0, n - 1);
   // Odd reflection about each end sample: 2x₀ − x_i, which continues the
   // signal's value and slope through the end.
   std::vector<T> y;
@@ -88,7 +91,7 @@ std::vector<double> LowPassFilter::apply(const std::vector<double>& x) const { r
 double LowPassFilter::noisePowerGain() const {
   // The zero-phase response to a unit impulse in the middle of a long zero
   // signal (the reflections are then zero as well).
-  const int half = static_cast<int>(std::ceil(40.0 * sample_rate_hz / cutoff_hz)) + 8;
+  const int half = clampedInt(std::ceil(40.0 * sample_rate_hz / cutoff_hz), 0, INT_MAX / 4) + 8;
   std::vector<double> impulse(2 * half + 1, 0.0);
   impulse[half] = 1.0;
   const std::vector<double> h = apply(impulse);
@@ -131,23 +134,27 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
       throw InvalidInput(samples.source, std::string(field) + " needs uniformly sampled times: t[" +
                                              std::to_string(k + 1) + "] - t[" + std::to_string(k) +
                                              "] differs from the mean interval by more than " +
-                                             std::to_string(kLowPassUniformSampling) + " of it");
+                                             formatNumber(kLowPassUniformSampling) + " of it");
   const double rate = 1.0 / h;
   if (cutoff_hz >= kMaxLowPassNyquistFraction * 0.5 * rate)
-    throw InvalidInput(samples.source, std::string(field) + " " + std::to_string(cutoff_hz) +
+    throw InvalidInput(samples.source, std::string(field) + " " + formatNumber(cutoff_hz) +
                                            " Hz: the cutoff must lie below " +
-                                           std::to_string(kMaxLowPassNyquistFraction * 0.5 * rate) + " Hz (" +
-                                           std::to_string(kMaxLowPassNyquistFraction) +
-                                           " of the Nyquist frequency of the " + std::to_string(rate) +
+                                           formatNumber(kMaxLowPassNyquistFraction * 0.5 * rate) + " Hz (" +
+                                           formatNumber(kMaxLowPassNyquistFraction) +
+                                           " of the Nyquist frequency of the " + formatNumber(rate) +
                                            " Hz sampling)");
-  const int n = static_cast<int>(t.size());
-  const int trim = static_cast<int>(std::ceil(kLowPassTrimPeriods * rate / cutoff_hz));
-  if (n < 4 * trim + 20)
-    throw InvalidInput(samples.source, std::string(field) + " " + std::to_string(cutoff_hz) + " Hz drops " +
-                                           std::to_string(trim) + " samples at each end (the filter's memory, " +
-                                           std::to_string(kLowPassTrimPeriods) + "/cutoff): the recording's " +
+  // The samples dropped at each end, counted in double precision first: a
+  // cutoff far below the sampling rate asks for more than an int holds.
+  const std::size_t n = t.size();
+  const double trim_wanted = std::ceil(kLowPassTrimPeriods * rate / cutoff_hz);
+  const double needed = 4.0 * trim_wanted + 20.0;
+  if (!(needed <= static_cast<double>(n)))
+    throw InvalidInput(samples.source, std::string(field) + " " + formatNumber(cutoff_hz) + " Hz drops " +
+                                           formatNumber(trim_wanted) + " samples at each end (the filter's memory, " +
+                                           formatNumber(kLowPassTrimPeriods) + "/cutoff): the recording's " +
                                            std::to_string(n) + " samples are too few (at least " +
-                                           std::to_string(4 * trim + 20) + "); record longer or raise the cutoff");
+                                           formatNumber(needed) + "); record longer or raise the cutoff");
+  const int trim = static_cast<int>(trim_wanted);
   const LowPassFilter filter(cutoff_hz, rate);
   JointSamples out = samples;
   for (BodySamples* b : {&out.main, &out.secondary}) {
@@ -155,8 +162,9 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
     if (b->hasSpecificForce()) b->specific_force = filter.apply(b->specific_force);
   }
   if (filter_out) *filter_out = filter;
-  if (unfiltered) *unfiltered = slice(samples, trim, n - trim);
-  return slice(out, trim, n - trim);
+  const int end = static_cast<int>(n) - trim;
+  if (unfiltered) *unfiltered = slice(samples, trim, end);
+  return slice(out, trim, end);
 }
 
 }  // namespace calibration

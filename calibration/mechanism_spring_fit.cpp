@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <memory>
 #include <array>
@@ -19,6 +20,7 @@
 #include "calibration/unit_axis.hpp"
 #include "joints/articulated_scene.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -49,7 +51,7 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
     return;
   throw FitFailed(std::string("the mechanism spring fit failed in ") + stage +
                   ": the model could not be integrated from the start values (the scene's springs and dashpots); "
-                  "give the scene values of the recording's order of magnitude (Ceres: " + summary.message + ")");
+                  "give the scene values of the recording's order of magnitude (" + solverFailureReason(summary) + ")");
 }
 
 /// The largest natural frequency of the start model about state (q, 0): the
@@ -267,7 +269,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   p.substeps = static_cast<int>(per_interval);
   out.substeps = p.substeps;
   const double period = omega > 0.0 ? 2.0 * kPi / omega : duration;
-  int segments = o.segments > 0 ? o.segments : static_cast<int>(std::lround(duration / (0.25 * period)));
+  int segments = o.segments > 0 ? o.segments : clampedInt(std::round(duration / (0.25 * period)), 0, INT_MAX / 4);
   segments = std::max(1, std::min(segments, (n - 1) / kMinSegmentSamples));
   out.segments = segments;
 
@@ -285,7 +287,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   if (!p.gyroscopes) {
     SpringData angles;  // localAngleAndRate reads one coordinate at a time
     angles.time = p.time;
-    const int half_width = std::max(2, static_cast<int>(std::lround(period / (16.0 * duration / (n - 1)))));
+    const int half_width = std::max(2, clampedInt(std::round(period / (16.0 * duration / (n - 1))), 2, INT_MAX / 4));
     for (int j = 0; j < p.dofs; ++j) {
       angles.angle[0] = *p.angles[static_cast<std::size_t>(j)];
       for (int s = 0; s < segments; ++s) {

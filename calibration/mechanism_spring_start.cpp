@@ -3,12 +3,14 @@
 #include "calibration/mechanism_spring_start.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include <Eigen/Dense>
 
 #include "calibration/mechanism_dynamics.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -62,7 +64,7 @@ MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, 
   MechanismStart out;
   const double dt = (time.back() - time.front()) / std::max(1, n - 1);
   const double period = shortestPeriod(time, angles, fitted);
-  out.half_width = period > 0.0 ? static_cast<int>(std::lround(period / (kSamplesPerPeriodWindow * dt))) : 10;
+  out.half_width = period > 0.0 ? clampedInt(std::round(period / (kSamplesPerPeriodWindow * dt)), 0, INT_MAX / 4) : 10;
   // At least 4 samples beyond one window (a regression of up to 3 unknowns).
   out.half_width = std::clamp(std::min(out.half_width, (n - 4) / 2), kInverseDynamicsMinHalfWidth, kMaxHalfWidth);
   const int w = out.half_width;

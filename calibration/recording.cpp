@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -166,6 +167,7 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
   const std::size_t ncols = header.size();
   std::vector<double> values(ncols);
   int line_number = 1, first_blank = 0;
+  std::string previous_time_cell;  // as written, for messages
   while (std::getline(in, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -191,16 +193,18 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
         throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not a number");
       if (!std::isfinite(v))
         throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not finite");
+      if (const std::string problem = inputNumberProblem(v); !problem.empty())
+        throw InvalidInput(where(source, line_number, header[c]), problem);
       values[c] = v;
     }
     const double t = values[time_col];
     if (!rec.time.empty() && !(t > rec.time.back())) {
       std::ostringstream reason;
-      reason.precision(17);
-      reason << "time " << t << " does not increase (previous row: " << rec.time.back() << ")";
+      reason << "time " << cells[time_col] << " does not increase (previous row: " << previous_time_cell << ")";
       throw InvalidInput(where(source, line_number, "t"), reason.str());
     }
     rec.time.push_back(t);
+    previous_time_cell = cells[time_col];
     for (std::size_t s = 0; s < scalar_cols.size(); ++s) rec.scalars[s].values.push_back(values[scalar_cols[s]]);
     for (std::size_t b = 0; b < body_cols.size(); ++b) {
       const BodyColumns& cols = body_cols[b];

@@ -1,7 +1,10 @@
 /// \file
 /// The Ceres solver options the shooting fits share (spring_fit.hpp,
-/// mechanism_spring_fit.hpp).
+/// mechanism_spring_fit.hpp), and what every fit says when a solve fails.
 #pragma once
+
+#include <cmath>
+#include <string>
 
 #include <ceres/solver.h>
 #include <ceres/types.h>
@@ -33,6 +36,19 @@ void configureLevenbergMarquardt(ceres::Solver::Options* o, const FitOptions& op
     o->linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     o->sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   }
+}
+
+/// Why a solve's result cannot be used, in the user's terms: Ceres's own
+/// messages for a failed solve ("Residual and Jacobian evaluation failed.",
+/// "Linear solver failure ...") name its internals, not the fit's problem.
+inline std::string solverFailureReason(const ceres::Solver::Summary& summary) {
+  const std::string& m = summary.message;
+  if (m.find("evaluation failed") != std::string::npos)
+    return "the residuals or their derivatives were not finite numbers at the start values";
+  if (m.find("inear solver") != std::string::npos)
+    return "the least-squares system was singular: the data do not determine the parameters";
+  if (!std::isfinite(summary.final_cost)) return "the cost became infinite or not a number";
+  return "the solver stopped without a usable result (" + m + ")";
 }
 
 }  // namespace calibration

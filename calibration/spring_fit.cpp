@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -15,6 +16,7 @@
 #include "calibration/spring_residuals.hpp"
 #include "calibration/spring_start.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -46,7 +48,7 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage, con
                   ": the model could not be integrated from the start values (stiffness " + formatNumber(theta[0]) +
                   ", damping " + formatNumber(theta[1]) + ", rest angle " + formatNumber(theta[2]) +
                   "); give starts of the recording's order of magnitude (--stiffness-start, --damping-start) "
-                  "or none (Ceres: " + summary.message + ")");
+                  "or none (" + solverFailureReason(summary) + ")");
 }
 
 
@@ -177,13 +179,13 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   const double period = 2.0 * kPi / omega;
   int segments = 1;
   if (o.shooting == Shooting::kMultiple) {
-    segments = o.segments > 0 ? o.segments : static_cast<int>(std::lround(duration / (0.25 * period)));
+    segments = o.segments > 0 ? o.segments : clampedInt(std::round(duration / (0.25 * period)), 0, INT_MAX / 4);
     segments = std::max(1, std::min(segments, (n - 1) / kMinSegmentSamples));
   }
   out.segments = segments;
   out.shooting = shootingName(o.shooting);
   const double mean_dt = duration / (n - 1);
-  const int half_width = std::max(2, static_cast<int>(std::lround(period / (16.0 * mean_dt))));
+  const int half_width = std::max(2, clampedInt(std::round(period / (16.0 * mean_dt)), 2, INT_MAX / 4));
 
   // Segment boundaries and initial states from local quadratics.
   std::vector<int> bound(segments + 1);

@@ -1,6 +1,8 @@
 #include "calibration/spring_start.hpp"
+#include "liegroup/input_number.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <complex>
 #include <numeric>
@@ -54,7 +56,7 @@ SpringStart estimateSpringStart(const GroundedJointScene& joint, const SpringDat
   }
   s.period = 2.0 * (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
   const double dt = (data.time.back() - data.time.front()) / (n - 1);
-  s.lag = std::max(1, static_cast<int>(std::lround(s.period / (kLagsPerPeriod * dt))));
+  s.lag = std::max(1, clampedInt(std::round(s.period / (kLagsPerPeriod * dt)), 1, INT_MAX / 4));
   const int d = s.lag;
   const int rows = n - 2 * d;
   if (rows < 4) {

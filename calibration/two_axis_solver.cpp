@@ -15,6 +15,7 @@
 
 #include "calibration/axis_problem.hpp"
 #include "calibration/unit_axis.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -36,12 +37,6 @@ double median(std::vector<double> v) {
   if (v.size() % 2) return v[n];
   const double upper = v[n];
   return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + n));
-}
-
-std::string number(double x, const char* format) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, format, x);
-  return buf;
 }
 
 
@@ -187,10 +182,10 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
       stats.residual_to_noise = noiseScale(p, k, true) / stats.independent_noise;
       if (options.max_residual_to_noise > 0.0 && stats.residual_to_noise > options.max_residual_to_noise &&
           misfit.empty())
-        misfit = "the " + stats.kind + " residual is " + number(stats.residual_to_noise, "%.2f") +
+        misfit = "the " + stats.kind + " residual is " + formatNumber(stats.residual_to_noise, 3) +
                  " times the noise estimated independently from " + p.kind(k).independentNoiseSource() + " (" +
-                 number(stats.independent_noise, "%.3g") + " " + stats.unit + "; at most " +
-                 number(options.max_residual_to_noise, "%g") +
+                 formatNumber(stats.independent_noise, 3) + " " + stats.unit + "; at most " +
+                 formatNumber(options.max_residual_to_noise) +
                  " accepted): the fit ended in a local minimum that no start escaped, or the model does not "
                  "describe the data (a gyroscope bias, another kind of joint, low-pass-filtered or otherwise "
                  "correlated noise); the axes are not reliable";
@@ -305,13 +300,13 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   if (runner_up && runner_up_delta < options.ambiguity_chi_square) {
     const double angle1 = angleBetweenLines(runner_up->axes.axis1, best_axes.axis1) * kRadToDeg;
     const double angle2 = angleBetweenLines(runner_up->axes.axis2, best_axes.axis2) * kRadToDeg;
-    throw NotIdentifiable("two axis pairs " + number(angle1, "%.3g") + "° (" + context.axis1 + ") and " +
-                          number(angle2, "%.3g") + "° (" + context.axis2 +
+    throw NotIdentifiable("two axis pairs " + formatNumber(angle1, 3) + "° (" + context.axis1 + ") and " +
+                          formatNumber(angle2, 3) + "° (" + context.axis2 +
                           ") apart fit the data equally well (their costs differ by Δχ² = " +
-                          number(std::max(0.0, runner_up_delta), "%.3g") + ", below " +
-                          number(options.ambiguity_chi_square, "%g") + ", while the best's 1σ are " +
-                          number(out.sigma1_rad * kRadToDeg, "%.3g") + "° and " +
-                          number(out.sigma2_rad * kRadToDeg, "%.3g") + "°; starts '" + starts[best_start].origin +
+                          formatNumber(std::max(0.0, runner_up_delta), 3) + ", below " +
+                          formatNumber(options.ambiguity_chi_square) + ", while the best's 1σ are " +
+                          formatNumber(out.sigma1_rad * kRadToDeg, 3) + "° and " +
+                          formatNumber(out.sigma2_rad * kRadToDeg, 3) + "°; starts '" + starts[best_start].origin +
                           "' and '" + starts[runner_up->start].origin +
                           "'): a longer or more varied recording is needed; " + context.hint);
   }
@@ -349,15 +344,15 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
       return share1 > 0.8 ? "mostly " + context.axis1 : share1 < 0.2 ? "mostly " + context.axis2 : "both axes together";
     };
     const auto sigmas = [&] {
-      return "the best fit's 1σ would be " + number(out.sigma1_rad * kRadToDeg, "%.3g") + "° and " +
-             number(out.sigma2_rad * kRadToDeg, "%.3g") + "°";
+      return "the best fit's 1σ would be " + formatNumber(out.sigma1_rad * kRadToDeg, 3) + "° and " +
+             formatNumber(out.sigma2_rad * kRadToDeg, 3) + "°";
     };
     Eigen::Index steep_row, steep_col;
     if (ratio.maxCoeff(&steep_row, &steep_col) > 1.0 + options.quadratic_tolerance)
       throw NotIdentifiable(
-          "the cost is far from quadratic over the " + number(k, "%g") + "σ region of the axes: Δχ² at ±" +
-          number(k, "%g") + "σ along its principal directions is " + number(ratio.minCoeff() * k * k, "%.3g") +
-          " … " + number(ratio.maxCoeff() * k * k, "%.3g") + " instead of " + number(k * k, "%g") +
+          "the cost is far from quadratic over the " + formatNumber(k) + "σ region of the axes: Δχ² at ±" +
+          formatNumber(k) + "σ along its principal directions is " + formatNumber(ratio.minCoeff() * k * k, 3) +
+          " … " + formatNumber(ratio.maxCoeff() * k * k, 3) + " instead of " + formatNumber(k * k) +
           " (the steepest turns " + which(static_cast<int>(steep_row)) +
           "): the data leave the axes in a curved valley of the cost, along which axes many σ apart fit about "
           "as well (" + sigmas() + "); a longer or more varied recording is needed; " + context.hint);
@@ -367,9 +362,9 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
       const double mean = 0.5 * (ratio(i, 0) + ratio(i, 1));
       if (mean >= kSecantBand) continue;
       if (mean < kFlatSecant)
-        throw NotIdentifiable("the cost is far from quadratic over the " + number(k, "%g") +
-                              "σ region of the axes: it rises by Δχ² = " + number(mean * k * k, "%.3g") +
-                              " instead of " + number(k * k, "%g") + " at ±" + number(k, "%g") + "σ in a direction "
+        throw NotIdentifiable("the cost is far from quadratic over the " + formatNumber(k) +
+                              "σ region of the axes: it rises by Δχ² = " + formatNumber(mean * k * k, 3) +
+                              " instead of " + formatNumber(k * k) + " at ±" + formatNumber(k) + "σ in a direction "
                               "that turns " + which(i) + " (" + sigmas() + "); " + context.hint);
       lambda[i] /= mean;
       flatter = true;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <memory>
 #include <limits>
@@ -15,6 +16,7 @@
 #include "calibration/universal_initial.hpp"
 #include "calibration/universal_residuals.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/input_number.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -243,7 +245,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
     if (std::abs(t[k + 1] - t[k] - h) > 1e-3 * h)
       throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
                                              "] - t[" + std::to_string(k) + "] differs from the mean interval");
-  const int reach = std::min(static_cast<int>(std::floor(options.max_time_offset / h)), samples.size() / 4);
+  const int reach = clampedInt(std::floor(options.max_time_offset / h), 0, samples.size() / 4);
   int best = 0;
   double best_cost = std::numeric_limits<double>::infinity();
   for (int m = -reach; m <= reach; ++m) {
@@ -261,7 +263,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   // with no offset at all, against 0.93 / 1.19 at the right shift.
   UniversalFit fit = fitUniversalAtShift(samples, options, best, data);
   for (int round = 0; round < kUniversalOffsetRefits; ++round) {
-    const int step = static_cast<int>(std::lround((fit.time_offset - best * h) / h));
+    const int step = clampedInt(std::round((fit.time_offset - best * h) / h), -samples.size(), samples.size());
     if (step == 0) break;
     best += step;
     if (std::abs(best) > reach) break;

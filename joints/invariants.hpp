@@ -27,9 +27,9 @@
 ///   dashpots dissipated, integrated over the observed steps by
 ///   DissipatedWork (fourth order: the trapezoidal rule alone, second order,
 ///   would hide a fourth-order integrator's own balance).
-/// A drift is relative: vectors ‖x − x₀‖/‖x₀‖; `L_z` against ‖L₀‖ about the
-/// pivot (the component alone may be 0); `spin` against ‖ω₀‖; absolute when
-/// the scale is 0.
+/// A drift is relative (relativeDrift): vectors ‖x − x₀‖/‖x₀‖; `L_z` against
+/// ‖L₀‖ about the pivot (the component alone may be 0); `spin` against ‖ω₀‖;
+/// absolute when the scale is zero or near it.
 #pragma once
 
 #include <algorithm>
@@ -43,6 +43,21 @@
 #include "liegroup/so3.hpp"
 
 namespace lieflow {
+
+/// A reference value at or below this magnitude (SI units) counts as zero
+/// for relative errors: the reciprocal of the largest input magnitude
+/// (kMaxInputMagnitude, liegroup/input_number.hpp), thirty orders below any
+/// energy, momentum or rate of a mechanism. A body at rest with 1e-300 of
+/// energy, which then falls, would otherwise report its round-off divided
+/// by 1e-300.
+inline constexpr double kNearZeroScale = 1e-30;
+
+/// error / scale, or the error itself (absolute) when |scale| is zero or
+/// near it (kNearZeroScale): every relative drift and error lieflow reports
+/// (energy, momentum, invariants, the study's ω error) is taken so.
+inline double relativeDrift(double error, double scale) {
+  return std::abs(scale) > kNearZeroScale ? error / std::abs(scale) : error;
+}
 
 /// W(t) = ∫₀ᵗ P dτ from the values of P ≥ 0 at the observed times t₀ < t₁ < …:
 /// the trapezoidal sum T with Gregory's end corrections (the Euler–Maclaurin
@@ -224,7 +239,7 @@ class InvariantSet {
         continue;
       }
       const double e = (v.first - x0_[i]).norm();
-      current_[i] = scale_[i] > 0.0 ? e / scale_[i] : e;
+      current_[i] = relativeDrift(e, scale_[i]);
       max_[i] = std::max(max_[i], current_[i]);
     }
     started_ = true;

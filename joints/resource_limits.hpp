@@ -51,6 +51,7 @@ struct ResourceLimits {
 inline InvalidInput limitExceeded(const std::string& field, const std::string& what, double needed,
                                   double limit, const std::string& option) {
   auto count = [](double v) {
+    if (!(v < 1e300)) return std::string("more than 1e300");  // a step of 1e-320 over a second
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, v < 1e15 ? "%.0f" : "%.3g", v);
     return std::string(buffer);

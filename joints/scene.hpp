@@ -160,6 +160,19 @@ struct SceneDescription {
   std::unordered_map<std::string, int> bodyIndices() const;
 };
 
+/// Why `name` cannot name a body or joint, or an empty string: the names
+/// become CSV column prefixes ("B.qw") and JSON keys, so a comma, a quote, a
+/// line break or another control character would break the files written.
+inline std::string columnNameProblem(const std::string& name) {
+  for (const char c : name) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == ',' || c == '"' || u < 0x20 || u == 0x7f)
+      return "holds a character that would break the CSV columns named after it (a comma, a quote or a control "
+             "character such as a line break)";
+  }
+  return std::string();
+}
+
 /// Parses and validates a scene from JSON text (one leading UTF-8 byte-order
 /// mark is skipped, as by the recording reader). Throws InvalidInput whose
 /// field is "SOURCE: FIELD" (e.g. "top.json: bodies[0].inertia") and whose

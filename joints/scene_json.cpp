@@ -14,6 +14,7 @@
 
 #include "joints/import/model_import.hpp"
 #include "joints/input_file.hpp"
+#include "liegroup/input_number.hpp"
 #include "joints/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
@@ -121,7 +122,7 @@ class ObjectReader {
   double checkedNumber(const json& v, const std::string& key) const {
     if (!v.is_number()) fail(key, "expected a number, got " + typeName(v));
     const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(key, "must be finite");
+    if (const std::string problem = inputNumberProblem(x); !problem.empty()) fail(key, problem);
     return x;
   }
 
@@ -146,7 +147,7 @@ Eigen::Matrix3d readInertia(ObjectReader& body) {
   auto element = [&](const json& x, const std::string& where) {
     if (!x.is_number()) body.fail("inertia", where + " expected a number, got " + typeName(x));
     const double d = x.get<double>();
-    if (!std::isfinite(d)) body.fail("inertia", where + " must be finite");
+    if (const std::string problem = inputNumberProblem(d); !problem.empty()) body.fail("inertia", where + " " + problem);
     return d;
   };
   if (v.is_array() && v.size() == 3 && v[0].is_number()) {
@@ -186,6 +187,7 @@ BodyDescription readBody(const json& v, int index, const std::string& source) {
   ObjectReader r(v, "bodies[" + std::to_string(index) + "]", source);
   BodyDescription b;
   b.name = r.string("name");
+  if (const std::string problem = columnNameProblem(b.name); !problem.empty()) r.fail("name", problem);
   if (b.name == "ground") r.fail("name", "'ground' is the fixed world frame, not a body name");
   b.mass = r.positiveNumber("mass");
   b.inertia = readInertia(r);
@@ -227,7 +229,7 @@ multibody::TimeFunction readTimeFunction(ObjectReader& parent, const std::string
   const json& v = parent.get(key);
   if (v.is_number()) {
     const double x = v.get<double>();
-    if (!std::isfinite(x)) parent.fail(key, "must be finite");
+    if (const std::string problem = inputNumberProblem(x); !problem.empty()) parent.fail(key, problem);
     return multibody::TimeFunction::constant(x);
   }
   ObjectReader r(v, parent.fieldPath(key), parent.source());
@@ -252,7 +254,8 @@ multibody::TimeFunction readTimeFunction(ObjectReader& parent, const std::string
       if (!pts[i].is_array() || pts[i].size() != 2 || !pts[i][0].is_number() || !pts[i][1].is_number())
         r.fail(where, "expected [t, value]");
       const double t = pts[i][0].get<double>(), x = pts[i][1].get<double>();
-      if (!std::isfinite(t) || !std::isfinite(x)) r.fail(where, "must be finite");
+      for (const double value : {t, x})
+        if (const std::string problem = inputNumberProblem(value); !problem.empty()) r.fail(where, problem);
       if (i > 0 && !(t > f.points.back().first)) r.fail(where, "times must increase strictly");
       f.points.emplace_back(t, x);
     }
@@ -303,6 +306,7 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
   ObjectReader r(v, "joints[" + std::to_string(index) + "]", source);
   JointDescription j;
   j.name = r.string("name");
+  if (const std::string problem = columnNameProblem(j.name); !problem.empty()) r.fail("name", problem);
   j.type = r.string("type");
   static const std::set<std::string> kTypes = {"spherical", "revolute", "universal",   "gimbal",      "prismatic",
                                                "fixed",     "gear",     "rack_pinion", "differential"};
@@ -447,6 +451,14 @@ class DuplicateKeyFinder {
   std::string duplicate_;
 };
 
+/// nlohmann's message without its "[json.exception.parse_error.101] " tag
+/// (the library's error code, not the reader's words).
+std::string jsonErrorText(const json::exception& e) {
+  const std::string what = e.what();
+  const std::size_t tag_end = what.rfind("] ", what.find(' '));
+  return what.compare(0, 1, "[") == 0 && tag_end != std::string::npos ? what.substr(tag_end + 2) : what;
+}
+
 /// A UTF-8 byte-order mark some editors write at the start of a file.
 constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
 
@@ -454,12 +466,14 @@ constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
 
 SceneDescription parseScene(const std::string& text, const std::string& source, long max_bodies) {
   const std::size_t bom = text.compare(0, 3, kUtf8Bom) == 0 ? 3 : 0;
+  if (text.find_first_not_of(" \t\r\n", bom) == std::string::npos)
+    throw InvalidInput(source, "is empty (a scene file is a JSON object)");
   json root;
   DuplicateKeyFinder duplicates;
   try {
     root = json::parse(text.begin() + static_cast<std::ptrdiff_t>(bom), text.end(), std::ref(duplicates));
   } catch (const json::exception& e) {
-    throw InvalidInput(source, std::string("not valid JSON: ") + e.what());
+    throw InvalidInput(source, "not valid JSON: " + jsonErrorText(e));
   }
   if (!duplicates.duplicate().empty())
     throw InvalidInput(source + ": " + duplicates.duplicate(), "given twice (each key may appear once per object)");

@@ -2,6 +2,7 @@
 /// Scene assembly and the integrator factory of the `lieflow` command.
 #include "joints/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -26,6 +27,7 @@
 #include "joints/simulation_observer.hpp"
 #include "joints/simulation_projected.hpp"
 #include "joints/simulation_unconstrained.hpp"
+#include "liegroup/number_text.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -385,9 +387,17 @@ SimulationResult Simulation::run(const SimulationOptions& options,
       result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
                      : run_on(FreeBodySystem<double>(m.params), m.free0);
   } catch (const InvalidInput& e) {
-    // Option errors raised by a stepper's constructor name the bare option.
-    if (e.field().find(':') != std::string::npos || e.field().rfind("--", 0) == 0) throw;
-    throw InvalidInput(scene_.source + ": integrator." + e.field(), e.reason());
+    // A stepper's constructor names a bare option (rho_inf): the scene's
+    // integrator.OPTION. A field that names its place already (a file's, a
+    // flag, a program's load such as torques['arm']) passes as it is; other
+    // bare fields are the scene's.
+    const std::string& field = e.field();
+    const auto& known = info->options;
+    if (std::any_of(known.begin(), known.end(), [&](const IntegratorOption& o) { return o.name == field; }))
+      throw InvalidInput(scene_.source + ": integrator." + field, e.reason());
+    if (field.find(':') != std::string::npos || field.rfind("--", 0) == 0 || field.find("['") != std::string::npos)
+      throw;
+    throw InvalidInput(scene_.source + ": " + field, e.reason());
   }
   result.integrator = options.integrator;
   result.formulation = m.multibody ? formulation : "joint";
@@ -402,16 +412,10 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   for (const auto& f : figures)
     if (!result.failed && !std::isfinite(f.second)) {
       result.failed = true;
-      result.failure = "the " + f.first + " is not a finite number (" + std::to_string(f.second) +
+      result.failure = "the " + f.first + " is not a finite number (" + formatNumber(f.second) +
                        "): the scene's magnitudes exceed double precision";
     }
   return result;
-}
-
-double orientationErrorBetweenRows(const std::vector<double>& a, const std::vector<double>& b) {
-  const Eigen::Quaterniond qa(a[1], a[2], a[3], a[4]);
-  const Eigen::Quaterniond qb(b[1], b[2], b[3], b[4]);
-  return (SO3d(qa.normalized()).inverse() * SO3d(qb.normalized())).log().norm();
 }
 
 }  // namespace lieflow

@@ -90,7 +90,8 @@ struct SimulationResult {
   long substepped_steps = 0;
   bool failed = false;
   std::string failure;
-  /// The last row (time t_reached), whatever `every` is.
+  /// The last row (time t_reached), whatever `every` is; empty when the run
+  /// failed at its first state (nothing finite to report).
   std::vector<double> final_row;
 };
 
@@ -139,9 +140,5 @@ class Simulation {
   SceneDescription scene_;
   std::unique_ptr<Model> model_;
 };
-
-/// Orientation error between two rows' quaternions of the first body, in
-/// radians (the angle of R_a⁻¹ R_b), and the error in angular velocity.
-double orientationErrorBetweenRows(const std::vector<double>& a, const std::vector<double>& b);
 
 }  // namespace lieflow

@@ -192,8 +192,9 @@ inline double constraintErrorOf(const articulated::ArticulatedSystem& sys, doubl
 inline constexpr double kBlowUpEnergyGrowth = 1e8;
 
 /// Tracks energy and momentum drift over the observed states. The drifts are
-/// relative to |E₀| and ‖L₀‖; when E₀ (or L₀) is exactly zero — a body at
-/// rest at zero potential — there is no scale and the drift is absolute.
+/// relative to |E₀| and ‖L₀‖ (relativeDrift, invariants.hpp); when E₀ (or L₀)
+/// is zero or near it — a body at rest at zero potential — there is no scale
+/// and the drift is absolute.
 struct DriftTracker {
   bool momentum_conserved = false;
   double e0 = 0.0;
@@ -201,7 +202,6 @@ struct DriftTracker {
   double energy_drift = 0.0;
   double momentum_drift = 0.0;
 
-  static double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
 
   template <typename System, typename State>
   void observe(const System& sys, long k, double t, const State& y) {
@@ -212,12 +212,13 @@ struct DriftTracker {
       L0 = L;
       return;
     }
-    energy_drift = std::max(energy_drift, relative(std::abs(e - e0), std::abs(e0)));
-    if (momentum_conserved) momentum_drift = std::max(momentum_drift, relative((L - L0).norm(), L0.norm()));
+    energy_drift = std::max(energy_drift, relativeDrift(std::abs(e - e0), e0));
+    if (momentum_conserved) momentum_drift = std::max(momentum_drift, relativeDrift((L - L0).norm(), L0.norm()));
   }
 
-  /// The energy-growth blow-up test needs a scale: it is off when E₀ = 0.
-  bool blownUp() const { return e0 != 0.0 && energy_drift > kBlowUpEnergyGrowth; }
+  /// The energy-growth blow-up test needs a scale: it is off when E₀ is zero
+  /// or near it.
+  bool blownUp() const { return std::abs(e0) > kNearZeroScale && energy_drift > kBlowUpEnergyGrowth; }
 };
 
 inline double option(const SimulationOptions& o, const std::string& key, double fallback) {
@@ -284,7 +285,8 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   InvariantSet invariants = model.invariants;
   RowBuilder rows{model, options.imu};
   std::vector<double> row;
-  typename System::State last;
+  typename System::State last;  // the last state observed and found good
+  bool have_last = false;       // none when the run failed at its first state
   double t_last = 0.0;
   bool last_written = false;
   std::string stop_reason;
@@ -323,6 +325,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
       }
     }
     last = y;
+    have_last = true;
     t_last = t;
     return true;
   };
@@ -335,21 +338,24 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
   result.newton_iterations_mean = summary.newtonIterationsMean();
   result.substepped_steps = summary.substepped_steps;
-  rows(system, t_last, last, &result.final_row);
-  if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
+  if (have_last) {
+    rows(system, t_last, last, &result.final_row);
+    if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
+  }
   result.failed = summary.failed || !stop_reason.empty();
   result.failure = stop_reason.empty() ? summary.failure : stop_reason;
   if (summary.step_limit_reached) result.failure += " (raise the limit with --max-steps)";
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
-  result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
+  if (have_last) result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
   if (options.diagnostics)
     for (std::size_t i = 0; i < invariants.names().size(); ++i)
       result.invariants.emplace_back(invariants.names()[i], invariants.maxDrift()[i]);
   // The last good state is always written, whatever `every` is (also when a
   // failure stopped the run between two output steps).
-  if (options.diagnostics && row_sink && result.failed && !last_written && firstNonFinite(result.final_row) < 0)
+  if (options.diagnostics && row_sink && result.failed && !last_written && have_last &&
+      firstNonFinite(result.final_row) < 0)
     row_sink(result.final_row);
   return result;
 }

@@ -28,6 +28,8 @@
 #include "joints/import/model_import.hpp"
 #include "joints/scene.hpp"
 #include "joints/scene_writer.hpp"
+#include "liegroup/number_text.hpp"
+#include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "python/module_parts.hpp"
 #ifdef LIEFLOW_HAVE_CERES
@@ -74,10 +76,13 @@ struct PyFunction {
 
 /// The callable's answer as n finite numbers, else InputError naming it.
 Eigen::VectorXd finiteAnswer(const PyFunction& fn, const py::object& answer, int n) {
-  const auto fail = [&](const std::string& got) {
+  const auto fail = [&](std::string got) {
+    constexpr std::size_t kShown = 60;
+    if (got.size() > kShown) got = got.substr(0, kShown) + "…";
     return InvalidInput(fn.what, "the callable returned " + got + " (expected " +
                                      (n == 1 ? std::string("a finite number") : std::to_string(n) +
-                                                                                    " finite numbers") + ")");
+                                                                                    " finite numbers") +
+                                     ", each within ±" + formatNumber(kMaxInputMagnitude) + ")");
   };
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
@@ -89,7 +94,9 @@ Eigen::VectorXd finiteAnswer(const PyFunction& fn, const py::object& answer, int
   Eigen::VectorXd v(n);
   for (int i = 0; i < n; ++i) {
     v[i] = a.data()[i];
-    if (!std::isfinite(v[i])) throw fail(py::str(py::repr(answer)).cast<std::string>());
+    // Finite and within the input bound (liegroup/input_number.hpp), as
+    // every number lieflow reads: a moment of 1e308 would overflow the state.
+    if (!inputNumberProblem(v[i]).empty()) throw fail(py::str(py::repr(answer)).cast<std::string>());
   }
   return v;
 }
@@ -185,7 +192,7 @@ py::dict simulate(std::vector<std::string> tokens, const std::optional<std::stri
     for (std::size_t i = 0; i < out->size(); ++i)
       if (!std::isfinite((*out)[i])) {
         non_finite = "the output would hold a non-finite number: column " + columns[i] + " at t = " +
-                     std::to_string((*out)[0]);
+                     formatNumber((*out)[0]);
         return;
       }
     data.insert(data.end(), out->begin(), out->end());

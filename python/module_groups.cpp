@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/se3.hpp"
 #include "liegroup/so3.hpp"
@@ -39,12 +40,16 @@ long rowsOf(const Array& a, long k, const char* what) {
   return static_cast<long>(a.shape(0));
 }
 
-/// Every entry finite, else an InvalidInput naming the element.
+/// Every entry a usable input number (finite, within ±kMaxInputMagnitude:
+/// liegroup/input_number.hpp), else an InvalidInput naming the row and column.
 void checkFinite(const Array& a, long k, const char* what) {
   const double* x = a.data();
-  for (py::ssize_t i = 0; i < a.size(); ++i)
-    if (!std::isfinite(x[i]))
-      throw InvalidInput(std::string(what) + "[" + std::to_string(i / k) + "]", "non-finite value");
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    const std::string problem = inputNumberProblem(x[i]);
+    if (!problem.empty())
+      throw InvalidInput(std::string(what) + "[" + std::to_string(i / k) + ", " + std::to_string(i % k) + "]",
+                         problem);
+  }
 }
 
 template <typename F>

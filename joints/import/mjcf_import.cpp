@@ -5,16 +5,20 @@
 #include "joints/import/model_readers.hpp"
 
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
 
 #ifdef LIEFLOW_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <type_traits>
 
+#include "joints/import/mjcf_files.hpp"
 #include "joints/import/mjcf_model.hpp"
 #include "joints/import/model_to_scene.hpp"
 #include "joints/import/xml_lines.hpp"
@@ -27,7 +31,8 @@ namespace lieflow {
 bool canReadMjcf() { return false; }
 
 namespace model_import {
-ModelDescription readMjcf(const std::string&, const std::string& path, const ModelImportOptions&) {
+ModelDescription readMjcf(const std::string&, const std::string& path, const ModelImportOptions&,
+                          const ResourceLimits&) {
   throw InvalidInput(path, "reading MuJoCo MJCF needs MuJoCo's compiler, which this lieflow was built without "
                            "(apt-get install libmujoco-dev libtinyxml2-dev, then rebuild lieflow)");
 }
@@ -48,11 +53,6 @@ namespace {
 constexpr double kOrthogonal = 1e-9;
 constexpr double kSamePoint = 1e-12;
 
-/// MuJoCo's warnings while it compiles, kept instead of printed.
-std::string* g_warnings = nullptr;
-void keepWarning(const char* text) {
-  if (g_warnings) *g_warnings += (g_warnings->empty() ? "" : "; ") + std::string(text);
-}
 
 static_assert(std::is_same<mjtNum, double>::value, "lieflow reads MuJoCo built with double mjtNum");
 Eigen::Vector3d vec3(const mjtNum* x) { return mjVec3(x); }
@@ -63,6 +63,12 @@ std::string nameOf(const mjModel* m, int type, int id, const char* kind) {
   if (n && *n) return n;
   return std::string(kind) + " " + std::to_string(id);
 }
+
+}  // namespace
+
+std::string mjcfBodyName(const mjModel* m, int b) { return nameOf(m, mjOBJ_BODY, b, "body"); }
+
+namespace {
 
 /// A keyframe's gap in a closure that holds at qpos0 beyond this (m, rad)
 /// refuses the keyframe.
@@ -77,18 +83,91 @@ std::string keyframeName(const mjModel* m, int key) {
 
 void MjcfModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
 void MjcfDataDeleter::operator()(mjData_* d) const { mj_deleteData(d); }
-MjcfData makeMjcfData(const mjModel_* m) { return MjcfData(mj_makeData(m)); }
+
+namespace {
+
+/// The guard that is active (one at a time: MuJoCo's handlers are global).
+thread_local MujocoMessageGuard* g_guard = nullptr;
+
+void keepMujocoWarning(const char* text) {
+  if (g_guard) g_guard->keep(text);
+}
+
+void raiseMujocoError(const char* text) { throw MujocoError(text); }
+
+}  // namespace
+
+MujocoMessageGuard::MujocoMessageGuard()
+    : previous_error_(mju_user_error), previous_warning_(mju_user_warning), previous_guard_(g_guard) {
+  mju_user_error = &raiseMujocoError;
+  mju_user_warning = &keepMujocoWarning;
+  g_guard = this;
+}
+
+MujocoMessageGuard::~MujocoMessageGuard() {
+  mju_user_error = previous_error_;
+  mju_user_warning = previous_warning_;
+  g_guard = previous_guard_;
+}
+
+void MujocoMessageGuard::keep(const char* text) {
+  std::string line(text);
+  while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+  warnings_ += (warnings_.empty() ? "" : "; ") + line;
+}
+
+MjcfData makeMjcfData(const mjModel_* m, const std::string& path) {
+  try {
+    const MujocoMessageGuard guard;
+    return MjcfData(mj_makeData(m));
+  } catch (const MujocoError& e) {
+    throw InvalidInput(path, std::string("MuJoCo cannot make this model's data: ") + e.what());
+  }
+}
+
+namespace {
+
+/// MuJoCo's compiler messages as one sentence that names the line:
+/// "XML Error: REASON\nElement 'joint', line 27" and "Error: REASON\nObject
+/// name = NAME, id = 3, line = 15, column = -1" become "line 27, <joint>:
+/// REASON" and "line 15, 'NAME': REASON"; MuJoCo's constant names (mjMINVAL)
+/// are given with their values.
+std::string compilerMessage(const std::string& raw) {
+  std::string first = raw.substr(0, raw.find('\n'));
+  for (const char* prefix : {"XML Error: ", "Error: "})
+    if (first.compare(0, std::strlen(prefix), prefix) == 0) first = first.substr(std::strlen(prefix));
+  for (const auto& [name, value] : {std::pair<std::string, std::string>{"mjMINVAL", "1e-15"}, {"mjMAXVAL", "1e10"}})
+    if (const std::size_t at = first.find(name); at != std::string::npos)
+      first.replace(at, name.size(), value + " (MuJoCo's " + name + ")");
+  std::smatch m;
+  static const std::regex element(R"(Element '([^']*)', line (\d+))");
+  static const std::regex object(R"(Object name = ([^,]*), id = (-?\d+), line = (-?\d+))");
+  if (std::regex_search(raw, m, element)) return "line " + m[2].str() + ", <" + m[1].str() + ">: " + first;
+  if (std::regex_search(raw, m, object)) {
+    const std::string who = m[1].str().empty() ? "element " + m[2].str() : "'" + m[1].str() + "'";
+    return (std::stoi(m[3].str()) > 0 ? "line " + m[3].str() + ", " : std::string()) + who + ": " + first;
+  }
+  std::string one_line = raw;
+  for (char& c : one_line)
+    if (c == '\n') c = ' ';
+  while (!one_line.empty() && one_line.back() == ' ') one_line.pop_back();
+  return one_line;
+}
+
+}  // namespace
 
 MjcfModel compileMjcf(const std::string& path) {
-  std::string warnings;
   char error[1024] = "";
-  g_warnings = &warnings;
-  void (*previous_warning)(const char*) = mju_user_warning;
-  mju_user_warning = keepWarning;
-  MjcfModel m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
-  mju_user_warning = previous_warning;
-  g_warnings = nullptr;
-  if (!m) throw InvalidInput(path, std::string("MuJoCo's compiler refuses it: ") + (*error ? error : warnings.c_str()));
+  MjcfModel m;
+  std::string warnings;
+  try {
+    const MujocoMessageGuard guard;
+    m.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+    warnings = guard.warnings();
+  } catch (const MujocoError& e) {
+    throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(e.what()));
+  }
+  if (!m) throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(*error ? error : warnings));
   return m;
 }
 
@@ -161,21 +240,52 @@ double closureGap(const mjData* d0, const mjData* d, int b1, int b2, const Eigen
 
 }  // namespace
 
-ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options) {
+namespace {
+
+/// Below this norm a quaternion in a keyframe's qpos is refused: MuJoCo
+/// would turn it silently into the identity.
+constexpr double kMinQuaternionNorm = 1e-6;
+
+/// The keyframe's quaternions (free and ball joints) have a norm MuJoCo can
+/// normalize; else InvalidInput naming the key, the joint and the entries.
+void requireUnitQuaternions(const mjModel* m, const std::string& path, int key, const XmlLines& xml) {
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_FREE && m->jnt_type[j] != mjJNT_BALL) continue;
+    const int at = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
+    const mjtNum* q = m->key_qpos + key * m->nq + at;
+    const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (!(norm >= kMinQuaternionNorm)) {
+      const std::string name = keyframeName(m, key);
+      throw InvalidInput(path + ": " + elementLabel("key", name, xml.line("key", name)) + ", attribute qpos",
+                         "the quaternion of joint '" + nameOf(m, mjOBJ_JOINT, j, "joint") + "' (qpos[" +
+                             std::to_string(at) + ".." + std::to_string(at + 3) + "]) has norm " +
+                             formatNumber(norm) + ": it gives no orientation");
+    }
+  }
+}
+
+}  // namespace
+
+ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options,
+                          const ResourceLimits& limits) {
   const XmlLines xml(text, path);
   if (xml.rootTag() != "mujoco")
     throw InvalidInput(path, "an MJCF file's root element is <mujoco>, not <" + xml.rootTag() + ">");
+  checkMjcfFiles(path, text, limits);
   const MjcfModel m = compileMjcf(path);
   // Poses and the bodies' velocities (mj_comVel) at qpos0 and at rest, or
   // at the keyframe if one is asked for (d); then also at qpos0 (d0), where
   // the model's closures hold.
-  const MjcfData d = makeMjcfData(m.get());
+  const MjcfData d = makeMjcfData(m.get(), path);
   const int key = keyframeIndex(m.get(), path, options.keyframe);
+  if (!(m->opt.timestep > 0.0))
+    throw InvalidInput(path + ": option, attribute timestep", "must be positive, got " + formatNumber(m->opt.timestep));
+  if (key >= 0) requireUnitQuaternions(m.get(), path, key, xml);
   MjcfData d0;
   if (key >= 0) {
     mju_copy(d->qpos, m->key_qpos + key * m->nq, m->nq);
     mju_copy(d->qvel, m->key_qvel + key * m->nv, m->nv);
-    d0 = makeMjcfData(m.get());
+    d0 = makeMjcfData(m.get(), path);
     mj_kinematics(m.get(), d0.get());
   }
   mj_kinematics(m.get(), d.get());
@@ -225,7 +335,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   // Links: every body but the world (body 0), at qpos0.
   for (int b = 1; b < m->nbody; ++b) {
     ModelLink l;
-    l.name = nameOf(m.get(), mjOBJ_BODY, b, "body");
+    l.name = mjcfBodyName(m.get(), b);
     l.line = line("body", mjOBJ_BODY, b);
     if (l.name == "ground")
       throw InvalidInput(path + ": " + elementLabel("body", l.name, l.line),
@@ -359,7 +469,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
         if (gap > kKeyframeClosureGap)
           throw InvalidInput(path + ": --keyframe", "keyframe '" + keyframeName(m.get(), key) + "' breaks " +
                                                         elementLabel("equality", name, eline) + " (by " +
-                                                        std::to_string(gap) + " m or rad), which holds at qpos0");
+                                                        formatNumber(gap) + " m or rad), which holds at qpos0");
       }
       model.closures.push_back(cl);
     } else if (type == mjEQ_JOINT && m->eq_obj2id[e] >= 0) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Core>
@@ -19,6 +20,34 @@ struct mjData_;
 namespace lieflow {
 namespace model_import {
 
+/// MuJoCo's own error (its mju_error), thrown while a MujocoMessageGuard lives.
+struct MujocoError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// While it lives, MuJoCo's errors (mju_error: memory it cannot allocate, a
+/// model its engine refuses), which would otherwise print and end the
+/// process, throw MujocoError, and its warnings ("Nan, Inf or huge value in
+/// QPOS"), which would go to stdout and to MUJOCO_LOG.TXT in the current
+/// directory, are kept (warnings()). MuJoCo's compiler makes its errors throw
+/// the same way while it compiles. The handlers are global: one guard at a
+/// time per thread, restored when it goes.
+class MujocoMessageGuard {
+ public:
+  MujocoMessageGuard();
+  ~MujocoMessageGuard();
+  MujocoMessageGuard(const MujocoMessageGuard&) = delete;
+  MujocoMessageGuard& operator=(const MujocoMessageGuard&) = delete;
+  const std::string& warnings() const { return warnings_; }
+  void keep(const char* text);
+
+ private:
+  void (*previous_error_)(const char*);
+  void (*previous_warning_)(const char*);
+  MujocoMessageGuard* previous_guard_;
+  std::string warnings_;
+};
+
 struct MjcfModelDeleter {
   void operator()(mjModel_* m) const;
 };
@@ -28,8 +57,9 @@ struct MjcfDataDeleter {
 };
 using MjcfData = std::unique_ptr<mjData_, MjcfDataDeleter>;
 
-/// mj_makeData for `m`.
-MjcfData makeMjcfData(const mjModel_* m);
+/// mj_makeData for `m`. Throws InvalidInput naming `path` when MuJoCo
+/// cannot (the data a model asks for, its nstack, beyond the memory).
+MjcfData makeMjcfData(const mjModel_* m, const std::string& path);
 
 /// MuJoCo's 3-vectors and row-major 3×3 matrices (mjtNum is double) as Eigen's.
 inline Eigen::Vector3d mjVec3(const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); }
@@ -38,6 +68,10 @@ inline Eigen::Matrix3d mjMat3(const double* x) {
   R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
   return R;
 }
+
+/// The name the importer gives MuJoCo body `b` (b >= 1): its own, or
+/// "body B" when it has none; the MuJoCo peer finds scene bodies by it.
+std::string mjcfBodyName(const mjModel_* m, int b);
 
 /// MuJoCo's compiler on `path` (its warnings kept, not printed). Throws
 /// InvalidInput naming the file and MuJoCo's reason.

@@ -95,7 +95,7 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
   if (urdf && !options.keyframe.empty())
     throw InvalidInput(path + ": --keyframe", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
   model_import::ModelDescription model =
-      urdf ? model_import::readUrdf(text, path, options) : model_import::readMjcf(text, path, options);
+      urdf ? model_import::readUrdf(text, path, options) : model_import::readMjcf(text, path, options, limits);
   if (static_cast<long>(model.links.size()) > limits.max_bodies)
     throw InvalidInput(path, "the model has " + std::to_string(model.links.size()) + " links, more than --max-bodies " +
                                  std::to_string(limits.max_bodies));

@@ -43,7 +43,10 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
 /// An MJCF model compiled by MuJoCo (mjcf_import.cpp) from `path` (its
 /// includes and meshes are found relative to it); `text` is the file's
 /// contents, read for element lines. The reference configuration is qpos0.
-ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options);
+/// Its files are checked first, before the compiler runs (checkMjcfFiles,
+/// mjcf_files.hpp): their size, the bodies they declare, their numbers.
+ModelDescription readMjcf(const std::string& text, const std::string& path, const ModelImportOptions& options,
+                          const ResourceLimits& limits);
 
 }  // namespace model_import
 }  // namespace lieflow

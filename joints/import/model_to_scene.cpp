@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "joints/constraints/revolute.hpp"
+#include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -31,8 +32,13 @@ constexpr int kGroundGroup = -1;
 class WeldGroups {
  public:
   explicit WeldGroups(int n) : up_(n) { std::iota(up_.begin(), up_.end(), 0); }
-  int find(int i) const {
-    while (i != kGroundGroup && up_[i] != i) i = up_[i];
+  /// The group root of link i, with path halving (welded chains of 10⁵
+  /// links stay linear).
+  int find(int i) {
+    while (i != kGroundGroup && up_[i] != i) {
+      if (up_[i] != kGroundGroup) up_[i] = up_[up_[i]];
+      i = up_[i];
+    }
     return i;
   }
   /// Welds child's group into parent's (parent −1: the ground).
@@ -67,7 +73,75 @@ std::string elementLabel(const std::string& kind, const std::string& name, int l
   return s;
 }
 
+namespace {
+
+/// Throws InvalidInput naming `element` and `what` when a value the reader
+/// produced is not a usable number (input_number.hpp): values MuJoCo's
+/// compiler derives (a body's mass and inertia from its geoms' density and
+/// size, poses composed along the tree) can overflow although each attribute
+/// was within bounds.
+template <typename Values>
+void requireUsable(const ModelDescription& model, const std::string& element, const std::string& what,
+                   const Values& values) {
+  for (const double v : values) {
+    const std::string problem = inputNumberProblem(v);
+    if (!problem.empty()) throw InvalidInput(model.source + ": " + element, what + " " + problem);
+  }
+}
+
+template <int R, int C>
+std::vector<double> entries(const Eigen::Matrix<double, R, C>& m) {
+  return std::vector<double>(m.data(), m.data() + m.size());
+}
+
+void requireUsableNumbers(const ModelDescription& model) {
+  requireUsable(model, "the model", "gravity", entries(model.gravity));
+  for (const ModelLink& l : model.links) {
+    const std::string element = elementLabel("link", l.name, l.line);
+    if (const std::string problem = columnNameProblem(l.name); !problem.empty())
+      throw InvalidInput(model.source + ": " + element, "its name " + problem + ": rename it");
+    requireUsable(model, element, "mass", std::vector<double>{l.mass});
+    if (l.mass < 0.0) throw InvalidInput(model.source + ": " + element, "mass must be >= 0, got " + formatNumber(l.mass));
+    requireUsable(model, element, "inertia", entries(l.inertia_world));
+    requireUsable(model, element, "centre of mass", entries(l.com_world));
+    requireUsable(model, element, "orientation", std::vector<double>(l.orientation.coeffs().data(),
+                                                                    l.orientation.coeffs().data() + 4));
+    requireUsable(model, element, "angular velocity", entries(l.angular_velocity_world));
+    requireUsable(model, element, "velocity", entries(l.velocity_world));
+  }
+  for (const ModelJoint& j : model.joints) {
+    const std::string element = elementLabel("joint", j.name, j.line);
+    if (const std::string problem = columnNameProblem(j.name); !problem.empty())
+      throw InvalidInput(model.source + ": " + element, "its name " + problem + ": rename it");
+    requireUsable(model, element, "anchor", entries(j.anchor_world));
+    requireUsable(model, element, "second anchor", entries(j.anchor2_world));
+    for (const auto* axis : {&j.axis_world, &j.axis2_world, &j.axis3_world})
+      requireUsable(model, element, "axis", entries(*axis));
+    requireUsable(model, element, "initial position", j.initial);
+    requireUsable(model, element, "stiffness", j.stiffness);
+    requireUsable(model, element, "spring reference", j.rest);
+    requireUsable(model, element, "damping", j.damping);
+    for (int i = 0; i < 3; ++i)
+      if (j.stiffness[i] < 0.0 || j.damping[i] < 0.0)
+        throw InvalidInput(model.source + ": " + element,
+                           "stiffness and damping must be >= 0, got " + formatNumber(j.stiffness[i]) + " and " +
+                               formatNumber(j.damping[i]));
+  }
+  for (const ModelCoupling& c : model.couplings)
+    requireUsable(model, elementLabel("coupling", c.name, c.line), "multiplier and offset",
+                  std::vector<double>{c.multiplier, c.offset});
+  for (const ModelClosure& c : model.closures) {
+    const std::string element = elementLabel("equality", c.name, c.line);
+    if (const std::string problem = columnNameProblem(c.name); !problem.empty())
+      throw InvalidInput(model.source + ": " + element, "its name " + problem + ": rename it");
+    requireUsable(model, element, "anchor", entries(c.anchor_world));
+  }
+}
+
+}  // namespace
+
 SceneDescription sceneFromModel(const ModelDescription& model) {
+  requireUsableNumbers(model);
   const int nl = static_cast<int>(model.links.size());
   auto fail = [&](const std::string& element, const std::string& reason) -> InvalidInput {
     return InvalidInput(model.source + ": " + element, reason);
@@ -82,17 +156,18 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
   scene.source = model.source;
   scene.gravity = model.gravity;
   std::map<int, int> body_of_group;  // group root → scene body
+  std::vector<std::vector<int>> members_of(nl);  // group root → its links
+  for (int i = 0; i < nl; ++i)
+    if (const int root = groups.find(i); root != kGroundGroup) members_of[root].push_back(i);
   for (int root = 0; root < nl; ++root) {
     if (groups.find(root) != root) continue;
     double m = 0.0;
     Eigen::Vector3d mc = Eigen::Vector3d::Zero();
-    std::vector<int> members;
-    for (int i = 0; i < nl; ++i)
-      if (groups.find(i) == root) {
-        members.push_back(i);
-        m += model.links[i].mass;
-        mc += model.links[i].mass * model.links[i].com_world;
-      }
+    const std::vector<int>& members = members_of[root];
+    for (const int i : members) {
+      m += model.links[i].mass;
+      mc += model.links[i].mass * model.links[i].com_world;
+    }
     const ModelLink& r = model.links[root];
     std::string names;
     for (int i : members) names += (names.empty() ? "" : ", ") + model.links[i].name;

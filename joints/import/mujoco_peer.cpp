@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -53,8 +54,6 @@ constexpr long kHeartbeatSteps = 65536;
 
 using model_import::mjMat3;
 using model_import::mjVec3;
-
-double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
 
 /// MuJoCo's quantities at d, after mj_forward: energy, dashpot power,
 /// angular momenta (about the origin and about the centre of mass) from the
@@ -117,6 +116,7 @@ bool mujocoPeerAvailable(std::string*) { return true; }
 std::string mujocoPeerVersion() { return mj_versionString(); }
 
 struct MujocoPeer::Impl {
+  std::string path;
   model_import::MjcfModel model;
   int key = -1;
   std::vector<int> bodies;  ///< MuJoCo body of each scene body
@@ -124,12 +124,18 @@ struct MujocoPeer::Impl {
 
 MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& options, const SceneDescription& scene)
     : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
   impl_->model = model_import::compileMjcf(path);
   mjModel* m = impl_->model.get();
   model_import::switchOffIgnored(m, options);
   impl_->key = model_import::keyframeIndex(m, path, options.keyframe);
+  // Scene bodies by the names the importer gave MuJoCo's bodies (unnamed
+  // ones included: mjcfBodyName).
+  std::map<std::string, int> by_name;
+  for (int b = 1; b < m->nbody; ++b) by_name.emplace(model_import::mjcfBodyName(m, b), b);
   for (const BodyDescription& b : scene.bodies) {
-    const int id = mj_name2id(m, mjOBJ_BODY, b.name.c_str());
+    const auto found = by_name.find(b.name);
+    const int id = found == by_name.end() ? -1 : found->second;
     if (id <= 0)
       throw InvalidInput(path + ": --with-mujoco", "the scene's body '" + b.name +
                                                        "' is not a MuJoCo body of this model (was the scene "
@@ -144,6 +150,10 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
   const auto it = std::find(names.begin(), names.end(), integrator);
   if (it == names.end()) throw InvalidInput("--integrators", "'" + integrator + "' is not a MuJoCo integrator");
   if (!(h > 0.0) || !(t_end > 0.0)) throw InvalidInput("--dt", "a MuJoCo run needs a positive step and end time");
+  // MuJoCo's warnings kept off stdout and out of MUJOCO_LOG.TXT (a bad
+  // state is found below from d->warning); its errors throw MujocoError, a
+  // failed computation for the caller.
+  const model_import::MujocoMessageGuard guard;
   mjModel* m = impl_->model.get();
   static constexpr int kIntegrator[] = {mjINT_EULER, mjINT_RK4, mjINT_IMPLICIT};
   m->opt.integrator = kIntegrator[it - names.begin()];
@@ -153,7 +163,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     m->opt.enableflags |= mjENBL_ENERGY;
   else
     m->opt.enableflags &= ~mjENBL_ENERGY;
-  const model_import::MjcfData d = model_import::makeMjcfData(m);
+  const model_import::MjcfData d = model_import::makeMjcfData(m, impl_->path);
   if (impl_->key >= 0)
     mj_resetDataKeyframe(m, d.get(), impl_->key);
   else
@@ -172,12 +182,12 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     dissipated.add(k * h, now.power);
     const double work = dissipated.value();
     const double scale = std::abs(first.energy);
-    run.energy_drift = std::max(run.energy_drift, relative(std::abs(now.energy - first.energy), scale));
+    run.energy_drift = std::max(run.energy_drift, relativeDrift(std::abs(now.energy - first.energy), scale));
     run.energy_balance_drift =
-        std::max(run.energy_balance_drift, relative(std::abs(now.energy + work - first.energy), scale));
-    run.momentum_drift = std::max(run.momentum_drift, relative((now.L - first.L).norm(), first.L.norm()));
+        std::max(run.energy_balance_drift, relativeDrift(std::abs(now.energy + work - first.energy), scale));
+    run.momentum_drift = std::max(run.momentum_drift, relativeDrift((now.L - first.L).norm(), first.L.norm()));
     run.com_momentum_drift =
-        std::max(run.com_momentum_drift, relative((now.L_com - first.L_com).norm(), first.L_com.norm()));
+        std::max(run.com_momentum_drift, relativeDrift((now.L_com - first.L_com).norm(), first.L_com.norm()));
     if (k % every == 0 || k == steps) run.samples.push_back({k * h, now.energy, work, now.L, now.L_com});
   };
   const auto failed = [&](long k) {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <set>
 
 #include "joints/import/model_to_scene.hpp"
 #include "joints/import/xml_lines.hpp"
@@ -91,12 +92,70 @@ void listUnsupported(const XmlLines& xml, const std::string& path, UnsupportedFe
   }
 }
 
+/// A URDF is a tree: every link but the root is the child of exactly one
+/// joint, no joint joins a link to itself, and every link hangs from the
+/// root. urdfdom does not check the first two (it links a child of two joints
+/// under both parents, and a link that is its own parent under itself, so a
+/// walk from the root would revisit links without end), nor the last (links
+/// on a cycle of joints apart from the root are never reached). Throws
+/// InvalidInput naming the joints and links, with their lines.
+void requireTree(const urdf::ModelInterface& robot, const XmlLines& xml, const std::string& path) {
+  const auto joint = [&](const std::string& name) { return elementLabel("joint", name, xml.line("joint", name)); };
+  const auto link = [&](const std::string& name) { return elementLabel("link", name, xml.line("link", name)); };
+  std::map<std::string, std::string> parent_joint;  // child link → the first joint naming it
+  for (const auto& [name, j] : robot.joints_) {
+    if (j->parent_link_name == j->child_link_name)
+      throw InvalidInput(path + ": " + joint(name),
+                         "its parent and its child are the same link '" + j->child_link_name + "'");
+    const auto [it, first] = parent_joint.emplace(j->child_link_name, name);
+    if (!first)
+      throw InvalidInput(path + ": " + link(j->child_link_name),
+                         "is the child of two joints, " + joint(it->second) + " and " + joint(name) +
+                             ": a URDF is a tree, each link has one parent joint (a loop cannot be closed in URDF)");
+  }
+  // Every link reached from the root once (each has at most one parent now).
+  std::set<std::string> reached;
+  std::deque<urdf::LinkConstSharedPtr> queue{robot.getRoot()};
+  while (!queue.empty()) {
+    const urdf::LinkConstSharedPtr l = queue.front();
+    queue.pop_front();
+    if (!reached.insert(l->name).second) continue;
+    for (const urdf::JointSharedPtr& j : l->child_joints)
+      if (const urdf::LinkConstSharedPtr c = robot.getLink(j->child_link_name)) queue.push_back(c);
+  }
+  for (const auto& [name, l] : robot.links_)
+    if (!reached.count(name))
+      throw InvalidInput(path + ": " + link(name), "is not connected to the root link '" + robot.getRoot()->name +
+                                                       "' (its joints form a cycle apart from the root)");
+  // <mimic>: the leader exists, is another joint, and following leaders
+  // from any joint ends (a cycle of mimics holds no joint free).
+  for (const auto& [name, j] : robot.joints_) {
+    if (!j->mimic) continue;
+    const std::string& leader = j->mimic->joint_name;
+    if (leader == name) throw InvalidInput(path + ": " + joint(name), "<mimic> names the joint itself");
+    if (!robot.joints_.count(leader))
+      throw InvalidInput(path + ": " + joint(name), "<mimic> names joint '" + leader + "', which the robot does not have");
+    std::set<std::string> chain{name};
+    for (std::string at = leader;;) {
+      if (!chain.insert(at).second)
+        throw InvalidInput(path + ": " + joint(name),
+                           "<mimic> leads back to it through joint '" + at + "': the mimics form a cycle");
+      const auto next = robot.joints_.find(at);
+      if (next == robot.joints_.end() || !next->second->mimic) break;
+      at = next->second->mimic->joint_name;
+    }
+  }
+}
+
 }  // namespace
 
 ModelDescription readUrdf(const std::string& text, const std::string& path, const ModelImportOptions& options) {
   const XmlLines xml(text, path);
   if (xml.rootTag() != "robot")
     throw InvalidInput(path, "a URDF file's root element is <robot>, not <" + xml.rootTag() + ">");
+  // Every number where it is written, before urdfdom reads (and, for some
+  // attributes, silently zeroes) it: names, links and file names aside.
+  xml.requireUsableNumbers(path, {"name", "link", "joint", "filename", "type", "version"});
   ModelDescription model;
   model.source = path;
   UnsupportedFeatures unsupported;
@@ -110,6 +169,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       throw InvalidInput(path, "urdfdom cannot read it: " + (capture.errors.empty() ? "invalid URDF" : capture.errors));
   }
   model.name = robot->getName();
+  requireTree(*robot, xml, path);
   unsupported.resolve(options, &model);
 
   // Links in breadth-first order from the root, which is the ground (a

@@ -33,6 +33,18 @@ class XmlLines {
   /// The root element's tag ("robot", "mujoco").
   std::string rootTag() const;
 
+  /// Checks every number the file holds where it is written: each attribute
+  /// whose value is a list of numbers (every whitespace-separated token reads
+  /// whole as a number, "nan" and "1e400" included), except those named in
+  /// `text_attributes` (names and references, which may look like numbers),
+  /// must hold finite numbers within ±kMaxInputMagnitude
+  /// (liegroup/input_number.hpp). Throws InvalidInput naming `path`, the
+  /// element (its name and line) and the attribute.
+  void requireUsableNumbers(const std::string& path, const std::vector<std::string>& text_attributes) const;
+
+  /// "geom 'arm' (line 12)", or "geom (line 12)" for an unnamed element.
+  static std::string label(const tinyxml2::XMLElement* e);
+
  private:
   struct Document;
   Document* doc_;

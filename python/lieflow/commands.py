@@ -47,7 +47,10 @@ class SimulationResult:
 def _number(flag, value):
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{flag}: expected a number, got {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        raise InputError(f"{flag}: {value} overflows a double") from None
     if not math.isfinite(value):
         raise InputError(f"{flag}: {value} is not a finite number")
     return repr(value)
@@ -62,7 +65,10 @@ def _integer(flag, value):
 def _text(flag, value):
     if not isinstance(value, (str, os.PathLike)):
         raise InputError(f"{flag}: expected a string, got {value!r}")
-    return os.fspath(value)
+    text = os.fspath(value)
+    if not isinstance(text, str) or "\0" in text:
+        raise InputError(f"{flag}: expected a string without NUL characters, got {value!r}")
+    return text
 
 
 def _numbers(flag, values):
@@ -82,14 +88,19 @@ def _keyframe(flag, value):
 
 
 def _names(flag, values):
-    if isinstance(values, str):
+    if isinstance(values, (str, os.PathLike)):
         values = [values]
+    if not isinstance(values, (list, tuple)):
+        raise InputError(f"{flag}: expected a name or a list of names, got {values!r}")
     return ",".join(_text(flag, v) for v in values)
 
 
 def _options(flag, options):
+    """The --options list, or None for an empty dict (no options: the scene's own)."""
     if not isinstance(options, dict):
         raise InputError(f"{flag}: expected a dict of integrator options, got {options!r}")
+    if not options:
+        return None
     return ",".join(f"{_text(flag, k)}={_number(flag + '.' + str(k), v)}" for k, v in options.items())
 
 
@@ -106,7 +117,9 @@ def _flags(spec, values):
             if value:
                 tokens.append(flag)
             continue
-        tokens += [flag, fmt(flag, value)]
+        text = fmt(flag, value)
+        if text is not None:
+            tokens += [flag, text]
     return tokens
 
 
@@ -115,11 +128,45 @@ _LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input
            "keyframe": ("--keyframe", _keyframe)}
 
 
+def _plain(value, where):
+    """`value` as plain JSON data: NumPy scalars and arrays as numbers and
+    lists, tuples as lists; every number finite (InputError naming its place,
+    "bodies[0].mass", as the scene reader names fields)."""
+    if isinstance(value, dict):
+        out = {}
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise InputError(f"{where or '(top level)'}: keys must be strings, got {key!r}")
+            out[key] = _plain(item, f"{where}.{key}" if where else key)
+        return out
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_plain(item, f"{where}[{i}]") for i, item in enumerate(value)]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if value is None or isinstance(value, (str, bool)):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        value = float(value)
+        if not math.isfinite(value):
+            raise InputError(f"{where}: is not a finite number ({value})")
+        return value
+    raise InputError(f"{where or '(top level)'}: expected a number, string, bool, list or dict, "
+                     f"got {type(value).__name__}")
+
+
 def _scene(scene, what="scene"):
     """(positional tokens, JSON text): a file or built-in name is passed as the
-    command's SCENE; a dict in the scene schema as JSON text."""
+    command's SCENE; a dict in the scene schema as JSON text (checked and made
+    plain by _plain; the reader's messages then say "scene dict: FIELD")."""
     if isinstance(scene, dict):
-        return [], json.dumps(scene)
+        try:
+            return [], json.dumps(_plain(scene, ""), allow_nan=False)
+        except InputError as e:
+            raise InputError(f"scene dict: {e}") from None
     if isinstance(scene, (str, os.PathLike)):
         return [os.fspath(scene)], None
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
@@ -193,6 +240,8 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     progress report (every 65536 steps).
     """
     positional, scene_json = _scene(scene)
+    if noise is not None and not isinstance(noise, dict):
+        raise InputError(f"noise: expected a dict like {{'gyro': 0.01, 'seed': 1}}, got {noise!r}")
     noise = dict(noise or {})
     unknown = set(noise) - {"gyro", "angle", "quat", "acc", "bias_gyro", "seed"}
     if unknown:
@@ -341,7 +390,12 @@ def _write_recording(recording, path):
         names.insert(0, "t")
     columns = []
     for name in names:
-        column = np.asarray(recording[name], dtype=np.float64)
+        if not isinstance(name, str):
+            raise InputError(f"recording: column names must be strings, got {name!r}")
+        try:
+            column = np.asarray(recording[name], dtype=np.float64)
+        except (TypeError, ValueError) as e:
+            raise InputError(f"recording[{name!r}]: expected numbers ({e})") from None
         if column.ndim != 1:
             raise InputError(f"recording[{name!r}]: expected a 1-D array, got shape {column.shape}")
         columns.append(column)

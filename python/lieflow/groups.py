@@ -15,15 +15,33 @@ results then drop the leading axis.
     p = R.act(np.array([1.0, 0.0, 0.0]))             # (1000, 3): one point, each rotation
     M = (R * R.inverse()).matrix()                   # (1000, 3, 3), identities
 """
+import numbers
+
 import numpy as np
 
 from . import _lieflow
 from ._lieflow import InputError
 
 
+def _float_array(array, what):
+    """`array` as float64 (InputError naming `what` for None, text, objects,
+    complex numbers); the C++ kernels check each entry's value."""
+    if array is None:
+        raise InputError(f"{what}: expected numbers, got None")
+    if isinstance(array, (str, bytes)):
+        raise InputError(f"{what}: expected numbers, got {array!r}")
+    try:
+        a = np.asarray(array)
+        if a.dtype.kind not in "biuf":
+            raise TypeError(f"{a.dtype} entries")
+        return np.asarray(a, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise InputError(f"{what}: expected an array of real numbers ({e})") from None
+
+
 def _as_rows(array, k, what):
     """(rows as an (N, k) float64 array, whether the input was a single (k,))."""
-    a = np.asarray(array, dtype=np.float64)
+    a = _float_array(array, what)
     if a.ndim == 1 and a.shape[0] == k:
         return a.reshape(1, k), True
     if a.ndim == 2 and a.shape[1] == k:
@@ -32,7 +50,7 @@ def _as_rows(array, k, what):
 
 
 def _matrices(array, n, what):
-    a = np.asarray(array, dtype=np.float64)
+    a = _float_array(array, what)
     if a.shape == (n, n):
         return a.reshape(1, n * n), True
     if a.ndim == 3 and a.shape[1:] == (n, n):
@@ -43,6 +61,13 @@ def _matrices(array, n, what):
 def _shape(out, single, *tail):
     out = out.reshape((out.shape[0],) + tail) if tail else out
     return out[0] if single else out
+
+
+# Most elements SO3.identity(n) / SE3.identity(n) makes at once.
+_MAX_ELEMENTS = 10_000_000
+# The defaults of SO3() and SE3() (None is refused, not read as the identity).
+_IDENTITY_QUATERNION = (1.0, 0.0, 0.0, 0.0)
+_ZERO_TRANSLATION = (0.0, 0.0, 0.0)
 
 
 class _Group:
@@ -73,7 +98,9 @@ class _Group:
     @classmethod
     def identity(cls, n=None):
         """The identity (n=None) or n identities."""
-        t = np.zeros((1 if n is None else n, cls._DOF))
+        if n is not None and (isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 0 <= n <= _MAX_ELEMENTS):
+            raise InputError(f"{cls.__name__}.identity: n must be None or an integer in [0, {_MAX_ELEMENTS}], got {n!r}")
+        t = np.zeros((1 if n is None else int(n), cls._DOF))
         return cls._make(cls._kernel("exp")(t), n is None)
 
     def log(self):
@@ -131,8 +158,14 @@ class _Group:
     def __len__(self):
         return self._rows.shape[0]
 
+    def __iter__(self):
+        return (self[i] for i in range(len(self)))
+
     def __getitem__(self, index):
-        rows = self._rows[index]
+        try:
+            rows = self._rows[index]
+        except (IndexError, TypeError) as e:
+            raise InputError(f"{type(self).__name__}[{index!r}]: {e}") from None
         if rows.ndim == 1:
             return self._make(rows.reshape(1, -1).copy(), True)
         return self._make(np.ascontiguousarray(rows), False)
@@ -148,12 +181,10 @@ class SO3(_Group):
     _DOF = 3
     _PREFIX = "so3_"
 
-    def __init__(self, quaternion=None, _rows=None, _single=True):
+    def __init__(self, quaternion=_IDENTITY_QUATERNION, _rows=None, _single=True):
         if _rows is not None:
             super().__init__(_rows, _single)
             return
-        if quaternion is None:
-            quaternion = [1.0, 0.0, 0.0, 0.0]
         q, single = _as_rows(quaternion, 4, "SO3: quaternion")
         super().__init__(_lieflow.so3_from_quaternion(q), single)
 
@@ -184,12 +215,12 @@ class SE3(_Group):
     _DOF = 6
     _PREFIX = "se3_"
 
-    def __init__(self, quaternion=None, translation=None, _rows=None, _single=True):
+    def __init__(self, quaternion=_IDENTITY_QUATERNION, translation=_ZERO_TRANSLATION, _rows=None, _single=True):
         if _rows is not None:
             super().__init__(_rows, _single)
             return
-        q, single_q = _as_rows([1.0, 0.0, 0.0, 0.0] if quaternion is None else quaternion, 4, "SE3: quaternion")
-        t, single_t = _as_rows([0.0, 0.0, 0.0] if translation is None else translation, 3, "SE3: translation")
+        q, single_q = _as_rows(quaternion, 4, "SE3: quaternion")
+        t, single_t = _as_rows(translation, 3, "SE3: translation")
         if q.shape[0] != t.shape[0]:
             if q.shape[0] == 1:
                 q = np.repeat(q, t.shape[0], axis=0)

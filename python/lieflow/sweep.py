@@ -1,23 +1,31 @@
 """Sweeps: the cartesian product of scenes x integrators x steps x options x
 seeds, each case one task on a Dask distributed cluster.
 
-    lieflow.sweep(spec, client=None, out=DIR, workers=None)
-    python3 -m lieflow.sweep SPEC.json --out DIR [--scheduler ADDRESS | --workers N]
+    lieflow.sweep(spec, client=None, out=DIR, workers=None, case_timeout=None)
+    python3 -m lieflow.sweep SPEC.json --out DIR [--scheduler ADDRESS | --workers N] [--case-timeout S]
 
 SPEC (../shared/DESIGN.md): {"scenes": [...], "integrators": [...],
 "dt": [...], "options": [{...}], "seeds": [...], "t_end": T}; lists form a
 cartesian product, a missing list means the scene's own value. Seeds seed the
 recording noise, so a spec with seeds also gives "noise" ({"gyro": s,
 "angle": s, "quat": s}, as lieflow.simulate). A scene is a built-in name, a
-file or a dict in the scene schema.
+file or a dict in the scene schema. "case_timeout" (seconds, default 3600)
+bounds each case's run.
 
-Each case is written to DIR/cases/ID.json (ID: a hash of the case) once it
-has finished, atomically (written aside, then renamed): a sweep that is
-interrupted, or whose worker dies, loses no finished case, and running it
-again runs only the cases without a file. At the end DIR/results.csv holds
-one row per case, in the spec's order: the case's keys (case_id, scene,
-integrator, dt, t_end, options, seed, with the values in force), then the
-``--stats`` keys of the run.
+Every case runs in a process of its own that the worker keeps for its cases
+(lieflow._sweep_child): a case that crashes it, hangs past the time limit or
+is killed is a failed row saying so, and the sweep goes on. Each case is
+written to DIR/cases/ID.json once it has finished, atomically (written aside,
+then renamed): a sweep that is interrupted, or whose worker dies, loses no
+finished case, and running it again runs only the cases without a valid file.
+The ID is a hash of what the case runs: the scene's content (a file's bytes,
+not its path), the integrator, step, options, seed and noise, and lieflow's
+version, so an edited scene file is run again. DIR/results.csv, written at
+the end whatever happened (also when the sweep is interrupted: the cases it
+did not finish are rows that say so), holds one row per case, in the spec's
+order: the case's keys (case_id, scene, integrator, dt, t_end, options, seed,
+with the values in force), then the ``--stats`` keys of the run. DIR/spec.json
+keeps the spec; a different spec is refused in the same DIR.
 
 Without a client the sweep starts a local cluster of `workers` processes
 (default: the number of CPUs) and closes it at the end; with a client (or
@@ -30,21 +38,31 @@ import hashlib
 import itertools
 import json
 import math
+import numbers
 import os
+import select
+import signal
+import subprocess
 import sys
 import tempfile
+import threading
 import time
 import types
 
 from . import commands
-from ._lieflow import ComputationError, InputError
+from ._lieflow import ComputationError, InputError, __version__
 
-_SPEC_KEYS = {"scenes", "integrators", "dt", "options", "seeds", "t_end", "noise"}
+_SPEC_KEYS = {"scenes", "integrators", "dt", "options", "seeds", "t_end", "noise", "case_timeout"}
 _CASE_KEYS = ["case_id", "scene", "integrator", "dt", "t_end", "options", "seed"]
 _STATS_KEYS = ["steps", "wall_seconds", "ns_per_step", "energy_drift", "momentum_drift", "constraint_error",
                "newton_iterations_mean", "invariants", "failed", "failure"]
 # Every output row is dropped but the first and the last: a sweep keeps stats.
 _EVERY = 1_000_000_000
+# A case's run may take this long [s] unless the spec or the caller says otherwise.
+DEFAULT_CASE_TIMEOUT = 3600.0
+# Cases handed to the cluster at once per worker: enough to keep every worker
+# busy, few enough that the first results come back at once on 10^5 cases.
+_IN_FLIGHT_PER_WORKER = 4
 
 
 def _list(spec, key):
@@ -56,8 +74,38 @@ def _list(spec, key):
     return values
 
 
+def _positive(what, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or value <= 0:
+        raise InputError(f"{what} must be a positive number, got {value!r}")
+    return float(value)
+
+
+def _scene_identity(scene):
+    """What a scene is, for the case id: a dict's content, a file's bytes
+    (hashed: an edited file is a new case), a built-in scene's name."""
+    if isinstance(scene, dict):
+        return {"dict": scene}
+    if os.path.isfile(scene):
+        digest = hashlib.sha256()
+        try:
+            with open(scene, "rb") as f:
+                for block in iter(lambda: f.read(1 << 20), b""):
+                    digest.update(block)
+        except OSError as e:
+            raise InputError(f"sweep spec: scene {scene!r}: {e.strerror}") from None
+        return {"file": scene, "sha256": digest.hexdigest()}
+    return {"name": scene}
+
+
 def cases(spec):
-    """The cases of a spec, in order (InputError naming the key if malformed)."""
+    """The cases of a spec, in order, each once (InputError naming the key if
+    malformed). Cases that run the same thing (a repeated value, `{}` and
+    no options) are one case."""
+    return _cases(spec)[0]
+
+
+def _cases(spec):
+    """(cases, number of duplicates dropped)."""
     if not isinstance(spec, dict):
         raise InputError("sweep spec: expected a JSON object")
     unknown = set(spec) - _SPEC_KEYS
@@ -66,9 +114,10 @@ def cases(spec):
     if "scenes" not in spec:
         raise InputError("sweep spec: 'scenes' is required")
     t_end = spec.get("t_end")
-    if t_end is not None and (isinstance(t_end, bool) or not isinstance(t_end, (int, float))
-                              or not math.isfinite(t_end) or t_end <= 0):
-        raise InputError(f"sweep spec: 't_end' must be a positive number, got {t_end!r}")
+    if t_end is not None:
+        t_end = _positive("sweep spec: 't_end'", t_end)
+    if spec.get("case_timeout") is not None:
+        _positive("sweep spec: 'case_timeout'", spec["case_timeout"])
     noise = spec.get("noise")
     if noise is not None and not isinstance(noise, dict):
         raise InputError("sweep spec: 'noise' must be an object like {\"gyro\": 0.01}")
@@ -80,28 +129,54 @@ def cases(spec):
     for o in _list(spec, "options"):
         if o is not None and not isinstance(o, dict):
             raise InputError(f"sweep spec: each 'options' entry must be an object, got {o!r}")
-    out = []
-    for scene, integrator, dt, options, seed in itertools.product(
-            _list(spec, "scenes"), _list(spec, "integrators"), _list(spec, "dt"), _list(spec, "options"), seeds):
+    for dt in _list(spec, "dt"):
+        if dt is not None:
+            _positive("sweep spec: each 'dt'", dt)
+    for scene in _list(spec, "scenes"):
         if not isinstance(scene, (str, dict)):
             raise InputError(f"sweep spec: a scene is a name, a file or an object, got {scene!r}")
+    identities = {}
+    out, seen, duplicates = [], set(), 0
+    for index, (scene, integrator, dt, options, seed) in enumerate(itertools.product(
+            _list(spec, "scenes"), _list(spec, "integrators"), _list(spec, "dt"), _list(spec, "options"), seeds)):
+        options = options or None  # {} runs as no options
+        dt = None if dt is None else float(dt)
+        key = json.dumps(scene, sort_keys=True) if isinstance(scene, dict) else scene
+        if key not in identities:
+            identities[key] = _scene_identity(scene)
         case = {"scene": scene, "integrator": integrator, "dt": dt, "t_end": t_end, "options": options,
                 "seed": seed, "noise": noise}
-        case["case_id"] = hashlib.sha1(json.dumps(case, sort_keys=True).encode()).hexdigest()[:16]
+        what = dict(case, scene=identities[key], lieflow=__version__)
+        case["case_id"] = hashlib.sha1(json.dumps(what, sort_keys=True).encode()).hexdigest()[:16]
+        if case["case_id"] in seen:
+            duplicates += 1
+            continue
+        seen.add(case["case_id"])
         out.append(case)
-    return out
+    return out, duplicates
 
 
 def _scene_name(scene):
     return scene.get("name", "scene dict") if isinstance(scene, dict) else scene
 
 
+def _case_row(case):
+    return {"case_id": case["case_id"], "scene": _scene_name(case["scene"]), "integrator": case["integrator"],
+            "dt": case["dt"], "t_end": case["t_end"], "options": case["options"], "seed": case["seed"]}
+
+
+def _failed_row(case, failure):
+    row = _case_row(case)
+    row.update({key: None for key in _STATS_KEYS})
+    row.update({"failed": True, "failure": failure})
+    return row
+
+
 def run_case(case):
-    """Runs one case (on a worker) and returns its results row: the case's
+    """Runs one case in this process and returns its results row: the case's
     keys with the values in force, then the stats. Bad input and failed runs
     are rows too (failed, failure), so one bad case does not stop a sweep."""
-    row = {"case_id": case["case_id"], "scene": _scene_name(case["scene"]), "integrator": case["integrator"],
-           "dt": case["dt"], "t_end": case["t_end"], "options": case["options"], "seed": case["seed"]}
+    row = _case_row(case)
     noise = dict(case["noise"] or {})
     if case["seed"] is not None:
         noise["seed"] = case["seed"]
@@ -110,9 +185,7 @@ def run_case(case):
                                    every=_EVERY, options=case["options"], noise=noise or None, partial=True)
     except (InputError, ComputationError) as e:
         kind = "bad input" if isinstance(e, InputError) else "computation failed"
-        row.update({key: None for key in _STATS_KEYS})
-        row.update({"failed": True, "failure": f"{kind}: {e}"})
-        return row
+        return _failed_row(case, f"{kind}: {e}")
     stats = result.stats
     row["integrator"] = stats.get("integrator")
     row["dt"] = stats.get("dt")
@@ -121,14 +194,95 @@ def run_case(case):
     return row
 
 
+def _signal_name(number):
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
+class _IsolatedRunner:
+    """A worker's process for its cases (lieflow._sweep_child), started on
+    first use and again after a case ended it."""
+
+    def __init__(self):
+        self._child = None
+        self._pending = b""
+
+    def _start(self):
+        package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        env = dict(os.environ)
+        paths = [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
+        env["PYTHONPATH"] = os.pathsep.join([package_parent] + [p for p in paths if p != package_parent])
+        self._child = subprocess.Popen([sys.executable, "-m", "lieflow._sweep_child"], stdin=subprocess.PIPE,
+                                       stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env)
+        self._pending = b""
+
+    def _stop(self):
+        if self._child is not None:
+            try:
+                self._child.kill()
+            except OSError:
+                pass
+            self._child.wait()
+            self._child = None
+
+    def run(self, case, timeout):
+        if self._child is None or self._child.poll() is not None:
+            self._start()
+        child = self._child
+        try:
+            child.stdin.write((json.dumps(case) + "\n").encode())
+            child.stdin.flush()
+        except OSError:
+            pass  # it died before reading: reported below
+        deadline = time.monotonic() + timeout
+        fd = child.stdout.fileno()
+        while b"\n" not in self._pending:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                self._stop()
+                return _failed_row(case, f"timed out: the case ran longer than its limit of {timeout:g} s "
+                                         "(case_timeout)")
+            ready, _, _ = select.select([fd], [], [], left)
+            if not ready:
+                continue
+            block = os.read(fd, 1 << 16)
+            if not block:  # the process ended
+                status = child.wait()
+                self._child = None
+                how = f"with {_signal_name(-status)}" if status < 0 else f"with exit status {status}"
+                hint = " (out of memory?)" if status == -signal.SIGKILL else ""
+                return _failed_row(case, f"crashed: the process running the case ended {how}{hint}")
+            self._pending += block
+        line, self._pending = self._pending.split(b"\n", 1)
+        return json.loads(line)
+
+
+_runners = threading.local()
+
+
+def _run_isolated(case, timeout):
+    """A sweep task (on a worker): the case in the worker's own case process."""
+    runner = getattr(_runners, "runner", None)
+    if runner is None:
+        runner = _runners.runner = _IsolatedRunner()
+    return runner.run(case, timeout)
+
+
 def _write_atomically(path, text):
     directory = os.path.dirname(path)
     fd, temporary = tempfile.mkstemp(dir=directory, prefix=".partial-")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(temporary, path)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
 
 
 def _cell(value):
@@ -143,11 +297,26 @@ def _cell(value):
     return str(value)
 
 
-def _merge(all_cases, directory, path):
+def _finished_row(directory, case):
+    """The case's row from its file, or None when there is none that belongs
+    to it (missing, empty, cut short, another case's or not a row at all)."""
+    try:
+        with open(os.path.join(directory, case["case_id"] + ".json")) as f:
+            row = json.load(f)
+    except (OSError, ValueError):
+        return None
+    if not isinstance(row, dict) or row.get("case_id") != case["case_id"] or "failed" not in row:
+        return None
+    return row
+
+
+def _merge(all_cases, directory, path, stopped=None):
     rows = []
     for case in all_cases:
-        with open(os.path.join(directory, case["case_id"] + ".json")) as f:
-            rows.append(json.load(f))
+        row = _finished_row(directory, case)
+        if row is None:
+            row = _failed_row(case, f"not run: the sweep stopped before it ({stopped or 'unknown reason'})")
+        rows.append(row)
     fd, temporary = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".partial-")
     with os.fdopen(fd, "w", newline="") as f:
         writer = csv.writer(f)
@@ -181,46 +350,122 @@ def _local_cluster(workers):
     return Client(cluster), cluster
 
 
-def sweep(spec, client=None, out=None, workers=None, progress=None):
-    """Runs the cases of `spec` not yet in `out` on a Dask cluster and merges
-    every case into out/results.csv. Returns a dict: cases, ran, reused,
-    failed (cases whose run failed), seconds, results (the CSV's path), rows
-    (the merged rows, as dicts). `progress`: called with (done, to_run) as
-    cases finish."""
+def _prepare_directory(out, spec):
+    """DIR and DIR/cases, checked writable; DIR/spec.json written, or
+    InputError when DIR holds another spec's sweep."""
     if out is None:
         raise InputError("sweep: give out=DIR (where the cases and results.csv go)")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise InputError(f"sweep: workers must be a positive integer, got {workers!r}")
-    all_cases = cases(spec)
-    ids = [c["case_id"] for c in all_cases]
-    if len(set(ids)) != len(ids):
-        raise InputError("sweep spec: a case appears twice (repeated values in a list)")
+    if not isinstance(out, (str, os.PathLike)):
+        raise InputError(f"out: expected a directory path, got {type(out).__name__}")
     out = os.fspath(out)
     case_dir = os.path.join(out, "cases")
-    os.makedirs(case_dir, exist_ok=True)
-    to_run = [c for c in all_cases if not os.path.exists(os.path.join(case_dir, c["case_id"] + ".json"))]
-    start = time.perf_counter()
-    if to_run:
-        as_completed = _distributed().as_completed
-        own = None
-        if client is None:
-            client, own = _local_cluster(workers or os.cpu_count() or 1)
+    try:
+        os.makedirs(case_dir, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=case_dir, prefix=".probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as e:
+        raise InputError(f"out: {out!r} cannot hold the sweep ({e.strerror or e}): give a writable directory") \
+            from None
+    spec_path = os.path.join(out, "spec.json")
+    spec_text = json.dumps(spec, sort_keys=True, indent=1)
+    if os.path.exists(spec_path):
         try:
-            futures = [client.submit(run_case, c, key=f"lieflow-case-{c['case_id']}", pure=False) for c in to_run]
-            for done, future in enumerate(as_completed(futures), start=1):
-                row = future.result()
-                _write_atomically(os.path.join(case_dir, row["case_id"] + ".json"), json.dumps(row))
-                if progress:
-                    progress(done, len(to_run))
-        finally:
-            if own is not None:
-                client.close()
-                own.close()
-    seconds = time.perf_counter() - start
+            with open(spec_path) as f:
+                earlier = json.load(f)
+        except (OSError, ValueError):
+            earlier = None
+        if json.dumps(earlier, sort_keys=True, indent=1) != spec_text:
+            raise InputError(f"out: {out!r} holds the sweep of another spec ({spec_path}); give another directory, "
+                             "or remove its spec.json and results.csv to replace that sweep")
+    else:
+        _write_atomically(spec_path, spec_text + "\n")
+    return out, case_dir
+
+
+def sweep(spec, client=None, out=None, workers=None, progress=None, case_timeout=None, log=None):
+    """Runs the cases of `spec` not yet in `out` on a Dask cluster and merges
+    every case into out/results.csv. Returns a dict: cases, ran, reused,
+    duplicates (cases spelled twice, run once), failed (cases whose run
+    failed), seconds, results (the CSV's path), rows (the merged rows, as
+    dicts). `progress`: called with (done, to_run) as cases finish; `log`:
+    called with a line of text when the sweep starts. `case_timeout`: the
+    seconds a case may run (default: the spec's, else 3600)."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"sweep: workers must be a positive integer, got {workers!r}")
+    if case_timeout is None:
+        case_timeout = spec.get("case_timeout") if isinstance(spec, dict) else None
+    timeout = DEFAULT_CASE_TIMEOUT if case_timeout is None else _positive("case_timeout", case_timeout)
+    all_cases, duplicates = _cases(spec)
+    out, case_dir = _prepare_directory(out, spec)
+    to_run = [c for c in all_cases if _finished_row(case_dir, c) is None]
+    if log:
+        log(f"{len(all_cases)} cases: {len(to_run)} to run, {len(all_cases) - len(to_run)} done before"
+            + (f", {duplicates} duplicate(s) dropped" if duplicates else ""))
+    start = time.perf_counter()
     results = os.path.join(out, "results.csv")
-    rows = _merge(all_cases, case_dir, results)
+    stopped = None
+    try:
+        if to_run:
+            distributed = _distributed()
+            own = None
+            if client is None:
+                client, own = _local_cluster(workers or os.cpu_count() or 1)
+            try:
+                n_workers = max(1, len(client.scheduler_info().get("workers", {})) or (workers or 1))
+                window = _IN_FLIGHT_PER_WORKER * n_workers
+                pending = iter(to_run)
+                by_key = {}
+
+                def submit(case):
+                    future = client.submit(_run_isolated, case, timeout, key=f"lieflow-case-{case['case_id']}",
+                                           pure=False)
+                    by_key[future.key] = case
+                    return future
+
+                running = distributed.as_completed([submit(c) for c in itertools.islice(pending, window)])
+                for done, future in enumerate(running, start=1):
+                    case = by_key.pop(future.key)
+                    try:
+                        row = future.result()
+                    except Exception as e:  # the worker died with it (KilledWorker), or the cluster failed
+                        row = _failed_row(case, f"crashed: the worker running the case died "
+                                                f"({type(e).__name__}: {e})")
+                    finally:
+                        future.release()
+                    _write_atomically(os.path.join(case_dir, case["case_id"] + ".json"), json.dumps(row))
+                    following = next(pending, None)
+                    if following is not None:
+                        running.add(submit(following))
+                    if progress:
+                        progress(done, len(to_run))
+            finally:
+                if own is not None:
+                    client.close()
+                    own.close()
+    except BaseException as e:
+        stopped = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
+        raise
+    finally:
+        rows = _merge(all_cases, case_dir, results, stopped)
+    seconds = time.perf_counter() - start
     return {"cases": len(all_cases), "ran": len(to_run), "reused": len(all_cases) - len(to_run),
-            "failed": sum(1 for r in rows if r.get("failed")), "seconds": seconds, "results": results, "rows": rows}
+            "duplicates": duplicates, "failed": sum(1 for r in rows if r.get("failed")), "seconds": seconds,
+            "results": results, "rows": rows}
+
+
+class _Progress:
+    """Progress lines on stderr: every case while they are few, else at most
+    one a second (and the last)."""
+
+    def __init__(self):
+        self._last = 0.0
+
+    def __call__(self, done, total):
+        now = time.monotonic()
+        if total <= 100 or done == total or now - self._last >= 1.0:
+            self._last = now
+            print(f"lieflow sweep: {done}/{total} cases done", file=sys.stderr, flush=True)
 
 
 def main(argv=None):
@@ -231,26 +476,27 @@ def main(argv=None):
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://host:8786)")
     where.add_argument("--workers", type=int, help="local worker processes (default: the number of CPUs)")
+    parser.add_argument("--case-timeout", type=float,
+                        help=f"seconds a case may run (default: the spec's case_timeout, else {DEFAULT_CASE_TIMEOUT:g})")
     args = parser.parse_args(argv)
+    client = None
     try:
         try:
             with open(args.spec) as f:
                 spec = json.load(f)
         except (OSError, ValueError) as e:
             raise InputError(f"{args.spec}: {e}") from None
-        client = None
         if args.scheduler:
             client = _distributed().Client(args.scheduler)
-
-        def report(done, total):
-            print(f"lieflow sweep: {done}/{total} cases done", file=sys.stderr, flush=True)
-
-        summary = sweep(spec, client=client, out=args.out, workers=args.workers, progress=report)
-        if client is not None:
-            client.close()
+        summary = sweep(spec, client=client, out=args.out, workers=args.workers, progress=_Progress(),
+                        case_timeout=args.case_timeout,
+                        log=lambda text: print(f"lieflow sweep: {text}", file=sys.stderr, flush=True))
     except InputError as e:
         print(f"lieflow sweep: {e}", file=sys.stderr)
         return 2
+    finally:
+        if client is not None:
+            client.close()
     print(f"{summary['cases']} cases: {summary['ran']} run, {summary['reused']} already done, "
           f"{summary['failed']} failed, {summary['seconds']:.2f} s; results in {summary['results']}")
     return 0
@@ -266,4 +512,9 @@ class _CallableModule(types.ModuleType):
 sys.modules[__name__].__class__ = _CallableModule
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # Run as `python3 -m lieflow.sweep`, this file is __main__, whose
+    # functions Dask would pickle by value (with this module's state); the
+    # imported lieflow.sweep's are sent by name, as workers import them.
+    from lieflow.sweep import main as _imported_main
+
+    sys.exit(_imported_main())

@@ -141,7 +141,7 @@ def test_right_jacobian_against_finite_differences():
 def test_bad_input_is_refused_naming_the_row():
     with pytest.raises(lieflow.InputError, match=r"quaternion\[1\]"):
         lieflow.SO3.from_quaternion([[1, 0, 0, 0], [2, 0, 0, 0]])
-    with pytest.raises(lieflow.InputError, match=r"non-finite"):
+    with pytest.raises(lieflow.InputError, match=r"tangent\[0, 1\]: is not a finite number"):
         lieflow.SO3.exp([[0.0, np.nan, 0.0]])
     with pytest.raises(lieflow.InputError, match=r"shape"):
         lieflow.SO3.exp(np.zeros((4, 2)))
