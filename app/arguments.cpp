@@ -140,6 +140,7 @@ ResourceLimits resourceLimitsFrom(const Arguments& args) {
   const long mb = args.boundedLong("--max-input-mb", static_cast<long>(limits.max_input_bytes >> 20), 1, 1L << 40);
   limits.max_input_bytes = static_cast<std::uint64_t>(mb) << 20;
   limits.max_bodies = args.boundedLong("--max-bodies", limits.max_bodies, 1, kMaxLimit);
+  if (args.has("--max-bodies")) limits.max_mjcf_bodies = limits.max_bodies;
   limits.max_rows = args.boundedLong("--max-rows", limits.max_rows, 1, kMaxLimit);
   limits.max_substeps = args.boundedLong("--max-substeps", limits.max_substeps, 1, kMaxLimit);
   return limits;

@@ -23,6 +23,7 @@
 #include "app/calibrate_outcome.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/run_setup.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/low_pass.hpp"
 #include "calibration/joint_centre.hpp"
@@ -142,6 +143,11 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.use = calibration::parseDataUse(args.value("--use", "auto"), "--use");
   o.loss = calibration::parseRobustLoss(args.value("--loss", "none"), "--loss");
   o.loss_scale = args.positiveNumber("--loss-scale", o.loss_scale);
+  if (!(o.loss_scale >= calibration::kMinLossScale && o.loss_scale <= calibration::kMaxLossScale))
+    throw UsageError("--loss-scale: " + formatNumber(o.loss_scale) + " is outside " +
+                     formatNumber(calibration::kMinLossScale) + " ... " + formatNumber(calibration::kMaxLossScale) +
+                     " (the threshold in units of the noise: below, every residual is an outlier; above, the loss is "
+                     "the squared one)");
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
   o.max_sigma_deg = args.positiveNumber("--max-sigma-deg", o.max_sigma_deg);
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
@@ -549,7 +555,7 @@ int runCalibrate(int argc, char** argv) {
     return kSuccess;
   }
   const CommandOutcome outcome = calibrate(args);
-  if (!outcome.json.is_null()) std::cout << outcome.json.dump() << "\n";
+  if (!outcome.json.is_null()) std::cout << jsonLine(outcome.json) << "\n";
   if (!outcome.error.empty()) std::cerr << "lieflow: " << outcome.error << "\n";
   return outcome.status;
 }

@@ -122,13 +122,13 @@ int runSimulate(int argc, char** argv) {
   }
   if (result.failed) {
     const std::string kept = file ? file->abandon() : "";
-    if (stats) std::cout << statsJson(result).dump() << "\n";
+    if (stats) std::cout << jsonLine(statsJson(result)) << "\n";
     std::cerr << "lieflow: simulation of " << simulation.scene().source << " with " << result.integrator
               << " failed: " << result.failure << (kept.empty() ? "" : "; " + kept) << "\n";
     return kComputationFailed;
   }
   if (file) file->commit();
-  if (stats) std::cout << statsJson(result).dump() << "\n";
+  if (stats) std::cout << jsonLine(statsJson(result)) << "\n";
   return kSuccess;
 }
 

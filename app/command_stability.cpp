@@ -33,9 +33,10 @@ int runStabilityCommand(int argc, char** argv) {
   StabilityRequest request = stabilityRequestFrom(args);
   request.options.progress = &std::cerr;
   const std::string& dir = request.out_dir;
-  prepareOutputDirectory(dir);
+  OutputDirectory out(dir);
   const std::vector<StabilityRow> rows = runStability(request);
   writeStabilityCsv(rows, dir + "/stability.csv");
+  out.keep();
   printStabilityTable(std::cout, rows);
   std::cout << "\nwrote " << dir << "/stability.csv\n";
   if (request.plots) {

@@ -41,9 +41,10 @@ constexpr const char* kUsage =
     "Progress goes to stderr; the table to stdout.\n";
 
 int studyAndReport(const Simulation& sim, double t_end, StudyOptions options) {
-  prepareOutputDirectory(options.out_dir);
+  OutputDirectory out(options.out_dir);
   const StudyResult result = runStudy(sim, t_end, options);
   writeStudyFiles(result, options.out_dir);
+  out.keep();
   printStudyTable(std::cout, result);
   std::cout << "\nwrote " << options.out_dir << "/study.csv, " << options.out_dir << "/drift.csv\n";
   if (options.plots) {

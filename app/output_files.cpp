@@ -85,9 +85,14 @@ std::string AtomicOutputFile::abandon() {
   return "the rows written before the failure are in " + partial_ + " (" + path_ + " was not written)";
 }
 
-void prepareOutputDirectory(const std::string& dir) {
+OutputDirectory::OutputDirectory(const std::string& dir) {
   if (dir.empty()) throw InvalidInput("--out", "empty directory name");
   std::error_code ec;
+  // The directories that do not exist yet, deepest first: the ones to remove
+  // again if nothing is written.
+  for (std::filesystem::path p = std::filesystem::absolute(dir, ec).lexically_normal();
+       !p.empty() && !std::filesystem::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
+    created_.push_back(p.string());
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InvalidInput("--out " + dir, "cannot create the directory: " + ec.message());
   if (!std::filesystem::is_directory(dir, ec)) throw InvalidInput("--out " + dir, "exists and is not a directory");
@@ -96,6 +101,13 @@ void prepareOutputDirectory(const std::string& dir) {
   if (!f) throw InvalidInput("--out " + dir, "the directory is not writable");
   std::fclose(f);
   std::remove(probe.c_str());
+}
+
+OutputDirectory::~OutputDirectory() {
+  if (kept_) return;
+  std::error_code ec;
+  for (const std::string& d : created_)
+    if (std::filesystem::is_empty(d, ec) && !ec) std::filesystem::remove(d, ec);
 }
 
 }  // namespace app

@@ -6,12 +6,14 @@
 ///   rows in FILE.partial, and says so (`abandon`). A symbolic link is
 ///   followed (its target is replaced, not the link); a device or pipe
 ///   (/dev/null, a FIFO) is written directly, never replaced.
-/// - `prepareOutputDirectory` creates an --out directory and proves it
-///   writable before a study or stability scan spends minutes computing.
+/// - `OutputDirectory` creates an --out directory and proves it writable
+///   before a study or stability scan spends minutes computing, and removes
+///   it again when the command was refused before writing anything.
 #pragma once
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace lieflow {
 namespace app {
@@ -44,9 +46,25 @@ class AtomicOutputFile {
   bool done_ = false;
 };
 
-/// Creates DIR (and its parents) and writes and removes a probe file in it;
-/// InvalidInput("--out DIR", why) when that fails or DIR is empty.
-void prepareOutputDirectory(const std::string& dir);
+/// An --out directory for the run of a command: created (with its parents)
+/// and proved writable (a probe file written and removed) before the work
+/// starts, InvalidInput("--out DIR", why) when that fails or DIR is empty.
+/// A run refused or failed before it wrote anything leaves nothing behind:
+/// unless `keep()` was called, the directories this created are removed when
+/// it goes, if they are still empty.
+class OutputDirectory {
+ public:
+  explicit OutputDirectory(const std::string& dir);
+  ~OutputDirectory();
+  OutputDirectory(const OutputDirectory&) = delete;
+  OutputDirectory& operator=(const OutputDirectory&) = delete;
+  /// The work wrote its files: the directory stays.
+  void keep() { kept_ = true; }
+
+ private:
+  std::vector<std::string> created_;  ///< deepest first
+  bool kept_ = false;
+};
 
 }  // namespace app
 }  // namespace lieflow

@@ -23,6 +23,12 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
 /// figures when the run failed).
 nlohmann::ordered_json statsJson(const SimulationResult& result);
 
+/// `j` as one line of JSON, as every command prints its result; bytes that
+/// are not UTF-8 (a name taken from a file) are replaced, never thrown on.
+inline std::string jsonLine(const nlohmann::ordered_json& j) {
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 /// Parses "k=v,k=v" into a map; UsageError naming --options if malformed.
 std::map<std::string, double> parseOptionList(const std::vector<std::string>& items);
 

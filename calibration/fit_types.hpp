@@ -54,6 +54,12 @@ enum class HingeEstimator { kConstraint, kLikelihood };
 const char* hingeEstimatorName(HingeEstimator e);
 HingeEstimator parseHingeEstimator(const std::string& text, const std::string& field);
 
+/// The range of AxisFitOptions::loss_scale [units of the noise σ̂]: below,
+/// every residual counts as an outlier and the axes are not determined;
+/// above, the robust loss is the squared one over any data.
+constexpr double kMinLossScale = 0.01;
+constexpr double kMaxLossScale = 1e6;
+
 struct AxisFitOptions {
   DataUse use = DataUse::kAuto;
   HingeEstimator estimator = HingeEstimator::kConstraint;

@@ -1,6 +1,7 @@
 #include "calibration/recording.hpp"
 
 #include "joints/input_file.hpp"
+#include "joints/scene.hpp"
 
 #include <array>
 #include <cmath>
@@ -110,6 +111,8 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
   if (!line.empty() && line.back() == '\r') line.pop_back();
   // One leading UTF-8 byte-order mark is skipped, as by the scene reader.
   if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+  // The names come back in the fits' JSON (main, secondary): UTF-8 text.
+  if (!validUtf8(line)) throw InvalidInput(where(source, 1), "the header is not valid UTF-8 text");
   const std::vector<std::string> header = splitCells(line);
 
   // Header: `t`, body columns grouped by prefix, everything else ignored.

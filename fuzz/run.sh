@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/CMakeLists.txt) with clang-14 in
 # build-fuzz/ and runs each for SECONDS (default 30) from a seed corpus made
-# of scenes/*.json, fuzz/corpus/ and, when build/app/lieflow exists, a
-# recording it writes. Prints executions, corpus size and crashes per target;
+# of scenes/*.json, fuzz/corpus/, the test models and MuJoCo's sample models
+# and, when build/app/lieflow exists, a recording it writes. Prints executions, corpus size and crashes per target;
 # exits 1 when a target found a crash (its input is saved in build-fuzz/).
 # Usage: bash fuzz/run.sh [SECONDS]
 set -euo pipefail
@@ -26,23 +26,41 @@ if [ ! -f "$out/CMakeCache.txt" ]; then
 fi
 cmake --build "$out" -- -j"$(nproc)"
 
+# The targets this build has (fuzz_mjcf and fuzz_urdf need MuJoCo and
+# urdfdom; fuzz/CMakeLists.txt leaves them out without).
+targets=(scene recording cli)
+for t in mjcf urdf; do [ -x "$out/fuzz_$t" ] && targets+=("$t"); done
+
 # Seed corpora (copied, so that the committed seeds stay as they are).
-for t in scene recording cli; do
+for t in "${targets[@]}"; do
   rm -rf "$out/corpus-$t"; mkdir -p "$out/corpus-$t"
   cp "$root"/fuzz/corpus/$t/* "$out/corpus-$t/" 2>/dev/null || true
 done
 cp "$root"/scenes/*.json "$out/corpus-scene/"
+# Real models: the test models, and MuJoCo's sample models where installed
+# (libmujoco-samples; those under 64 KiB, the fuzzer's input length).
+if [ -d "$out/corpus-mjcf" ]; then
+  cp "$root"/tests/data/models/*.xml "$out/corpus-mjcf/"
+  find /usr/share/mujoco/model -name '*.xml' -size -64k -exec cp {} "$out/corpus-mjcf/" \; 2>/dev/null || true
+fi
+[ -d "$out/corpus-urdf" ] && cp "$root"/tests/data/models/*.urdf "$out/corpus-urdf/"
 if [ -x "$root/build/app/lieflow" ]; then
   "$root/build/app/lieflow" simulate hinge-pair --every 100 --t-end 0.5 --out "$out/corpus-recording/hinge-pair.csv" >/dev/null
   "$root/build/app/lieflow" simulate spring-hinge --every 100 --t-end 0.5 --out "$out/corpus-recording/spring-hinge.csv" >/dev/null
 fi
 
 status=0
-for t in scene recording cli; do
+for t in "${targets[@]}"; do
   log="$out/fuzz_$t.log"
+  extra=()
+  case $t in
+    mjcf|urdf) extra=(-dict="$root/fuzz/$t.dict" -max_len=65536) ;;
+    *) extra=(-max_len=8192) ;;
+  esac
   set +e
-  (cd "$out" && ASAN_OPTIONS=detect_leaks=1 "./fuzz_$t" -max_total_time="$seconds" -max_len=8192 -timeout=10 \
-      -rss_limit_mb=2048 -print_final_stats=1 "corpus-$t" >"$log" 2>&1)
+  (cd "$out" && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions="$root/fuzz/lsan.supp" \
+      "./fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      "${extra[@]}" "corpus-$t" >"$log" 2>&1)
   rc=$?
   set -e
   execs=$(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}' || true)

@@ -29,6 +29,13 @@ constexpr long kMaxRecordingRows = 10000000;
 /// `--max-bodies`.
 constexpr long kMaxBodies = 100000;
 
+/// Most bodies an MJCF model's files may declare before MuJoCo compiles them
+/// (10⁴), unless --max-bodies is given: MuJoCo 2.2's compiler takes time
+/// quadratic in the bodies (3 s at 10⁴ bodies, 19 s at 3·10⁴ on a 2-core
+/// machine) and beyond about 2.5·10⁴ runs out of its default stack after
+/// that time. Raised by `--max-bodies`.
+constexpr long kMaxMjcfBodies = 10000;
+
 /// Most steps (accepted plus rejected) of one run (10⁸: 20 s of a free body,
 /// several minutes of a jointed scene). Raised by `--max-steps`.
 constexpr long kMaxSteps = 100000000;
@@ -42,6 +49,7 @@ struct ResourceLimits {
   std::uint64_t max_input_bytes = kMaxInputBytes;
   long max_rows = kMaxRecordingRows;
   long max_bodies = kMaxBodies;
+  long max_mjcf_bodies = kMaxMjcfBodies;
   long max_steps = kMaxSteps;
   long max_substeps = kMaxSubsteps;
 };

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <optional>
@@ -160,10 +161,35 @@ struct SceneDescription {
   std::unordered_map<std::string, int> bodyIndices() const;
 };
 
+/// Whether `text` is valid UTF-8 (no stray continuation byte, no truncated
+/// or overlong sequence, no surrogate, nothing beyond U+10FFFF): the JSON and
+/// CSV files lieflow writes are UTF-8, and a name that is not would make them
+/// unreadable (the JSON writer refuses it).
+inline bool validUtf8(const std::string& text) {
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned char c = s[i];
+    const int extra = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : -1;
+    if (extra < 0 || i + static_cast<std::size_t>(extra) >= n) return false;
+    std::uint32_t code = extra == 0 ? c : c & (0x3F >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      if ((s[i + k] & 0xC0) != 0x80) return false;
+      code = (code << 6) | (s[i + k] & 0x3F);
+    }
+    static constexpr std::uint32_t kSmallest[] = {0, 0x80, 0x800, 0x10000};
+    if (code < kSmallest[extra] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return false;
+    i += static_cast<std::size_t>(extra) + 1;
+  }
+  return true;
+}
+
 /// Why `name` cannot name a body or joint, or an empty string: the names
 /// become CSV column prefixes ("B.qw") and JSON keys, so a comma, a quote, a
-/// line break or another control character would break the files written.
+/// line break or another control character would break the files written,
+/// and bytes that are not UTF-8 would make them unreadable.
 inline std::string columnNameProblem(const std::string& name) {
+  if (!validUtf8(name)) return "is not valid UTF-8 text";
   for (const char c : name) {
     const unsigned char u = static_cast<unsigned char>(c);
     if (c == ',' || c == '"' || u < 0x20 || u == 0x7f)

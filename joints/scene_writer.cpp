@@ -122,7 +122,7 @@ std::string sceneToJson(const SceneDescription& scene) {
     out["integrator"] = integrator;
   }
   if (scene.has_t_end) out["t_end"] = scene.t_end;
-  return out.dump(2) + "\n";
+  return out.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace lieflow

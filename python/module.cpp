@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include "app/cli.hpp"
+#include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "python/module_parts.hpp"
 
@@ -16,6 +17,8 @@ namespace py = pybind11;
 PYBIND11_MODULE(_lieflow, m) {
   m.doc() = "lieflow's compiled core; use the package `lieflow`";
   m.attr("__version__") = LIEFLOW_VERSION;
+  // The largest magnitude of any number lieflow reads (liegroup/input_number.hpp).
+  m.attr("max_input_magnitude") = lieflow::kMaxInputMagnitude;
   static py::exception<lieflow::InvalidInput> input_error(m, "InputError", PyExc_ValueError);
   static py::exception<std::runtime_error> computation_error(m, "ComputationError", PyExc_RuntimeError);
   py::register_exception_translator([](std::exception_ptr p) {

@@ -212,7 +212,7 @@ py::dict simulate(std::vector<std::string> tokens, const std::optional<std::stri
   py::dict out;
   out["columns"] = columns;
   out["data"] = table;
-  out["stats"] = app::statsJson(result).dump();
+  out["stats"] = app::jsonLine(app::statsJson(result));
   out["failed"] = result.failed;
   out["failure"] = result.failure;
   out["scene"] = request.simulation->scene().name;
@@ -226,13 +226,14 @@ py::dict study(std::vector<std::string> tokens, const std::optional<std::string>
   const app::Arguments args(argv.argc(), argv.argv(), app::studyValueFlags(), app::studySwitches());
   app::StudyRequest request = app::studyRequestFrom(args, sceneFrom(scene_json, args));
   request.options.heartbeat = checkSignals;
-  app::prepareOutputDirectory(request.options.out_dir);
+  app::OutputDirectory directory(request.options.out_dir);
   app::StudyResult result;
   std::string plot_problem;
   {
     py::gil_scoped_release release;
     result = app::runStudy(*request.simulation, request.t_end, request.options);
     app::writeStudyFiles(result, request.options.out_dir);
+    directory.keep();
     if (request.options.plots && !app::plotStudy(request.options.out_dir, &plot_problem) && plot_problem.empty())
       plot_problem = "plotting failed";
   }
@@ -253,12 +254,13 @@ py::dict stability(std::vector<std::string> tokens, const std::vector<std::strin
     scenes.push_back(parseScene(json, "scene dict", app::resourceLimitsFrom(args).max_bodies));
   app::StabilityRequest request = app::stabilityRequestFrom(args, std::move(scenes));
   request.options.heartbeat = checkSignals;
-  app::prepareOutputDirectory(request.out_dir);
+  app::OutputDirectory directory(request.out_dir);
   std::string plot_problem;
   {
     py::gil_scoped_release release;
     const std::vector<app::StabilityRow> rows = app::runStability(request);
     app::writeStabilityCsv(rows, request.out_dir + "/stability.csv");
+    directory.keep();
     if (request.plots && !app::plotStability(request.out_dir, &plot_problem) && plot_problem.empty())
       plot_problem = "plotting failed";
   }
@@ -292,7 +294,7 @@ py::tuple calibrate(std::vector<std::string> tokens) {
     interrupt->reset();
     throw error;
   }
-  return py::make_tuple(outcome.json.is_null() ? std::string() : outcome.json.dump(), outcome.status, outcome.error);
+  return py::make_tuple(outcome.json.is_null() ? std::string() : app::jsonLine(outcome.json), outcome.status, outcome.error);
 }
 #endif
 

@@ -41,10 +41,30 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
-/// Runs `lieflow ARGS` (ARGS is passed through the shell).
-inline CommandOutcome runLieflow(const std::string& args) {
+/// Whether this build runs under AddressSanitizer (which reserves terabytes
+/// of address space for its shadow memory: no address-space limit then).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+/// Runs `lieflow ARGS` (ARGS is passed through the shell), with its address
+/// space limited to `memory_mib` MiB when given (not under AddressSanitizer):
+/// an input that makes memory grow without end fails the test instead of
+/// filling the machine.
+inline CommandOutcome runLieflow(const std::string& args, long memory_mib = 0) {
   const std::string out_file = testFile("_out.txt"), err_file = testFile("_err.txt");
-  const int raw = std::system((lieflowBinary() + " " + args + " >" + out_file + " 2>" + err_file).c_str());
+  const std::string limit = memory_mib > 0 && !kAddressSanitizer
+                                ? "ulimit -v " + std::to_string(memory_mib * 1024) + "; "
+                                : std::string();
+  const int raw = std::system((limit + lieflowBinary() + " " + args + " >" + out_file + " 2>" + err_file).c_str());
   const bool exited = WIFEXITED(raw);
   return {exited ? WEXITSTATUS(raw) : -1, WIFSIGNALED(raw) ? WTERMSIG(raw) : 0, slurp(out_file), slurp(err_file)};
 }

@@ -115,8 +115,17 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
         if (!seen.insert(included).second) continue;  // MuJoCo refuses a file included twice
         if (limits.max_input_bytes <= out.bytes) throw over_budget(where, 1);
         std::string t;
-        if (!readInputFile(included, limits.max_input_bytes - out.bytes, &t))
-          throw InvalidInput(where, "cannot open the included file '" + included + "'");
+        try {
+          if (!readInputFile(included, limits.max_input_bytes - out.bytes, &t))
+            throw InvalidInput(where, "cannot open the included file '" + included + "'");
+        } catch (const InvalidInput& e) {
+          if (e.field() == where) throw;
+          // Its size counts with the model file's: say so, naming the include.
+          throw InvalidInput(where, "the included file " + std::string(e.what()) +
+                                        (e.reason().find("--max-input-mb") != std::string::npos
+                                             ? " (the model's files together)"
+                                             : ""));
+        }
         out.bytes += t.size();
         files.emplace_back(included, std::move(t));
         continue;
@@ -141,10 +150,11 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
         }
       }
     }
-    if (out.declared_bodies > limits.max_bodies)
-      throw limitExceeded(path, "bodies (declared in its files, before MuJoCo's compiler runs)",
-                          static_cast<double>(out.declared_bodies), static_cast<double>(limits.max_bodies),
-                          "--max-bodies");
+    const long most = std::min(limits.max_bodies, limits.max_mjcf_bodies);
+    if (out.declared_bodies > most)
+      throw limitExceeded(path, "bodies (declared in its files, before MuJoCo's compiler, whose time grows as their "
+                                "square, runs)",
+                          static_cast<double>(out.declared_bodies), static_cast<double>(most), "--max-bodies");
   }
   return out;
 }

@@ -9,6 +9,7 @@
 
 #ifdef LIEFLOW_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
+#include <tinyxml2.h>
 
 #include <cmath>
 #include <cstring>
@@ -246,13 +247,34 @@ namespace {
 /// would turn it silently into the identity.
 constexpr double kMinQuaternionNorm = 1e-6;
 
-/// The keyframe's quaternions (free and ball joints) have a norm MuJoCo can
-/// normalize; else InvalidInput naming the key, the joint and the entries.
+/// The qpos of keyframe `key` as the file writes it: MuJoCo's compiler
+/// normalizes the keyframes' quaternions (one of norm 0 becomes the
+/// identity), so they are read from the <key> element itself; the compiled
+/// values when the element is not in the model's own file.
+std::vector<double> writtenKeyQpos(const mjModel* m, int key, const XmlLines& xml) {
+  int index = 0;
+  for (const tinyxml2::XMLElement* e : xml.elements()) {
+    if (std::string(e->Name()) != "key") continue;
+    if (index++ != key) continue;
+    std::vector<double> q;
+    if (const char* text = e->Attribute("qpos")) {
+      std::istringstream values(text);
+      for (double x = 0.0; values >> x;) q.push_back(x);
+    }
+    if (static_cast<int>(q.size()) == m->nq) return q;
+  }
+  return std::vector<double>(m->key_qpos + key * m->nq, m->key_qpos + (key + 1) * m->nq);
+}
+
+/// The keyframe's quaternions (free and ball joints), as written, have a
+/// norm MuJoCo can normalize; else InvalidInput naming the key, the joint and
+/// the entries.
 void requireUnitQuaternions(const mjModel* m, const std::string& path, int key, const XmlLines& xml) {
+  const std::vector<double> qpos = writtenKeyQpos(m, key, xml);
   for (int j = 0; j < m->njnt; ++j) {
     if (m->jnt_type[j] != mjJNT_FREE && m->jnt_type[j] != mjJNT_BALL) continue;
     const int at = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
-    const mjtNum* q = m->key_qpos + key * m->nq + at;
+    const double* q = qpos.data() + at;
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(norm >= kMinQuaternionNorm)) {
       const std::string name = keyframeName(m, key);

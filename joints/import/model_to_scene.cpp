@@ -95,6 +95,7 @@ std::vector<double> entries(const Eigen::Matrix<double, R, C>& m) {
 }
 
 void requireUsableNumbers(const ModelDescription& model) {
+  if (!validUtf8(model.name)) throw InvalidInput(model.source, "the model's name is not valid UTF-8 text");
   requireUsable(model, "the model", "gravity", entries(model.gravity));
   for (const ModelLink& l : model.links) {
     const std::string element = elementLabel("link", l.name, l.line);
@@ -127,9 +128,12 @@ void requireUsableNumbers(const ModelDescription& model) {
                            "stiffness and damping must be >= 0, got " + formatNumber(j.stiffness[i]) + " and " +
                                formatNumber(j.damping[i]));
   }
-  for (const ModelCoupling& c : model.couplings)
-    requireUsable(model, elementLabel("coupling", c.name, c.line), "multiplier and offset",
-                  std::vector<double>{c.multiplier, c.offset});
+  for (const ModelCoupling& c : model.couplings) {
+    const std::string element = elementLabel("coupling", c.name, c.line);
+    if (const std::string problem = columnNameProblem(c.name); !problem.empty())
+      throw InvalidInput(model.source + ": " + element, "its name " + problem + ": rename it");
+    requireUsable(model, element, "multiplier and offset", std::vector<double>{c.multiplier, c.offset});
+  }
   for (const ModelClosure& c : model.closures) {
     const std::string element = elementLabel("equality", c.name, c.line);
     if (const std::string problem = columnNameProblem(c.name); !problem.empty())

@@ -13,6 +13,7 @@
 #include <deque>
 #include <map>
 #include <set>
+#include <vector>
 
 #include "joints/import/model_to_scene.hpp"
 #include "joints/import/xml_lines.hpp"
@@ -93,56 +94,88 @@ void listUnsupported(const XmlLines& xml, const std::string& path, UnsupportedFe
 }
 
 /// A URDF is a tree: every link but the root is the child of exactly one
-/// joint, no joint joins a link to itself, and every link hangs from the
-/// root. urdfdom does not check the first two (it links a child of two joints
-/// under both parents, and a link that is its own parent under itself, so a
-/// walk from the root would revisit links without end), nor the last (links
-/// on a cycle of joints apart from the root are never reached). Throws
-/// InvalidInput naming the joints and links, with their lines.
-void requireTree(const urdf::ModelInterface& robot, const XmlLines& xml, const std::string& path) {
-  const auto joint = [&](const std::string& name) { return elementLabel("joint", name, xml.line("joint", name)); };
-  const auto link = [&](const std::string& name) { return elementLabel("link", name, xml.line("link", name)); };
-  std::map<std::string, std::string> parent_joint;  // child link → the first joint naming it
-  for (const auto& [name, j] : robot.joints_) {
-    if (j->parent_link_name == j->child_link_name)
-      throw InvalidInput(path + ": " + joint(name),
-                         "its parent and its child are the same link '" + j->child_link_name + "'");
-    const auto [it, first] = parent_joint.emplace(j->child_link_name, name);
+/// joint, no joint joins a link to itself, and every link hangs from the one
+/// root. Checked on the file's elements, before urdfdom reads it: urdfdom
+/// links a child of two joints under both parents and a link that is its own
+/// parent under itself (a walk from the root then revisits links without
+/// end), never reaches links on a cycle apart from the root, and names two
+/// roots where a link has two parents. Mimics must lead to another joint of
+/// the robot and not in a circle. Throws InvalidInput naming the joints and
+/// links, with their lines.
+void requireTree(const XmlLines& xml, const std::string& path) {
+  struct Joint {
+    std::string parent, child, mimic;
+    int line = 0;
+  };
+  std::map<std::string, Joint> joints;
+  std::map<std::string, int> links;  // name → line
+  for (const tinyxml2::XMLElement* e : xml.elements()) {
+    const tinyxml2::XMLElement* up = e->Parent() ? e->Parent()->ToElement() : nullptr;
+    if (!up || std::string(up->Name()) != "robot" || !e->Attribute("name")) continue;
+    const std::string tag = e->Name();
+    if (tag == "link") links.emplace(e->Attribute("name"), e->GetLineNum());
+    if (tag != "joint") continue;
+    Joint j;
+    j.line = e->GetLineNum();
+    const auto attribute = [&](const char* child, const char* name) {
+      const tinyxml2::XMLElement* c = e->FirstChildElement(child);
+      return c && c->Attribute(name) ? std::string(c->Attribute(name)) : std::string();
+    };
+    j.parent = attribute("parent", "link");
+    j.child = attribute("child", "link");
+    j.mimic = attribute("mimic", "joint");
+    joints.emplace(e->Attribute("name"), j);
+  }
+  const auto joint = [&](const std::string& name) { return elementLabel("joint", name, joints.at(name).line); };
+  const auto link = [&](const std::string& name) {
+    const auto it = links.find(name);
+    return elementLabel("link", name, it == links.end() ? 0 : it->second);
+  };
+  std::map<std::string, std::string> parent_joint;  // child link → its joint
+  std::map<std::string, std::vector<std::string>> children;
+  for (const auto& [name, j] : joints) {
+    if (j.parent.empty() || j.child.empty()) continue;  // urdfdom names what is missing
+    if (j.parent == j.child)
+      throw InvalidInput(path + ": " + joint(name), "its parent and its child are the same link '" + j.child + "'");
+    const auto [it, first] = parent_joint.emplace(j.child, name);
     if (!first)
-      throw InvalidInput(path + ": " + link(j->child_link_name),
+      throw InvalidInput(path + ": " + link(j.child),
                          "is the child of two joints, " + joint(it->second) + " and " + joint(name) +
                              ": a URDF is a tree, each link has one parent joint (a loop cannot be closed in URDF)");
+    children[j.parent].push_back(j.child);
   }
-  // Every link reached from the root once (each has at most one parent now).
+  std::vector<std::string> roots;
+  for (const auto& [name, line] : links)
+    if (!parent_joint.count(name)) roots.push_back(name);
+  if (roots.size() > 1)
+    throw InvalidInput(path + ": " + link(roots[1]),
+                       "is a second root (no joint has it as child) beside link '" + roots[0] +
+                           "': a URDF's links hang from one root");
   std::set<std::string> reached;
-  std::deque<urdf::LinkConstSharedPtr> queue{robot.getRoot()};
-  while (!queue.empty()) {
-    const urdf::LinkConstSharedPtr l = queue.front();
-    queue.pop_front();
-    if (!reached.insert(l->name).second) continue;
-    for (const urdf::JointSharedPtr& j : l->child_joints)
-      if (const urdf::LinkConstSharedPtr c = robot.getLink(j->child_link_name)) queue.push_back(c);
+  std::vector<std::string> stack(roots.begin(), roots.end());
+  while (!stack.empty()) {
+    const std::string l = stack.back();
+    stack.pop_back();
+    if (!reached.insert(l).second) continue;
+    for (const std::string& c : children[l]) stack.push_back(c);
   }
-  for (const auto& [name, l] : robot.links_)
+  for (const auto& [name, line] : links)
     if (!reached.count(name))
-      throw InvalidInput(path + ": " + link(name), "is not connected to the root link '" + robot.getRoot()->name +
-                                                       "' (its joints form a cycle apart from the root)");
-  // <mimic>: the leader exists, is another joint, and following leaders
-  // from any joint ends (a cycle of mimics holds no joint free).
-  for (const auto& [name, j] : robot.joints_) {
-    if (!j->mimic) continue;
-    const std::string& leader = j->mimic->joint_name;
-    if (leader == name) throw InvalidInput(path + ": " + joint(name), "<mimic> names the joint itself");
-    if (!robot.joints_.count(leader))
-      throw InvalidInput(path + ": " + joint(name), "<mimic> names joint '" + leader + "', which the robot does not have");
+      throw InvalidInput(path + ": " + link(name), roots.empty() ? "every link is some joint's child: the joints form a cycle"
+                                                                 : "is not connected to the root link '" + roots[0] +
+                                                                       "' (its joints form a cycle apart from the root)");
+  for (const auto& [name, j] : joints) {
+    if (j.mimic.empty()) continue;
+    if (j.mimic == name) throw InvalidInput(path + ": " + joint(name), "<mimic> names the joint itself");
+    if (!joints.count(j.mimic))
+      throw InvalidInput(path + ": " + joint(name), "<mimic> names joint '" + j.mimic + "', which the robot does not have");
     std::set<std::string> chain{name};
-    for (std::string at = leader;;) {
+    for (std::string at = j.mimic; !at.empty();) {
       if (!chain.insert(at).second)
         throw InvalidInput(path + ": " + joint(name),
                            "<mimic> leads back to it through joint '" + at + "': the mimics form a cycle");
-      const auto next = robot.joints_.find(at);
-      if (next == robot.joints_.end() || !next->second->mimic) break;
-      at = next->second->mimic->joint_name;
+      const auto next = joints.find(at);
+      at = next == joints.end() ? std::string() : next->second.mimic;
     }
   }
 }
@@ -156,6 +189,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
   // Every number where it is written, before urdfdom reads (and, for some
   // attributes, silently zeroes) it: names, links and file names aside.
   xml.requireUsableNumbers(path, {"name", "link", "joint", "filename", "type", "version"});
+  requireTree(xml, path);
   ModelDescription model;
   model.source = path;
   UnsupportedFeatures unsupported;
@@ -169,7 +203,6 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       throw InvalidInput(path, "urdfdom cannot read it: " + (capture.errors.empty() ? "invalid URDF" : capture.errors));
   }
   model.name = robot->getName();
-  requireTree(*robot, xml, path);
   unsupported.resolve(options, &model);
 
   // Links in breadth-first order from the root, which is the ground (a

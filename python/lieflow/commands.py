@@ -7,6 +7,7 @@ the flag or field); a run or fit that fails raises ComputationError unless
 ``partial=True`` asks for what was computed.
 """
 import csv
+import inspect
 import json
 import math
 import numbers
@@ -44,27 +45,46 @@ class SimulationResult:
         return f"lieflow.SimulationResult({self.scene!r}, {rows} rows, {len(self.columns)} columns, {state})"
 
 
+def _shown(value):
+    """repr(value), cut to 60 characters for a message."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:60] + "…"
+
+
+def _scalar(value):
+    """A NumPy scalar as the Python number it holds; anything else as is."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
 def _number(flag, value):
+    value = _scalar(value)
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise InputError(f"{flag}: expected a number, got {value!r}")
+        raise InputError(f"{flag}: expected a number, got {_shown(value)}")
     try:
         value = float(value)
     except OverflowError:
-        raise InputError(f"{flag}: {value} overflows a double") from None
+        raise InputError(f"{flag}: {_shown(value)} overflows a double") from None
     if not math.isfinite(value):
         raise InputError(f"{flag}: {value} is not a finite number")
     return repr(value)
 
 
+# The integers the command's flags take fit a signed 64-bit integer.
+_MAX_INTEGER = 2**63 - 1
+
+
 def _integer(flag, value):
+    value = _scalar(value)
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise InputError(f"{flag}: expected an integer, got {value!r}")
+        raise InputError(f"{flag}: expected an integer, got {_shown(value)}")
+    if abs(int(value)) > _MAX_INTEGER:
+        raise InputError(f"{flag}: {_shown(value)} is beyond the 64-bit integer range")
     return str(int(value))
 
 
 def _text(flag, value):
     if not isinstance(value, (str, os.PathLike)):
-        raise InputError(f"{flag}: expected a string, got {value!r}")
+        raise InputError(f"{flag}: expected a string, got {_shown(value)}")
     text = os.fspath(value)
     if not isinstance(text, str) or "\0" in text:
         raise InputError(f"{flag}: expected a string without NUL characters, got {value!r}")
@@ -72,12 +92,17 @@ def _text(flag, value):
 
 
 def _numbers(flag, values):
+    values = _scalar(values)
     if isinstance(values, numbers.Real) and not isinstance(values, bool):
         values = [values]
+    if isinstance(values, (str, bytes, dict)):
+        raise InputError(f"{flag}: expected a number or a list of numbers, got {_shown(values)}")
     try:
         items = list(values)
     except TypeError:
-        raise InputError(f"{flag}: expected a number or a list of numbers, got {values!r}") from None
+        raise InputError(f"{flag}: expected a number or a list of numbers, got {_shown(values)}") from None
+    if not items:
+        raise InputError(f"{flag}: expected at least one number")
     return ",".join(_number(flag, v) for v in items)
 
 
@@ -91,17 +116,27 @@ def _names(flag, values):
     if isinstance(values, (str, os.PathLike)):
         values = [values]
     if not isinstance(values, (list, tuple)):
-        raise InputError(f"{flag}: expected a name or a list of names, got {values!r}")
+        raise InputError(f"{flag}: expected a name or a list of names, got {_shown(values)}")
+    if not values:
+        raise InputError(f"{flag}: expected at least one name")
     return ",".join(_text(flag, v) for v in values)
 
 
 def _options(flag, options):
     """The --options list, or None for an empty dict (no options: the scene's own)."""
     if not isinstance(options, dict):
-        raise InputError(f"{flag}: expected a dict of integrator options, got {options!r}")
+        raise InputError(f"{flag}: expected a dict of integrator options, got {_shown(options)}")
     if not options:
         return None
     return ",".join(f"{_text(flag, k)}={_number(flag + '.' + str(k), v)}" for k, v in options.items())
+
+
+def _switch(name, value):
+    """A yes/no argument: True or False (NumPy's too), else InputError."""
+    value = _scalar(value)
+    if not isinstance(value, bool):
+        raise InputError(f"{name}: expected True or False, got {_shown(value)}")
+    return value
 
 
 def _flags(spec, values):
@@ -114,7 +149,7 @@ def _flags(spec, values):
             continue
         flag, fmt = spec[key]
         if fmt is None:
-            if value:
+            if _switch(key, value):
                 tokens.append(flag)
             continue
         text = fmt(flag, value)
@@ -147,13 +182,17 @@ def _plain(value, where):
         value = value.item()
     if value is None or isinstance(value, (str, bool)):
         return value
-    if isinstance(value, numbers.Integral):
-        return int(value)
     if isinstance(value, numbers.Real):
-        value = float(value)
-        if not math.isfinite(value):
-            raise InputError(f"{where}: is not a finite number ({value})")
-        return value
+        try:
+            number = float(value)
+        except OverflowError:
+            number = math.inf if value > 0 else -math.inf  # an int beyond double range: beyond the bound below
+        if math.isnan(number) or (math.isinf(number) and not isinstance(value, numbers.Integral)):
+            raise InputError(f"{where}: is not a finite number ({_shown(value)})")
+        if abs(number) > _lieflow.max_input_magnitude:
+            raise InputError(f"{where}: {_shown(value)} is beyond ±{_lieflow.max_input_magnitude:g}, the largest "
+                             "magnitude lieflow reads")
+        return int(value) if isinstance(value, numbers.Integral) else number
     raise InputError(f"{where or '(top level)'}: expected a number, string, bool, list or dict, "
                      f"got {type(value).__name__}")
 
@@ -167,6 +206,8 @@ def _scene(scene, what="scene"):
             return [], json.dumps(_plain(scene, ""), allow_nan=False)
         except InputError as e:
             raise InputError(f"scene dict: {e}") from None
+        except RecursionError:
+            raise InputError("scene dict: nested too deeply (or it contains itself)") from None
     if isinstance(scene, (str, os.PathLike)):
         return [os.fspath(scene)], None
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
@@ -203,6 +244,17 @@ def _callables(name, loads):
     for key, value in loads.items():
         if not isinstance(key, str) or not callable(value):
             raise InputError(f"{name}[{key!r}]: expected a name and a callable f(t, state)")
+        # Called as f(t, state): a callable that cannot take two arguments is
+        # refused here, not with a TypeError from inside the run.
+        try:
+            signature = inspect.signature(value)
+        except (TypeError, ValueError):
+            continue  # a builtin without a signature: called as it is
+        try:
+            signature.bind(0.0, {})
+        except TypeError:
+            raise InputError(f"{name}[{key!r}]: the callable must take (t, state), its signature is "
+                             f"{signature}") from None
     return loads
 
 
@@ -240,6 +292,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     progress report (every 65536 steps).
     """
     positional, scene_json = _scene(scene)
+    partial = _switch("partial", partial)
     if noise is not None and not isinstance(noise, dict):
         raise InputError(f"noise: expected a dict like {{'gyro': 0.01, 'seed': 1}}, got {noise!r}")
     noise = dict(noise or {})
@@ -300,7 +353,7 @@ class _OutputDirectory:
 
     def __init__(self, out):
         self.given = out is not None
-        self.path = os.fspath(out) if self.given else tempfile.mkdtemp(prefix="lieflow-")
+        self.path = _text("out", out) if self.given else tempfile.mkdtemp(prefix="lieflow-")
 
     def __enter__(self):
         return self
@@ -325,6 +378,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
     (--with-mujoco; rows "mujoco-euler", "mujoco-rk4", "mujoco-implicit").
     """
     positional, scene_json = _scene(scene)
+    plots = _switch("plots", plots)
     spec = {"integrators": ("--integrators", _names), "dt": ("--dt", _numbers), "t_end": ("--t-end", _number),
             "min_time": ("--min-time", _number), "options": ("--options", _options),
             "formulation": ("--formulation", _text), "with_mujoco": ("--with-mujoco", None), **_LIMITS}
@@ -356,6 +410,8 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
         scenes = []
     elif isinstance(scenes, (str, os.PathLike, dict)):
         scenes = [scenes]
+    elif not isinstance(scenes, (list, tuple)):
+        raise InputError(f"scenes: expected a scene or a list of scenes, got {_shown(scenes)}")
     positional, jsons = [], []
     for s in scenes:
         p, j = _scene(s, "scenes")
@@ -364,6 +420,7 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
             jsons.append(j)
     if positional and jsons:
         raise InputError("scenes: give either names and files or dicts, not both")
+    plots = _switch("plots", plots)
     spec = {"integrators": ("--integrators", _names), "options": ("--options", _options),
             "formulation": ("--formulation", _text), **_LIMITS}
     with _OutputDirectory(out) as directory:
@@ -410,6 +467,7 @@ def _write_recording(recording, path):
 
 
 def _calibrate(kind, recording, spec, values, partial):
+    partial = _switch("partial", partial)
     if not _lieflow.have_calibration:
         raise InputError(f"calibrate_{kind}: this lieflow was built without Ceres (apt-get install libceres-dev, "
                          "then rebuild with -DLIEFLOW_BUILD_CALIBRATION=ON)")

@@ -123,6 +123,9 @@ class _Group:
     def __mul__(self, other):
         if isinstance(other, type(self)):
             return self.compose(other)
+        if isinstance(other, _Group):
+            raise InputError(f"{type(self).__name__} * {type(other).__name__}: compose elements of one group "
+                             "(or act on points)")
         return self.act(other)
 
     def Adj(self):

@@ -35,6 +35,7 @@ Without a client the sweep starts a local cluster of `workers` processes
 import argparse
 import csv
 import hashlib
+import io
 import itertools
 import json
 import math
@@ -53,6 +54,7 @@ from . import commands
 from ._lieflow import ComputationError, InputError, __version__
 
 _SPEC_KEYS = {"scenes", "integrators", "dt", "options", "seeds", "t_end", "noise", "case_timeout"}
+_NOISE_KEYS = {"gyro", "angle", "quat", "acc", "bias_gyro"}
 _CASE_KEYS = ["case_id", "scene", "integrator", "dt", "t_end", "options", "seed"]
 _STATS_KEYS = ["steps", "wall_seconds", "ns_per_step", "energy_drift", "momentum_drift", "constraint_error",
                "newton_iterations_mean", "invariants", "failed", "failure"]
@@ -60,6 +62,8 @@ _STATS_KEYS = ["steps", "wall_seconds", "ns_per_step", "energy_drift", "momentum
 _EVERY = 1_000_000_000
 # A case's run may take this long [s] unless the spec or the caller says otherwise.
 DEFAULT_CASE_TIMEOUT = 3600.0
+# Local worker processes beyond this many per CPU only compete for it.
+_MAX_WORKERS_PER_CPU = 4
 # Cases handed to the cluster at once per worker: enough to keep every worker
 # busy, few enough that the first results come back at once on 10^5 cases.
 _IN_FLIGHT_PER_WORKER = 4
@@ -104,10 +108,22 @@ def cases(spec):
     return _cases(spec)[0]
 
 
-def _cases(spec):
-    """(cases, number of duplicates dropped)."""
+def _plain_spec(spec):
+    """The spec as plain JSON data (NumPy values as numbers, every number
+    finite), or InputError."""
     if not isinstance(spec, dict):
         raise InputError("sweep spec: expected a JSON object")
+    try:
+        return commands._plain(spec, "")
+    except InputError as e:
+        raise InputError(f"sweep spec: {e}") from None
+    except RecursionError:
+        raise InputError("sweep spec: nested too deeply (or it contains itself)") from None
+
+
+def _cases(spec):
+    """(cases, number of duplicates dropped)."""
+    spec = _plain_spec(spec)
     unknown = set(spec) - _SPEC_KEYS
     if unknown:
         raise InputError(f"sweep spec: unknown key(s) {sorted(unknown)} (known: {sorted(_SPEC_KEYS)})")
@@ -119,11 +135,23 @@ def _cases(spec):
     if spec.get("case_timeout") is not None:
         _positive("sweep spec: 'case_timeout'", spec["case_timeout"])
     noise = spec.get("noise")
-    if noise is not None and not isinstance(noise, dict):
-        raise InputError("sweep spec: 'noise' must be an object like {\"gyro\": 0.01}")
+    if noise is not None:
+        if not isinstance(noise, dict):
+            raise InputError("sweep spec: 'noise' must be an object like {\"gyro\": 0.01}")
+        unknown_noise = set(noise) - _NOISE_KEYS
+        if unknown_noise:
+            raise InputError(f"sweep spec: 'noise' has unknown key(s) {sorted(unknown_noise)} "
+                             f"(known: {sorted(_NOISE_KEYS)})")
+        for key, value in noise.items():
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) \
+                    or value < 0:
+                raise InputError(f"sweep spec: noise '{key}' must be a finite number >= 0, got {value!r}")
     seeds = _list(spec, "seeds")
     if seeds != [None] and not noise:
         raise InputError("sweep spec: 'seeds' seed the recording noise: give 'noise' too")
+    for seed in seeds:
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63):
+            raise InputError(f"sweep spec: each seed must be an integer from 0 to 2^63 - 1, got {seed!r}")
     for key in ("integrators", "dt", "options"):
         _list(spec, key)
     for o in _list(spec, "options"):
@@ -270,10 +298,19 @@ def _run_isolated(case, timeout):
     return runner.run(case, timeout)
 
 
+def _file_mode():
+    """The mode open() gives a new file under the current umask (mkstemp's
+    files are 0600; the sweep's files are for the user's other tools too)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
 def _write_atomically(path, text):
     directory = os.path.dirname(path)
     fd, temporary = tempfile.mkstemp(dir=directory, prefix=".partial-")
     try:
+        os.fchmod(fd, _file_mode())
         with os.fdopen(fd, "w") as f:
             f.write(text)
             f.flush()
@@ -317,13 +354,15 @@ def _merge(all_cases, directory, path, stopped=None):
         if row is None:
             row = _failed_row(case, f"not run: the sweep stopped before it ({stopped or 'unknown reason'})")
         rows.append(row)
-    fd, temporary = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".partial-")
-    with os.fdopen(fd, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(_CASE_KEYS + _STATS_KEYS)
-        for row in rows:
-            writer.writerow([_cell(row.get(key)) for key in _CASE_KEYS + _STATS_KEYS])
-    os.replace(temporary, path)
+    text = io.StringIO(newline="")
+    writer = csv.writer(text)
+    writer.writerow(_CASE_KEYS + _STATS_KEYS)
+    for row in rows:
+        writer.writerow([_cell(row.get(key)) for key in _CASE_KEYS + _STATS_KEYS])
+    try:
+        _write_atomically(path, text.getvalue())
+    except OSError as e:
+        raise InputError(f"out: cannot write {path} ({e.strerror or e})") from None
     return rows
 
 
@@ -383,6 +422,20 @@ def _prepare_directory(out, spec):
     return out, case_dir
 
 
+def _importing_a_worker():
+    """Whether this call runs while a local worker process imports the
+    caller's script: Dask starts workers by spawning Python processes that
+    import the script as __mp_main__, and a script without an
+    ``if __name__ == "__main__":`` guard would start a sweep in each of them,
+    and they theirs, without end. There the call does nothing; the script's
+    own process runs the sweep."""
+    import multiprocessing
+
+    if multiprocessing.parent_process() is None:
+        return False
+    return getattr(sys.modules.get("__main__"), "__name__", None) == "__mp_main__"
+
+
 def sweep(spec, client=None, out=None, workers=None, progress=None, case_timeout=None, log=None):
     """Runs the cases of `spec` not yet in `out` on a Dask cluster and merges
     every case into out/results.csv. Returns a dict: cases, ran, reused,
@@ -391,10 +444,17 @@ def sweep(spec, client=None, out=None, workers=None, progress=None, case_timeout
     dicts). `progress`: called with (done, to_run) as cases finish; `log`:
     called with a line of text when the sweep starts. `case_timeout`: the
     seconds a case may run (default: the spec's, else 3600)."""
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise InputError(f"sweep: workers must be a positive integer, got {workers!r}")
+    if _importing_a_worker():
+        return None
+    if isinstance(workers, numbers.Integral) and not isinstance(workers, bool):
+        workers = int(workers)
+    most = _MAX_WORKERS_PER_CPU * (os.cpu_count() or 1)
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= most):
+        raise InputError(f"sweep: workers must be an integer from 1 to {most} ({_MAX_WORKERS_PER_CPU} per CPU), "
+                         f"got {workers!r}")
+    spec = _plain_spec(spec)
     if case_timeout is None:
-        case_timeout = spec.get("case_timeout") if isinstance(spec, dict) else None
+        case_timeout = spec.get("case_timeout")
     timeout = DEFAULT_CASE_TIMEOUT if case_timeout is None else _positive("case_timeout", case_timeout)
     all_cases, duplicates = _cases(spec)
     out, case_dir = _prepare_directory(out, spec)

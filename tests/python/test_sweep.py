@@ -111,3 +111,96 @@ def test_bad_specs_and_bad_cases():
     case = sweep_module.cases({"scenes": ["pendulum"], "integrators": ["no-such"], "t_end": 0.1})[0]
     row = sweep_module.run_case(case)
     assert row["failed"] is True and row["failure"].startswith("bad input: ")
+
+
+def _case_processes():
+    """The pids of the processes running sweep cases (lieflow._sweep_child)."""
+    pids = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                if b"lieflow._sweep_child" in f.read():
+                    pids.append(int(entry))
+        except OSError:
+            pass
+    return pids
+
+
+def test_a_crashed_or_hung_case_is_a_failed_row_and_the_others_complete(tmp_path, client):
+    # The long case (chain-30 for 20 s, about 2 s of work) is killed with
+    # SIGSEGV, as a fault in native code would end it, once the short one is
+    # in; then, in a second sweep, it runs past its time limit.
+    spec = {"scenes": ["pendulum", "chain-30"], "integrators": ["rkmk4"], "dt": [0.0005], "t_end": 20.0}
+    killed = []
+
+    def crash_the_running_case(done, total):
+        if not killed:
+            for pid in _case_processes():
+                os.kill(pid, signal.SIGSEGV)
+                killed.append(pid)
+
+    summary = lieflow.sweep(spec, client=client, out=tmp_path / "crash", progress=crash_the_running_case)
+    assert killed
+    rows = {r["scene"]: r for r in summary["rows"]}
+    assert rows["pendulum"]["failed"] is False and rows["pendulum"]["steps"] == 40000
+    assert rows["chain-30"]["failed"] is True
+    assert rows["chain-30"]["failure"].startswith("crashed: the process running the case ended with SIGSEGV")
+    with open(tmp_path / "crash" / "results.csv", newline="") as f:
+        assert len(list(csv.DictReader(f))) == 2
+    # The time limit: the long case is a failed row, the sweep ends.
+    hung = lieflow.sweep(spec, client=client, out=tmp_path / "hung", case_timeout=0.5)
+    rows = {r["scene"]: r for r in hung["rows"]}
+    assert rows["chain-30"]["failure"].startswith("timed out: the case ran longer than its limit of 0.5 s")
+    assert rows["pendulum"]["failed"] is False
+
+
+def test_output_directories_and_case_files_that_are_not_the_sweeps(tmp_path, client):
+    spec = {"scenes": ["pendulum"], "dt": [0.01, 0.005], "t_end": 0.05}
+    not_a_directory = tmp_path / "file"
+    not_a_directory.write_text("x")
+    with pytest.raises(lieflow.InputError, match="cannot hold the sweep"):
+        lieflow.sweep(spec, client=client, out=not_a_directory)
+    first = lieflow.sweep(spec, client=client, out=tmp_path / "out")
+    case_files = sorted((tmp_path / "out" / "cases").glob("*.json"))
+    assert len(case_files) == 2
+    # An empty file and another case's row: neither is this case's result.
+    case_files[0].write_text("")
+    other = json.loads(case_files[1].read_text())
+    other["case_id"] = "somebody-else"
+    case_files[1].write_text(json.dumps(other))
+    again = lieflow.sweep(spec, client=client, out=tmp_path / "out")
+    assert again["ran"] == 2 and again["failed"] == 0
+    assert [r["case_id"] for r in again["rows"]] == [r["case_id"] for r in first["rows"]]
+    assert oct((tmp_path / "out" / "results.csv").stat().st_mode & 0o777) != oct(0o600)
+    # Another spec's sweep in the same directory is refused, not replaced.
+    with pytest.raises(lieflow.InputError, match="holds the sweep of another spec"):
+        lieflow.sweep({"scenes": ["heavy-top"], "t_end": 0.05}, client=client, out=tmp_path / "out")
+
+
+def test_cases_are_what_they_run_edited_scenes_again_duplicates_once(tmp_path, client):
+    scene = tmp_path / "scene.json"
+    text = open(os.path.join(os.path.dirname(__file__), "..", "..", "scenes", "pendulum.json")).read()
+    scene.write_text(text)
+    spec = {"scenes": [str(scene)], "dt": [0.01, 0.01], "options": [{}, None], "t_end": 0.05}
+    first = lieflow.sweep(spec, client=client, out=tmp_path / "out")
+    assert first["cases"] == 1 and first["duplicates"] == 3
+    scene.write_text(text.replace('"gravity": [0, 0, -9.81]', '"gravity": [0, 0, -3.7]'))
+    second = lieflow.sweep(spec, client=client, out=tmp_path / "out")
+    assert second["ran"] == 1 and second["reused"] == 0  # the edited file is a new case
+    assert second["rows"][0]["energy_drift"] != first["rows"][0]["energy_drift"]
+
+
+def test_the_readme_example_with_empty_options_runs_every_case(tmp_path):
+    spec = tmp_path / "spec.json"
+    spec.write_text(json.dumps({"scenes": ["pendulum", "double-pendulum"], "integrators": ["rkmk4", "lgvi"],
+                                "dt": [0.004, 0.002], "options": [{}], "t_end": 0.1}))
+    done = subprocess.run([sys.executable, "-m", "lieflow.sweep", str(spec), "--out", str(tmp_path / "out"),
+                           "--workers", "2"], capture_output=True, text=True, timeout=200)
+    assert done.returncode == 0, done.stderr
+    assert "8 cases: 8 run, 0 already done, 0 failed" in done.stdout
+    assert "lieflow sweep: 8 cases: 8 to run" in done.stderr  # said at once, before any case ends
+    bad = subprocess.run([sys.executable, "-m", "lieflow.sweep", str(spec), "--out", str(spec)],
+                         capture_output=True, text=True, timeout=200)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr and "cannot hold the sweep" in bad.stderr
