@@ -34,6 +34,9 @@ Arguments::Arguments(int argc, char** argv, const std::set<std::string>& value_f
       } else if (value_flags.count(flag)) {
         if (!inline_value) {
           if (i + 1 >= argc) throw UsageError(flag + ": missing value");
+          const std::string next = argv[i + 1];
+          if (value_flags.count(next) || switches.count(next) || next == "--help")
+            throw UsageError(flag + ": missing value (the next word, " + next + ", is an option)");
           value = argv[++i];
         }
         if (values_.count(flag)) throw UsageError(flag + " given twice");
@@ -83,14 +86,18 @@ double Arguments::positiveNumber(const std::string& flag, double fallback) const
   return parsePositiveNumber(flag, values_.at(flag));
 }
 
+/// The largest value positiveInt takes (an int's range, rounded down).
+constexpr long kMaxPositiveInt = 1000000000;
+
 int Arguments::positiveInt(const std::string& flag, int fallback) const {
   if (!values_.count(flag)) return fallback;
   const std::string& text = values_.at(flag);
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE || v < 1 || v > 1000000000)
-    throw UsageError(flag + ": expected a positive integer, got " + quotedValue(text));
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < 1 || v > kMaxPositiveInt)
+    throw UsageError(flag + ": expected an integer from 1 to " + std::to_string(kMaxPositiveInt) + ", got " +
+                     quotedValue(text));
   return static_cast<int>(v);
 }
 
@@ -129,7 +136,7 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
 
 SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
   SceneDescription s = loadScene(scene, resourceLimitsFrom(args), modelImportOptionsFrom(args, scene));
-  for (const std::string& note : s.import_notes) std::cerr << "lieflow: " << scene << ": ignored " << note << "\n";
+  for (const std::string& note : s.import_notes) std::cerr << "lieflow: " << scene << ": " << note << "\n";
   return s;
 }
 

@@ -3,6 +3,7 @@
 /// subcommand (app/commands.hpp); with no arguments it runs the main job.
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "app/cli.hpp"
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
   } catch (const lieflow::InvalidInput& e) {
     std::cerr << "lieflow: " << e.what() << "\n";
     return lieflow::app::kBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "lieflow: out of memory: the work asked for more memory than this machine gives it\n";
+    return lieflow::app::kComputationFailed;
   } catch (const std::exception& e) {
     std::cerr << "lieflow: error: " << e.what() << "\n";
     return lieflow::app::kComputationFailed;

@@ -105,9 +105,11 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
   o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
   if (!(o.dt > 0.0))
     throw InvalidInput(scene.source + ": integrator.dt", "missing (give --dt or integrator.dt in the scene)");
+  if (!args.has("--dt")) o.dt_source = scene.source + ": integrator.dt";
   o.t_end = args.positiveNumber("--t-end", scene.has_t_end ? scene.t_end : 0.0);
   if (!(o.t_end > 0.0))
     throw InvalidInput(scene.source + ": t_end", "missing (give --t-end or t_end in the scene)");
+  if (!args.has("--t-end")) o.t_end_source = scene.source + ": t_end";
   return o;
 }
 

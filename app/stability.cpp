@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "app/run_setup.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace app {
@@ -31,6 +33,8 @@ SimulationOptions probeRun(const Simulation& sim, const std::string& integrator,
   run.integrator = integrator;
   run.formulation = o.formulation;
   run.dt = h;
+  run.dt_source = "the stability scan's step";
+  run.t_end_source = "its run time";
   run.max_steps = o.max_steps;
   if (o.heartbeat) {
     o.heartbeat();
@@ -110,6 +114,9 @@ double characteristicFrequency(const SceneDescription& scene) {
   return omega;
 }
 
+/// Seconds between the progress lines of a long scan.
+constexpr int kProgressLineSeconds = 5;
+
 std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOptions& o) {
   const double omega_c = characteristicFrequency(sim.scene());
   std::vector<std::string> integrators = o.integrators;
@@ -123,8 +130,19 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
   }
   checkOptionKeysUsed(o.integrator_options, integrators);
   std::vector<StabilityRow> rows;
+  // A line for each probe that follows seconds of work (a scan of a large
+  // scene runs minutes between the integrators' lines).
+  auto last_line = std::chrono::steady_clock::now();
+  const auto report = [&](const std::string& name, double h_omega) {
+    const auto now = std::chrono::steady_clock::now();
+    if (!o.progress || now - last_line < std::chrono::seconds(kProgressLineSeconds)) return;
+    last_line = now;
+    *o.progress << "stability: " << sim.scene().name << " " << name << ": probing h*omega_c = " << formatNumber(h_omega)
+                << "\n";
+  };
   for (const std::string& name : integrators) {
     if (o.progress) *o.progress << "stability: " << sim.scene().name << " " << name << "\n";
+    last_line = std::chrono::steady_clock::now();
     StabilityRow row;
     row.scene = sim.scene().name;
     row.integrator = name;
@@ -134,6 +152,7 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
     double stable = 0.0, unstable = 0.0;
     for (int i = 0; i < o.grid_points; ++i) {
       const double h_omega = o.h_omega_min * std::pow(ratio, i);
+      report(name, h_omega);
       const Probe p = probe(sim, name, omega_c, h_omega, o);
       if (!p.bounded) {
         unstable = h_omega;
@@ -149,6 +168,7 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
       // Bisection in log h between the last bounded and the first unbounded step.
       for (int k = 0; k < o.bisections; ++k) {
         const double mid = std::sqrt(stable * unstable);
+        report(name, mid);
         if (probe(sim, name, omega_c, mid, o).bounded)
           stable = mid;
         else

@@ -98,6 +98,7 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   o.integrator = integrator;
   o.dt = dt;
   o.t_end = t_end;
+  o.dt_source = "the study's reference step";
   o.diagnostics = false;
   if (integrator == "rkmk45") o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
   SimulationResult r;
@@ -356,6 +357,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       o.formulation = options.formulation;
       o.dt = dt;
       o.t_end = t_end;
+      if (options.dts.empty()) o.dt_source = "the study's steps (4, 2, 1, 1/2, 1/4 times the scene's)";
       o.max_steps = options.max_steps;
       withHeartbeat(options.heartbeat, &o);
       applyIntegratorOptions(sim.scene(), options.integrator_options, &o);

@@ -47,7 +47,7 @@ struct StudyOptions {
   ModelImportOptions mujoco_import;
   /// Where progress goes (nullptr: silent).
   std::ostream* progress = nullptr;
-  /// Called before every run and every 65536 steps within one
+  /// Called before every run and about every 0.25 s within one
   /// (SimulationOptions::progress); it may throw to stop the study (the
   /// Python module's Ctrl-C). May be empty.
   std::function<void()> heartbeat;

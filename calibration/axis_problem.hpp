@@ -42,13 +42,20 @@ class AxisProblem {
               const NuisanceSelection& nuisance)
       : kinds_(kinds), weights_(kinds.size(), 1.0), ids_(kinds.size()), loss_(makeLoss(options)),
         problem_(problemOptions()) {
+    // The axes are blocks of the problem whatever the samples give (a
+    // recording whose samples all fall to the rates' differencing window
+    // adds no residual, and a manifold set on an absent block ends the
+    // process inside Ceres).
+    problem_.AddParameterBlock(axis1_, 3, &sphere_);
+    problem_.AddParameterBlock(axis2_, 3, &sphere_);
     bool uses_nuisance = false;
     for (std::size_t k = 0; k < kinds_.size(); ++k) {
       kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, nuisance_, &ids_[k]);
       uses_nuisance = uses_nuisance || kinds_[k]->usesNuisance();
     }
-    problem_.SetManifold(axis1_, &sphere_);
-    problem_.SetManifold(axis2_, &sphere_);
+    if (problem_.NumResidualBlocks() == 0)
+      throw NotIdentifiable("no sample is left to fit (the recording is shorter than the rates' differencing "
+                            "window and the clock-offset shifts)");
     active_ = uses_nuisance ? nuisance.count() : 0;
     if (uses_nuisance && active_ == 0) throw std::logic_error("two-axis fit: a nuisance kind with nothing to estimate");
     if (active_ > 0 && active_ < kNuisanceSize) {
@@ -56,7 +63,7 @@ class AxisProblem {
       for (int i = 0; i < kNuisanceSize; ++i)
         if (!nuisance.active[i]) constant.push_back(i);
       subset_ = std::make_unique<ceres::SubsetManifold>(kNuisanceSize, constant);
-      problem_.SetManifold(nuisance_, subset_.get());
+      if (problem_.HasParameterBlock(nuisance_)) problem_.SetManifold(nuisance_, subset_.get());
     }
     for (int i = 0; i < kNuisanceSize; ++i)
       if (nuisance.active[i]) active_index_.push_back(i);

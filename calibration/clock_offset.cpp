@@ -17,6 +17,7 @@ namespace {
 /// Shifts searched: |m h| ≤ max_offset, and at most half the record.
 int reachOf(const JointSamples& samples, double max_offset) {
   const int n = samples.size();
+  if (n < 2) return 0;  // no interval: no shift
   const double h = (samples.time.back() - samples.time.front()) / (n - 1);
   // In double first: a recording's step can make the quotient exceed an int.
   return static_cast<int>(std::min(std::floor(max_offset / h), static_cast<double>(n / 2)));

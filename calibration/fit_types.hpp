@@ -166,7 +166,7 @@ struct AxisFitSummary {
   double reduced_chi_square = 0.0;  ///< whitened cost per degree of freedom (≈ 1)
   int iterations = 0;       ///< Levenberg–Marquardt iterations of the accepted solution
   bool converged = false;   ///< ceres::CONVERGENCE (a tolerance was met)
-  std::string message;      ///< Ceres' reason for stopping
+  std::string message;      ///< why the solve stopped (solverStopMessage)
   int starts = 0;           ///< starting points refined by Ceres
   std::string start;        ///< the one the solution came from
   int search_starts = 0;    ///< starts of the global search before the refinement (0: none)

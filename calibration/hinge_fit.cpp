@@ -78,6 +78,9 @@ constexpr const char* kGyroKindName = "gyroscope hinge constraint |w1 x j1| = |w
 /// Largest relative spread of the sampling interval for --fit-time-offset
 /// (the clock offset interpolates the secondary's rates on a uniform grid).
 constexpr double kUniformSampling = 1e-3;
+/// Fewest samples --fit-time-offset takes: a mean sampling interval needs
+/// two, and a shift by one sample leaves a pair to compare only from three.
+constexpr std::size_t kMinOffsetSamples = 3;
 
 /// The nuisance coordinates `options` asks for; InvalidInput where the data
 /// cannot carry them (no gyroscopes; a clock offset on non-uniform times).
@@ -91,6 +94,10 @@ NuisanceSelection nuisanceOf(const JointSamples& samples, const DataSelection& d
   if (options.fit_gyro_bias) n.active[0] = n.active[1] = n.active[2] = n.active[3] = true;
   if (options.fit_time_offset) {
     const std::vector<double>& t = samples.time;
+    if (t.size() < kMinOffsetSamples)
+      throw InvalidInput(samples.source, "--fit-time-offset needs at least " + std::to_string(kMinOffsetSamples) +
+                                             " samples (to shift one clock against the other); the recording has " +
+                                             std::to_string(t.size()));
     const double h = (t.back() - t.front()) / (t.size() - 1);
     for (std::size_t k = 0; k + 1 < t.size(); ++k)
       if (std::abs(t[k + 1] - t[k] - h) > kUniformSampling * h)
@@ -359,10 +366,12 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
 /// maximum likelihood over the joint angle (hinge_likelihood.hpp), with the
 /// biases and the clock offset where the constraint fit estimated them
 /// (started from its values).
-void refineByLikelihood(const JointSamples& samples, int shift, HingeFit* fit_out) {
+void refineByLikelihood(const JointSamples& samples, const AxisFitOptions& options, int shift, HingeFit* fit_out) {
   const auto start_time = std::chrono::steady_clock::now();
   HingeFit& fit = *fit_out;
   HingeLikelihoodOptions ml_options;
+  ml_options.progress = options.progress;
+  ml_options.interrupt = options.interrupt;
   ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
   ml_options.gyro_bias_main_start = fit.gyro_bias_main;
   ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
@@ -469,7 +478,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   if (!options.fit_time_offset) {
     HingeFit fit = fitHingeAtShift(samples, options, 0);
     checkForGyroscopeBias(samples, options, &fit);
-    if (likelihood) refineByLikelihood(samples, 0, &fit);
+    if (likelihood) refineByLikelihood(samples, options, 0, &fit);
     return fit;
   }
   // The profile over whole samples: the fit at every shift within
@@ -521,7 +530,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   // its fraction says another whole sample is nearer (|ν| > h/2).
   int shift = clampedInt(std::round(fit.time_offset / h), -samples.size(), samples.size());
   HingeFit refined = fit;
-  refineByLikelihood(samples, shift, &refined);
+  refineByLikelihood(samples, options, shift, &refined);
   for (int round = 0; round < kOffsetRefits; ++round) {
     const int step = clampedInt(std::round((refined.time_offset - shift * h) / h), -samples.size(), samples.size());
     if (step == 0 || std::abs(shift + step) > reach) break;
@@ -529,7 +538,7 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     const double estimate = refined.time_offset;  // the fraction starts from the likelihood's estimate
     refined = fit;
     refined.time_offset = estimate;
-    refineByLikelihood(samples, shift, &refined);
+    refineByLikelihood(samples, options, shift, &refined);
   }
   return refined;
 }

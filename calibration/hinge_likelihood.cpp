@@ -9,6 +9,7 @@
 #include <ceres/rotation.h>
 #include <Eigen/Geometry>
 
+#include "calibration/fit_progress.hpp"
 #include "calibration/fit_types.hpp"
 #include "calibration/solver_options.hpp"
 #include "calibration/rate_derivative.hpp"
@@ -110,6 +111,12 @@ class LikelihoodProblem {
                     const std::vector<Eigen::Vector3d>& slopes = {})
       : problem_(options()) {
     const int n = static_cast<int>(p->w1.size());
+    // The secondary's rows need a full stencil of angles: fewer samples leave
+    // the axis, the rotation and φ out of the problem (Ceres would end the
+    // process setting their manifolds).
+    if (n < 2 * kHalfStencil + 2)
+      throw NotIdentifiable("the likelihood fit needs at least " + std::to_string(2 * kHalfStencil + 2) +
+                            " samples (the recording has " + std::to_string(n) + ")");
     for (int k = 0; k < n; ++k)
       problem_.AddResidualBlock(
           new ceres::AutoDiffCostFunction<MainGyro, 3, 3, 3>(new MainGyro{m1[k], p->B1, weight}), nullptr,
@@ -311,6 +318,8 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   ordering->AddElementToGroup(p.b2, 1);
   ordering->AddElementToGroup(&p.nu, 1);
   options.linear_solver_ordering = ordering;
+  FitProgressCallback progress(options_in.progress, options_in.interrupt);
+  options.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &lp.problem(), &summary);
   if (!summary.IsSolutionUsable()) throw FitFailed("the likelihood hinge fit failed: " + solverFailureReason(summary));
@@ -320,7 +329,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
   fit.axis_secondary = secondaryAxis(p.j1, p.q, nullptr);
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  fit.message = summary.message;
+  fit.message = solverStopMessage(summary);
   const double s2 = 2.0 * summary.final_cost / lp.degreesOfFreedom();
   fit.noise_sigma = std::sqrt(s2);
   double sigma1 = 0.0, sigma2 = 0.0, bias_sigmas[2] = {0.0, 0.0}, offset_sigma = 0.0;

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "calibration/fit_progress.hpp"
 #include "calibration/fit_types.hpp"
 #include "calibration/joint_samples.hpp"
 #include "liegroup/so3.hpp"
@@ -56,6 +57,10 @@ struct HingeLikelihoodOptions {
   bool fit_time_offset = false;
   int offset_shift = 0;                ///< whole samples
   double offset_fraction_start = 0.0;  ///< s
+  /// Each solver iteration's (number, cost), and whether to stop (the
+  /// command's progress lines, the Python module's Ctrl-C): fit_progress.hpp.
+  FitProgress progress;
+  FitInterrupt interrupt;
 };
 
 /// Biases (SensorNuisanceEstimate) with HingeLikelihoodOptions::fit_gyro_bias:
@@ -70,7 +75,7 @@ struct HingeLikelihoodFit : SensorNuisanceEstimate {
   double noise_sigma = 0.0;        ///< σ of one gyroscope axis, from the residuals [rad/s]
   int iterations = 0;
   bool converged = false;
-  std::string message;             ///< Ceres' reason for stopping
+  std::string message;             ///< why the solve stopped (solverStopMessage)
 };
 
 /// Maximum likelihood from both bodies' gyroscopes, started at a hinge fit's

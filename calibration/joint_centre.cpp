@@ -185,7 +185,7 @@ JointCentreFit fitJointCentre(const JointSamples& samples, const Eigen::Vector3d
   fit.samples = rows;
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  fit.message = summary.message;
+  fit.message = solverStopMessage(summary);
   // The data rows' residual sum of squares (the gauge row holds to rounding).
   double rss = 0.0;
   for (std::size_t k = kWindow; k + kWindow < n; ++k) {

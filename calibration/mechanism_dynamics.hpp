@@ -66,8 +66,12 @@ inline void requireMechanismSupported(const articulated::ArticulatedModel& model
     const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
     const std::string& name = model.names[static_cast<std::size_t>(i)];
     if (b.kind == articulated::JointKind::kSpherical)
-      throw InvalidInput(field, "body '" + name + "' hangs on a spherical joint: the mechanism spring fit takes "
-                                "revolute and universal joints");
+      throw InvalidInput(field, "body '" + name + "' " +
+                                    (b.scene_joint < 0 ? std::string("is not joined to the ground (a free body turns on "
+                                                                     "no joint of the scene)")
+                                                       : std::string("hangs on a spherical joint")) +
+                                    ": the mechanism spring fit takes trees of revolute and universal joints "
+                                    "hanging from the ground");
     for (int k = 0; k < b.coordinates(); ++k)
       if (b.prescribed(k))
         throw InvalidInput(field, "the joint of body '" + name + "' has prescribed motion: nothing to fit there");

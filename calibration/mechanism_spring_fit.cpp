@@ -370,7 +370,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
   requireUsable(summary, "single shooting");
   out.iterations += static_cast<int>(summary.iterations.size()) - 1;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
-  out.message = summary.message;
+  out.message = solverStopMessage(summary);
   const int m = n * p.perSample();
   out.rms_residual = std::sqrt(2.0 * summary.final_cost / m);
   const int p_free = free_parameters;

@@ -206,6 +206,12 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
       reason << "time " << cells[time_col] << " does not increase (previous row: " << previous_time_cell << ")";
       throw InvalidInput(where(source, line_number, "t"), reason.str());
     }
+    // A sampling interval below the smallest positive input: its reciprocal
+    // (a rate, a frequency) would overflow; such a column is not in seconds.
+    if (!rec.time.empty() && t - rec.time.back() < kMinPositiveInput)
+      throw InvalidInput(where(source, line_number, "t"),
+                         "the interval " + formatNumber(t - rec.time.back()) + " s from the previous row is below " +
+                             formatNumber(kMinPositiveInput) + " s; is t in seconds?");
     rec.time.push_back(t);
     previous_time_cell = cells[time_col];
     for (std::size_t s = 0; s < scalar_cols.size(); ++s) rec.scalars[s].values.push_back(values[scalar_cols[s]]);

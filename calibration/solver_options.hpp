@@ -51,5 +51,29 @@ inline std::string solverFailureReason(const ceres::Solver::Summary& summary) {
   return "the solver stopped without a usable result (" + m + ")";
 }
 
+/// Why a solve stopped, in the user's terms, for the fits' `message`: Ceres's
+/// own summary line ("Function tolerance reached. |cost_change|/cost:
+/// 0.000000e+00 <= 1.000000e-12") names its internals and prints %e.
+inline std::string solverStopMessage(const ceres::Solver::Summary& summary) {
+  const std::string& m = summary.message;
+  const std::string iterations = std::to_string(summary.iterations.size()) + " iterations";
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+      if (m.rfind("Gradient", 0) == 0) return "converged: the cost's gradient vanished (" + iterations + ")";
+      if (m.rfind("Parameter", 0) == 0)
+        return "converged: the parameters stopped changing, to a relative step below the tolerance (" + iterations +
+               ")";
+      return "converged: the cost stopped changing, to a relative change below the tolerance (" + iterations + ")";
+    case ceres::NO_CONVERGENCE:
+      return "not converged: the solver stopped at its limit of iterations or time (" + iterations +
+             "; --max-iterations raises it)";
+    case ceres::USER_SUCCESS:
+    case ceres::USER_FAILURE: return "stopped on request after " + iterations;
+    case ceres::FAILURE: break;
+  }
+  return "failed: " + solverFailureReason(summary);
+}
+
+
 }  // namespace calibration
 }  // namespace lieflow

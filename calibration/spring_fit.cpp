@@ -231,7 +231,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
           out.max_continuity_defect = std::max(out.max_continuity_defect, std::abs(r[r.size() - 2 * N + 2 * i]));
     }
     message << "multiple shooting (" << segments << " segments, " << out.multiple_shooting_iterations
-            << " iterations): " << summary.message << "; ";
+            << " iterations): " << solverStopMessage(summary) << "; ";
   }
 
   // --- 2. Single shooting from there ---------------------------------------
@@ -249,7 +249,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   out.single_shooting_iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.iterations = out.multiple_shooting_iterations + out.single_shooting_iterations;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
-  message << "single shooting (" << out.single_shooting_iterations << " iterations): " << summary.message;
+  message << "single shooting (" << out.single_shooting_iterations << " iterations): " << solverStopMessage(summary);
   out.message = message.str();
   out.stiffness = theta[0];
   out.damping = theta[1];

@@ -15,6 +15,7 @@
 
 #include "calibration/axis_problem.hpp"
 #include "calibration/unit_axis.hpp"
+#include "calibration/solver_options.hpp"
 #include "liegroup/number_text.hpp"
 
 namespace lieflow {
@@ -162,7 +163,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   }
   out.axes = p.axes();
   out.summary.converged = best.termination_type == ceres::CONVERGENCE;
-  out.summary.message = best.message;
+  out.summary.message = solverStopMessage(best);
 
   // Residual statistics, and the check against independently estimated noise.
   std::string misfit;
@@ -195,7 +196,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   out.summary.rms_residual = out.summary.residuals.front().rms;
   if (!misfit.empty()) {
     out.summary.converged = false;
-    out.summary.message = misfit + " (Ceres: " + best.message + ")";
+    out.summary.message = misfit + " (" + solverStopMessage(best) + ")";
   }
 
   // 4. Identifiability.

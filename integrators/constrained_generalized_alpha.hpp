@@ -185,6 +185,7 @@
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/step_report.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 
@@ -452,8 +453,9 @@ class ConstrainedGeneralizedAlphaStepper {
     } else {
       last_report_.fail(failure, force);
       std::ostringstream s;
-      s << "after " << iterations << " Newton iterations (h = " << h << "): force residual " << force
-        << " (bound " << force_bound << "), max |Phi| = " << position << ", h max |B u - b| = " << velocity
+      s << "after " << iterations << " Newton iterations (h = " << h << "): force residual " << formatNumber(force)
+        << " (bound " << formatNumber(force_bound) << "), max |Phi| = " << formatNumber(position)
+        << ", h max |B u - b| = " << formatNumber(velocity)
         << " (constraint tolerance " << constraint_tolerance_ << ")";
       if (singular) s << "; " << lu_.lastError();
       last_report_.detail = s.str();

@@ -154,6 +154,7 @@
 #include "integrators/step_report.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 
@@ -416,8 +417,8 @@ class ConstrainedLgviStepper {
       if (!sol.converged || !sol.f.allFinite()) {
         rep->fail("constrained LGVI: a body's rotation update did not converge", sol.residual);
         std::ostringstream s;
-        s << "body " << i << ": |G(f)| = " << sol.residual << " after " << sol.iterations
-          << " Newton iterations, h|J^-1 Pi+| = " << (b.J_inv * (h_ * b.drift.Pi_plus)).norm()
+        s << "body " << i << ": |G(f)| = " << formatNumber(sol.residual) << " after " << sol.iterations
+          << " Newton iterations, h|J^-1 Pi+| = " << formatNumber((b.J_inv * (h_ * b.drift.Pi_plus)).norm())
           << (opt_->rotation.map == LgviMap::kExponential
                   ? " (the exponential-map LGVI equation has no solution for h|omega| >= 1 about a principal axis)"
                   : "");

@@ -12,6 +12,7 @@
 
 #include "integrators/step_report.hpp"
 #include "liegroup/scalar.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 
@@ -67,7 +68,7 @@ RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename 
     if (!report.converged) {
       std::ostringstream why;
       why << report.failure << (report.detail.empty() ? "" : ": ") << report.detail << " at t = " << t << " (step " << k + 1 << ", residual "
-          << report.residual << ")";
+          << formatNumber(report.residual) << ")";
       summary.failed = true;
       summary.failure = why.str();
       return summary;

@@ -85,6 +85,7 @@
 #include <Eigen/Core>
 
 #include "integrators/step_report.hpp"
+#include "liegroup/number_text.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -200,7 +201,7 @@ class JointSpaceVariationalStepper {
     if (!quasiNewton(system, t, y, h, &rep)) {
       rep.fail("lgvi (joint coordinates): the iteration for the mid-step rates did not converge", rep.residual);
       std::ostringstream s;
-      s << "last change of the rates " << rep.residual << " (kinetic-energy norm) after " << rep.newton_iterations
+      s << "last change of the rates " << formatNumber(rep.residual) << " (kinetic-energy norm) after " << rep.newton_iterations
         << " passes at h = " << h << ": "
         << (rep.newton_iterations >= options_.max_iterations ? "max_iterations reached"
                                                               : "the quasi-Newton iteration does not contract");

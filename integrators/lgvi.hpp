@@ -73,6 +73,7 @@
 #include "liegroup/detail/series.hpp"
 #include "liegroup/detail/so3_kernels.hpp"
 #include "liegroup/so3.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 
@@ -457,9 +458,9 @@ class LgviStepper {
         // The residual against the test that was applied (relative to
         // ‖hΠ‖), and the step's rotation angle, which says why.
         std::ostringstream why;
-        why << "|G| = " << solution.residual << " above the tolerance " << options_.tolerance << " x |h Pi| = "
-            << solution.threshold << " after " << solution.iterations << " Newton iterations; h|omega| = "
-            << scalarValue((J_inv * (h * drift.Pi_plus)).norm())
+        why << "|G| = " << formatNumber(scalarValue(solution.residual)) << " above the tolerance " << options_.tolerance
+            << " x |h Pi| = " << formatNumber(scalarValue(solution.threshold)) << " after " << solution.iterations
+            << " Newton iterations; h|omega| = " << formatNumber(scalarValue((J_inv * (h * drift.Pi_plus)).norm()))
             << (options_.map == LgviMap::kExponential
                     ? " (the exponential-map equation has no solution for h|omega| >= 1 about a principal axis: "
                       "use a smaller step or --options cayley=1)"

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "liegroup/number_text.hpp"
+
 namespace lieflow {
 
 /// One option an integrator accepts (in the scene's "integrator" object or
@@ -26,15 +28,11 @@ struct IntegratorOption {
 
   /// Empty if `v` is admitted, else why not ("must be > 0", ...).
   std::string check(double v) const {
-    auto text = [](double x) {
-      char buffer[32];
-      std::snprintf(buffer, sizeof buffer, "%g", x);
-      return std::string(buffer);
-    };
     if (!std::isfinite(v)) return "must be a finite number";
-    if (integer && v != std::floor(v)) return "must be a whole number, got " + text(v);
-    if (excluded_min ? !(v > min) : !(v >= min)) return "must be " + std::string(excluded_min ? "> " : ">= ") + text(min) + ", got " + text(v);
-    if (!(v <= max)) return "must be <= " + text(max) + ", got " + text(v);
+    if (integer && v != std::floor(v)) return "must be a whole number, got " + formatExact(v);
+    if (excluded_min ? !(v > min) : !(v >= min))
+      return "must be " + std::string(excluded_min ? "> " : ">= ") + formatExact(min) + ", got " + formatExact(v);
+    if (!(v <= max)) return "must be <= " + formatExact(max) + ", got " + formatExact(v);
     return "";
   }
 };

@@ -285,17 +285,18 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     return i < 0 ? constraints::groundPose<double>()
                  : constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()), scene.bodies[i].position};
   };
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
   for (int k : cuts) {
     const JointDescription& j = scene.joints[k];
     articulated::ArticulatedClosure c;
     if (j.isGear()) {
-      const multibody::Gear g = sceneGear(scene, static_cast<std::size_t>(k));
+      const multibody::Gear g = sceneGear(scene, static_cast<std::size_t>(k), index);
       c.gear = g.constraint;
       for (int s = 0; s < 4; ++s) c.bodies[s] = tree(g.bodies[s]);
     } else {
       const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
       const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
-      c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), pose(a), pose(b));
+      c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), index, pose(a), pose(b));
       c.bodies[0] = tree(a);
       c.bodies[1] = tree(b);
       c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};

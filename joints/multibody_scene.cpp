@@ -72,11 +72,11 @@ void attachUserLoads(const SceneDescription& scene, MultibodyScene* out) {
 
 }  // namespace
 
-multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k) {
+multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k,
+                          const std::unordered_map<std::string, int>& index) {
   const JointDescription& j = scene.joints[k];
   const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
   const std::string& prefix = label;
-  const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
   multibody::Gear g;
   g.name = label;
@@ -99,11 +99,11 @@ multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k) {
 }
 
 multibody::JointConstraint sceneJointConstraint(const SceneDescription& scene, std::size_t k,
+                                                const std::unordered_map<std::string, int>& index,
                                                 const constraints::BodyPose<double>& pa,
                                                 const constraints::BodyPose<double>& pb) {
   const JointDescription& j = scene.joints[k];
   const std::string prefix = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
-  const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? kGround : index.at(name); };
   const int a = body(j.main), b = body(j.secondary);
   multibody::JointConstraint c;
@@ -184,11 +184,11 @@ std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene)
     const JointDescription& j = scene.joints[k];
     const std::string label = scene.source + ": joints[" + std::to_string(k) + "] (" + j.name + ")";
     if (j.isGear()) {
-      gears.push_back(sceneGear(scene, k));
+      gears.push_back(sceneGear(scene, k, index));
       continue;
     }
     const int a = body(j.main), b = body(j.secondary);
-    const multibody::JointConstraint c = sceneJointConstraint(scene, k, pose(a), pose(b));
+    const multibody::JointConstraint c = sceneJointConstraint(scene, k, index, pose(a), pose(b));
     multibody::Joint joint{j.name, a, b, c};
     joint.label = label;
     model.addJoint(joint);

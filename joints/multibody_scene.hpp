@@ -49,14 +49,18 @@ bool needsMultibody(const SceneDescription& scene);
 std::unique_ptr<MultibodyScene> assembleMultibody(const SceneDescription& scene);
 
 /// The rows of scene joint k, a gear-type joint, with its bodies by scene
-/// index (the same checks and InvalidInput fields as assembleMultibody).
-multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k);
+/// index (the same checks and InvalidInput fields as assembleMultibody);
+/// `index` is scene.bodyIndices(), built once by the caller (per joint it
+/// made the assembly of chain-100000 quadratic).
+multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k,
+                          const std::unordered_map<std::string, int>& index);
 
 /// The constraint of scene joint k (not a gear-type joint) between bodies at
 /// the poses pa, pb (main, secondary; groundPose() for the ground), assembled
 /// there as assembleMultibody does (the same checks and InvalidInput fields):
 /// the joint-coordinate formulation imposes a loop-closing joint with it.
 multibody::JointConstraint sceneJointConstraint(const SceneDescription& scene, std::size_t k,
+                                                const std::unordered_map<std::string, int>& index,
                                                 const constraints::BodyPose<double>& pa,
                                                 const constraints::BodyPose<double>& pb);
 

@@ -150,8 +150,9 @@ struct SceneDescription {
   std::string description;
   /// Loads given as functions by a program (none from a scene file).
   UserLoads user_loads;
-  /// What a model importer left out because the user allowed it (--ignore),
-  /// one line per element; the commands print them to stderr.
+  /// What a model importer changed, one sentence each ("ignored limits:
+  /// limit of joint 'elbow' (line 6)" for what --ignore let it leave out,
+  /// "renamed joint ..."); the commands print them to stderr.
   std::vector<std::string> import_notes;
 
   /// Index of the body with this name, or -1 (a linear search; code that

@@ -4,6 +4,7 @@
 /// names the file, the field and the reason.
 #include <cmath>
 #include <functional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -70,7 +71,7 @@ class ObjectReader {
 
   double positiveNumber(const std::string& key) {
     const double v = number(key);
-    if (!(v > 0.0)) fail(key, "must be positive, got " + formatNumber(v));
+    if (const std::string problem = positiveInputProblem(v); !problem.empty()) fail(key, problem);
     return v;
   }
 
@@ -126,11 +127,6 @@ class ObjectReader {
     return x;
   }
 
-  static std::string formatNumber(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-  }
 
   const json& object_;
   std::string path_;
@@ -168,18 +164,15 @@ Eigen::Matrix3d readInertia(ObjectReader& body) {
   if ((J - J.transpose()).cwiseAbs().maxCoeff() > kInertiaTolerance * scale)
     body.fail("inertia", "matrix is not symmetric");
   const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(J).eigenvalues();
-  if (!(moments.minCoeff() > 0.0)) {
-    std::ostringstream reason;
-    reason << "is not positive definite (principal moments " << moments.transpose() << ")";
-    body.fail("inertia", reason.str());
-  }
+  if (!(moments.minCoeff() > 0.0))
+    body.fail("inertia", "is not positive definite (principal moments " + formatNumbers(moments) + ")");
+  if (moments.minCoeff() < kMinPositiveInput)
+    body.fail("inertia", "principal moment " + formatNumber(moments.minCoeff()) + " is below " +
+                             formatNumber(kMinPositiveInput) + ", the smallest positive value lieflow reads");
   // Principal moments of a real body: I_a + I_b ≥ I_c for every permutation.
-  if (moments[0] + moments[1] < moments[2] * (1.0 - kInertiaTolerance)) {
-    std::ostringstream reason;
-    reason << "principal moments " << moments.transpose()
-           << " violate the triangle inequality I1 + I2 >= I3 (no mass distribution has them)";
-    body.fail("inertia", reason.str());
-  }
+  if (moments[0] + moments[1] < moments[2] * (1.0 - kInertiaTolerance))
+    body.fail("inertia", "principal moments " + formatNumbers(moments) +
+                             " violate the triangle inequality I1 + I2 >= I3 (no mass distribution has them)");
   return J;
 }
 
@@ -451,12 +444,30 @@ class DuplicateKeyFinder {
   std::string duplicate_;
 };
 
-/// nlohmann's message without its "[json.exception.parse_error.101] " tag
-/// (the library's error code, not the reader's words).
+/// nlohmann's message in the reader's words: "[json.exception.parse_error.101]
+/// parse error at line 3, column 7: syntax error while parsing object key -
+/// invalid literal; last read: '{ab'; expected string literal" becomes "line
+/// 3, column 7: invalid literal (read: '{ab'; expected string literal)", the
+/// text read cut to 40 characters (a 400-digit number was echoed whole).
 std::string jsonErrorText(const json::exception& e) {
-  const std::string what = e.what();
-  const std::size_t tag_end = what.rfind("] ", what.find(' '));
-  return what.compare(0, 1, "[") == 0 && tag_end != std::string::npos ? what.substr(tag_end + 2) : what;
+  std::string what = e.what();
+  if (const std::size_t tag_end = what.find("] "); what.compare(0, 1, "[") == 0 && tag_end != std::string::npos)
+    what = what.substr(tag_end + 2);
+  static const std::regex parse(R"(parse error at (line \d+, column \d+): (?:syntax error while parsing [a-z ]+ - )?([^;]*)(?:; last read: '((?:[^']|'(?!;|$))*)')?(.*))");
+  std::smatch m;
+  static const std::regex overflow(R"(number overflow parsing '(.*)')");
+  if (std::regex_match(what, m, overflow)) {
+    std::string number = m[1].str();
+    if (number.size() > 24) number = number.substr(0, 24) + "… (" + std::to_string(number.size()) + " characters)";
+    return "the number " + number + " overflows a double";
+  }
+  if (!std::regex_match(what, m, parse)) return what;
+  std::string read = m[3].str();
+  if (read.size() > 40) read = read.substr(0, 40) + "…";
+  std::string rest = m[4].str();
+  if (rest.rfind("; ", 0) == 0) rest = rest.substr(2);
+  std::string detail = read.empty() ? rest : "read: '" + read + "'" + (rest.empty() ? "" : "; " + rest);
+  return m[1].str() + ": " + m[2].str() + (detail.empty() ? "" : " (" + detail + ")");
 }
 
 /// A UTF-8 byte-order mark some editors write at the start of a file.
@@ -507,6 +518,11 @@ SceneDescription parseScene(const std::string& text, const std::string& source, 
       if (!named_before.second)
         throw InvalidInput(field + ".name", "duplicate joint name '" + j.name + "' (also joints[" +
                                                 std::to_string(named_before.first->second) + "])");
+      // Bodies and joints name the CSV's columns (B.x, J.x): one namespace.
+      if (const auto body = body_index.find(j.name); body != body_index.end())
+        throw InvalidInput(field + ".name", "'" + j.name + "' is also the name of bodies[" +
+                                                std::to_string(body->second) +
+                                                "]: a body and a joint would name the same CSV columns");
       std::vector<std::pair<std::string, const std::string*>> named = {{"main", &j.main},
                                                                         {"secondary", &j.secondary}};
       if (j.isGear()) named.emplace_back("carrier", &j.carrier);

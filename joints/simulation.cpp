@@ -293,8 +293,10 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
     if (runsInJointCoordinates(integrator)) return true;
     if (why)
       *why = "'" + integrator +
-             "' is not available in joint coordinates (splitting is written for bodies in maximal coordinates; "
-             "available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi genalpha)";
+             "' is not available in joint coordinates (" +
+             (integrator == "exact" ? std::string("the exact flow is a single free body's")
+                                    : std::string("splitting is written for bodies in maximal coordinates")) +
+             "; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi genalpha)";
     return false;
   }
   if (model_->multibody) {
@@ -340,25 +342,22 @@ SimulationResult Simulation::run(const SimulationOptions& options,
                                             " (run it with --formulation maximal)");
   if (!supports(options.integrator, &why, formulation)) throw InvalidInput("--integrator", why);
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
-    throw InvalidInput("--dt", "the step must be a positive number");
+    throw InvalidInput(options.dt_source, "the step must be a positive number");
   if (!(options.t_end > 0.0) || !std::isfinite(options.t_end))
-    throw InvalidInput("--t-end", "the end time must be a positive number");
+    throw InvalidInput(options.t_end_source, "the end time must be a positive number");
   if (options.every < 1) throw InvalidInput("--every", "must be a positive integer");
-  if (options.dt > options.t_end) {
-    std::ostringstream why;
-    why << "the step " << options.dt << " is longer than the run (t_end = " << options.t_end
-        << "): give a step no longer than t_end";
-    throw InvalidInput("--dt", why.str());
-  }
+  if (options.dt > options.t_end)
+    throw InvalidInput(options.dt_source, "the step " + formatNumber(options.dt) + " is longer than the run (t_end = " +
+                                              formatNumber(options.t_end) + ", " + options.t_end_source +
+                                              "): give a step no longer than t_end");
   // The step count, checked before it is converted to an integer (t_end/dt
   // can exceed every integer type, or the run would take years).
   const double steps_needed = std::ceil(options.t_end / options.dt * (1.0 - 1e-9));
-  if (steps_needed > static_cast<double>(options.max_steps)) {
-    std::ostringstream field;
-    field << "--dt " << options.dt << " with --t-end " << options.t_end;
-    throw limitExceeded(field.str(), info->is_adaptive ? "output rows" : "steps", steps_needed,
+  if (steps_needed > static_cast<double>(options.max_steps))
+    throw limitExceeded(options.dt_source + " " + formatNumber(options.dt) + " with " + options.t_end_source + " " +
+                            formatNumber(options.t_end),
+                        info->is_adaptive ? "output rows" : "steps", steps_needed,
                         static_cast<double>(options.max_steps), "--max-steps");
-  }
   for (const auto& kv : options.integrator_options) {
     const std::string field = options.command_line_options.count(kv.first)
                                   ? "--options " + kv.first

@@ -23,6 +23,11 @@ struct SimulationOptions {
   std::string integrator;
   double dt = 0.0;
   double t_end = 0.0;
+  /// Where dt and t_end came from, for messages: the flag ("--dt", the
+  /// default), the scene's field ("arm.xml: integrator.dt", an MJCF model's
+  /// timestep), or the command that chose them ("the study's steps").
+  std::string dt_source = "--dt";
+  std::string t_end_source = "--t-end";
   /// Output every N-th step (the first and the last rows are always output).
   int every = 1;
   std::map<std::string, double> integrator_options;

@@ -12,6 +12,7 @@
 
 #include "integrators/integrate.hpp"
 #include "integrators/rigid_body_system.hpp"
+#include "joints/progress_pacer.hpp"
 #include "joints/simulation_model.hpp"
 
 namespace lieflow {
@@ -260,9 +261,6 @@ void observeInvariants(InvariantSet* set, const System& sys, const State& y, dou
   observeInvariants(set, sys, y);
 }
 
-/// Observers report progress (SimulationOptions::progress) this often.
-inline constexpr long kProgressEverySteps = 65536;
-
 /// Index of the first non-finite value of a row, or −1.
 inline long firstNonFinite(const std::vector<double>& row) {
   for (std::size_t i = 0; i < row.size(); ++i)
@@ -284,6 +282,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   drift.momentum_conserved = system.conservesAngularMomentum();
   InvariantSet invariants = model.invariants;
   RowBuilder rows{model, options.imu};
+  ProgressPacer pacer;
   std::vector<double> row;
   typename System::State last;  // the last state observed and found good
   bool have_last = false;       // none when the run failed at its first state
@@ -303,7 +302,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   };
   auto observer = [&](long k, double t, const typename System::State& y) {
     last_written = false;
-    if (options.progress && k > 0 && k % kProgressEverySteps == 0) options.progress(t, k);
+    if (options.progress && pacer.due(k)) options.progress(t, k);
     if (options.diagnostics) {
       drift.observe(system, k, t, y);
       observeInvariants(&invariants, system, y, t);

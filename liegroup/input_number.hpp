@@ -25,11 +25,29 @@ constexpr double kMaxInputMagnitude = 1e30;
 /// Why `x` is not a usable input number ("is not a finite number", "1e+200
 /// is beyond ±1e+30 ..."), or an empty string when it is.
 inline std::string inputNumberProblem(double x) {
-  if (!std::isfinite(x)) return "is not a finite number (" + formatNumber(x) + ")";
+  if (std::isnan(x)) return "is not a finite number (nan)";
+  if (std::isinf(x)) return std::string("is not a finite number (") + (x > 0 ? "inf" : "-inf") + ")";
   if (std::abs(x) > kMaxInputMagnitude)
     return formatNumber(x) + " is beyond ±" + formatNumber(kMaxInputMagnitude) +
            ", the largest magnitude lieflow reads (products of such numbers, an energy ½kφ² or an inertia m r², "
            "would overflow double precision)";
+  return std::string();
+}
+
+/// The smallest value a quantity that must be positive may have: the
+/// reciprocal of kMaxInputMagnitude, so that its inverse (a body's inverse
+/// mass and inertia, a frequency) stays within it. A mass of 5e-324 kg once
+/// passed as positive and made the constraint solve divide by zero.
+constexpr double kMinPositiveInput = 1.0 / kMaxInputMagnitude;
+
+/// Why `x` is not a usable positive input number, or an empty string.
+inline std::string positiveInputProblem(double x) {
+  if (std::string problem = inputNumberProblem(x); !problem.empty()) return problem;
+  if (!(x > 0.0)) return "must be positive, got " + formatNumber(x);
+  if (x < kMinPositiveInput)
+    return formatNumber(x) + " is below " + formatNumber(kMinPositiveInput) +
+           ", the smallest positive value lieflow reads (its reciprocal would exceed ±" +
+           formatNumber(kMaxInputMagnitude) + ")";
   return std::string();
 }
 

@@ -84,9 +84,14 @@ Eigen::VectorXd finiteAnswer(const PyFunction& fn, const py::object& answer, int
                                                                                     " finite numbers") +
                                      ", each within ±" + formatNumber(kMaxInputMagnitude) + ")");
   };
+  // Real numbers only: a string ("123"), a bool or a complex number is not a
+  // moment, although NumPy would cast each to a double.
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
-    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
+    const py::array raw = py::array::ensure(answer);
+    const char kind = raw ? raw.dtype().kind() : 'O';
+    if (kind == 'i' || kind == 'u' || kind == 'f')
+      a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(answer);
   } catch (const py::error_already_set&) {
     a = {};
   }

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <deque>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -33,6 +35,25 @@ const std::vector<std::string>& mjcfTextAttributes() {
       "filefront", "fileback", "content_type", "type", "objtype", "reftype", "key"};
   return kText;
 }
+
+/// The largest sizes an MJCF may ask MuJoCo to allocate, checked before it
+/// does (beyond, mj_makeData ran out of memory or threw std::bad_alloc):
+/// counts of <size> (8 bytes or more each: nstack 10⁸ is 800 MB), keyframes
+/// (each holds qpos, qvel, act), user data per element, and the texels and
+/// height-field samples of generated textures and height fields.
+struct SizeLimit {
+  const char* tag;
+  const char* attribute;
+  double most;
+};
+constexpr SizeLimit kSizeLimits[] = {
+    {"size", "nstack", 1e8},       {"size", "nuserdata", 1e8},    {"size", "njmax", 1e7},
+    {"size", "nconmax", 1e7},      {"size", "nkey", 1e5},         {"size", "memory", 1e10},
+    {"size", "nuser_body", 1e3},   {"size", "nuser_jnt", 1e3},    {"size", "nuser_geom", 1e3},
+    {"size", "nuser_site", 1e3},   {"size", "nuser_cam", 1e3},    {"size", "nuser_tendon", 1e3},
+    {"size", "nuser_actuator", 1e3}, {"size", "nuser_sensor", 1e3}, {"texture", "width", 1e4},
+    {"texture", "height", 1e4},    {"hfield", "nrow", 1e4},       {"hfield", "ncol", 1e4},
+};
 
 /// Below this norm a `quat` attribute is refused.
 constexpr double kMinQuaternionNorm = 1e-6;
@@ -76,7 +97,10 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
   std::string meshdir, texturedir;
   std::set<std::string> seen{path};
   std::set<std::string> assets;
-  std::deque<std::pair<std::string, std::string>> files{{path, text}};
+  struct File {
+    std::string path, text, included_by;  ///< included_by: "model.xml: include (line 2)", or empty
+  };
+  std::deque<File> files{{path, text, ""}};
   out.bytes = text.size();
   const auto over_budget = [&](const std::string& where, std::uint64_t bytes) {
     return limitExceeded(where, "bytes of model files (this file and those it includes or names)",
@@ -84,10 +108,18 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
                          "--max-input-mb");
   };
   while (!files.empty()) {
-    const auto [file, contents] = files.front();
+    const File current = files.front();
     files.pop_front();
+    const std::string& file = current.path;
     ++out.files;
-    const XmlLines xml(contents, file);
+    std::optional<XmlLines> parsed;
+    try {
+      parsed.emplace(current.text, file);
+    } catch (const InvalidInput& e) {
+      if (current.included_by.empty()) throw;
+      throw InvalidInput(current.included_by, "the included file " + std::string(e.what()));
+    }
+    const XmlLines& xml = *parsed;
     xml.requireUsableNumbers(file, mjcfTextAttributes());
     for (const tinyxml2::XMLElement* e : xml.elements()) {
       const std::string tag = e->Name();
@@ -98,6 +130,16 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
         if (const char* d = e->Attribute("texturedir")) texturedir = d;
       }
       const std::string where = file + ": " + XmlLines::label(e);
+      for (const SizeLimit& limit : kSizeLimits) {
+        if (tag != limit.tag) continue;
+        const char* value = e->Attribute(limit.attribute);
+        if (!value) continue;
+        const double asked = std::strtod(value, nullptr);
+        if (asked > limit.most)
+          throw InvalidInput(where + ", attribute " + limit.attribute,
+                             formatNumber(asked) + " is more than lieflow lets MuJoCo allocate (" +
+                                 formatNumber(limit.most) + "); the model's data would not fit in memory");
+      }
       if (const char* quat = e->Attribute("quat")) {
         // MuJoCo normalizes a quaternion; one of (near) zero norm would
         // silently become the identity.
@@ -127,7 +169,7 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
                                              : ""));
         }
         out.bytes += t.size();
-        files.emplace_back(included, std::move(t));
+        files.push_back({included, std::move(t), where});
         continue;
       }
       for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {

@@ -11,7 +11,10 @@
 #include <mujoco/mujoco.h>
 #include <tinyxml2.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -117,24 +120,74 @@ void MujocoMessageGuard::keep(const char* text) {
   warnings_ += (warnings_.empty() ? "" : "; ") + line;
 }
 
-MjcfData makeMjcfData(const mjModel_* m, const std::string& path) {
-  try {
-    const MujocoMessageGuard guard;
-    return MjcfData(mj_makeData(m));
-  } catch (const MujocoError& e) {
-    throw InvalidInput(path, std::string("MuJoCo cannot make this model's data: ") + e.what());
-  }
-}
-
 namespace {
+
+/// Standard error (file descriptor 2) kept in a temporary file while it
+/// lives, then restored; text() reads what was written.
+class CapturedStderr {
+ public:
+  CapturedStderr() : file_(std::tmpfile()) {
+    std::fflush(stderr);
+    saved_ = file_ ? ::dup(2) : -1;
+    if (saved_ >= 0) ::dup2(::fileno(file_), 2);
+  }
+  ~CapturedStderr() {
+    if (saved_ >= 0) {
+      std::fflush(stderr);
+      ::dup2(saved_, 2);
+      ::close(saved_);
+    }
+    if (file_) std::fclose(file_);
+  }
+  CapturedStderr(const CapturedStderr&) = delete;
+  CapturedStderr& operator=(const CapturedStderr&) = delete;
+  std::string text() const {
+    if (!file_) return "";
+    std::fflush(stderr);
+    std::string out;
+    std::rewind(file_);
+    char buffer[4096];
+    for (std::size_t got; (got = std::fread(buffer, 1, sizeof buffer, file_)) > 0 && out.size() < (1u << 20);)
+      out.append(buffer, got);
+    return out;
+  }
+
+ private:
+  std::FILE* file_;
+  int saved_ = -1;
+};
 
 /// MuJoCo's compiler messages as one sentence that names the line:
 /// "XML Error: REASON\nElement 'joint', line 27" and "Error: REASON\nObject
 /// name = NAME, id = 3, line = 15, column = -1" become "line 27, <joint>:
 /// REASON" and "line 15, 'NAME': REASON"; MuJoCo's constant names (mjMINVAL)
 /// are given with their values.
-std::string compilerMessage(const std::string& raw) {
-  std::string first = raw.substr(0, raw.find('\n'));
+std::string compilerMessage(const std::string& raw, const std::string& printed) {
+  // MuJoCo's engine errors name its own resources.
+  if (raw.find("Stack overflow") != std::string::npos)
+    return "MuJoCo's stack overflowed while compiling: the model needs more than its <size nstack> (or "
+           "memory) gives; raise it in the model, or give it fewer bodies";
+  if (raw.find("Could not allocate memory") != std::string::npos || raw.find("could not create mjData") != std::string::npos)
+    return "MuJoCo could not allocate the memory the model asks for (its <size>, textures, height fields or meshes)";
+  // A helper's own output (qhull's) says what it could not do: its first line.
+  std::string helper;
+  for (std::size_t at = 0; at < printed.size() && helper.empty();) {
+    const std::size_t end = std::min(printed.find('\n', at), printed.size());
+    const std::string line = printed.substr(at, end - at);
+    if (line.find_first_not_of(" \t") != std::string::npos) helper = line;
+    at = end + 1;
+  }
+  const std::string also = helper.empty() ? "" : " (it printed: " + helper.substr(0, 200) + ")";
+  // The reason: every line before MuJoCo's "Element ..." or "Object name ..."
+  // line, joined (a reason can run over lines).
+  std::string first;
+  for (std::size_t at = 0; at < raw.size();) {
+    const std::size_t end = std::min(raw.find('\n', at), raw.size());
+    const std::string line = raw.substr(at, end - at);
+    if (line.rfind("Element '", 0) == 0 || line.rfind("Object name", 0) == 0) break;
+    if (!line.empty()) first += (first.empty() ? "" : " ") + line;
+    at = end + 1;
+  }
   for (const char* prefix : {"XML Error: ", "Error: "})
     if (first.compare(0, std::strlen(prefix), prefix) == 0) first = first.substr(std::strlen(prefix));
   for (const auto& [name, value] : {std::pair<std::string, std::string>{"mjMINVAL", "1e-15"}, {"mjMAXVAL", "1e10"}})
@@ -143,32 +196,57 @@ std::string compilerMessage(const std::string& raw) {
   std::smatch m;
   static const std::regex element(R"(Element '([^']*)', line (\d+))");
   static const std::regex object(R"(Object name = ([^,]*), id = (-?\d+), line = (-?\d+))");
-  if (std::regex_search(raw, m, element)) return "line " + m[2].str() + ", <" + m[1].str() + ">: " + first;
+  if (std::regex_search(raw, m, element))
+    return (m[2].str() != "0" ? "line " + m[2].str() + ", " : std::string()) + "<" + m[1].str() + ">: " + first + also;
   if (std::regex_search(raw, m, object)) {
     const std::string who = m[1].str().empty() ? "element " + m[2].str() : "'" + m[1].str() + "'";
-    return (std::stoi(m[3].str()) > 0 ? "line " + m[3].str() + ", " : std::string()) + who + ": " + first;
+    return (std::stoi(m[3].str()) > 0 ? "line " + m[3].str() + ", " : std::string()) + who + ": " + first + also;
   }
   std::string one_line = raw;
   for (char& c : one_line)
     if (c == '\n') c = ' ';
   while (!one_line.empty() && one_line.back() == ' ') one_line.pop_back();
-  return one_line;
+  return one_line + also;
 }
 
 }  // namespace
 
+MjcfData makeMjcfData(const mjModel_* m, const std::string& path) {
+  try {
+    const MujocoMessageGuard guard;
+    return MjcfData(mj_makeData(m));
+  } catch (const MujocoError& e) {
+    throw InvalidInput(path, "MuJoCo cannot make this model's data: " + compilerMessage(e.what(), ""));
+  } catch (const std::bad_alloc&) {
+    throw InvalidInput(path, "MuJoCo cannot make this model's data: it asks for more memory than this machine gives");
+  }
+}
+
 MjcfModel compileMjcf(const std::string& path) {
   char error[1024] = "";
   MjcfModel m;
-  std::string warnings;
+  std::string warnings, printed;
   try {
     const MujocoMessageGuard guard;
-    m.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+    // Parts of the compiler print to stderr themselves (qhull, building a
+    // mesh's convex hull): kept, and given with the error if it fails.
+    const CapturedStderr capture;
+    try {
+      m.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+    } catch (...) {
+      printed = capture.text();
+      throw;
+    }
+    printed = capture.text();
     warnings = guard.warnings();
   } catch (const MujocoError& e) {
-    throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(e.what()));
+    throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(e.what(), printed));
+  } catch (const std::bad_alloc&) {
+    throw InvalidInput(path, "MuJoCo's compiler ran out of memory: the model asks for more than this machine gives "
+                             "(its <size>, textures, height fields or meshes)");
   }
-  if (!m) throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(*error ? error : warnings));
+  if (!m)
+    throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(*error ? error : warnings, printed));
   return m;
 }
 
@@ -213,6 +291,10 @@ void switchOffIgnored(mjModel* m, const ModelImportOptions& options) {
   if (options.ignores("equalities"))
     for (int e = 0; e < m->neq; ++e)
       if (!representedEquality(m, e)) m->eq_active[e] = 0;
+  if (options.ignores("fluid")) {
+    m->opt.density = m->opt.viscosity = 0.0;
+    for (int i = 0; i < 3; ++i) m->opt.wind[i] = 0.0;
+  }
 }
 
 namespace {
@@ -242,6 +324,39 @@ double closureGap(const mjData* d0, const mjData* d, int b1, int b2, const Eigen
 }  // namespace
 
 namespace {
+
+/// Lines of the model file's bodies, joints, geoms and equalities in
+/// document order, which is MuJoCo's numbering of them: the line of an
+/// unnamed element by its id, when the file holds as many as the model
+/// (an <include> or a <composite> adds elements the main file does not show).
+class ElementLines {
+ public:
+  explicit ElementLines(const XmlLines& xml) {
+    for (const tinyxml2::XMLElement* e : xml.elements()) {
+      const std::string tag = e->Name();
+      const tinyxml2::XMLElement* up = e->Parent() ? e->Parent()->ToElement() : nullptr;
+      if (tag == "body") bodies_.push_back(e->GetLineNum());
+      if (tag == "joint" || tag == "freejoint") joints_.push_back(e->GetLineNum());
+      if (tag == "geom") geoms_.push_back(e->GetLineNum());
+      if (up && std::string(up->Name()) == "equality") equalities_.push_back(e->GetLineNum());
+    }
+  }
+  int line(const mjModel* m, int type, int id) const {
+    const auto at = [](const std::vector<int>& lines, int count, int k) {
+      return static_cast<int>(lines.size()) == count && k >= 0 && k < count ? lines[static_cast<std::size_t>(k)] : 0;
+    };
+    switch (type) {
+      case mjOBJ_BODY: return at(bodies_, m->nbody - 1, id - 1);  // body 0 is the world
+      case mjOBJ_JOINT: return at(joints_, m->njnt, id);
+      case mjOBJ_GEOM: return at(geoms_, m->ngeom, id);
+      case mjOBJ_EQUALITY: return at(equalities_, m->neq, id);
+      default: return 0;
+    }
+  }
+
+ private:
+  std::vector<int> bodies_, joints_, geoms_, equalities_;
+};
 
 /// Below this norm a quaternion in a keyframe's qpos is refused: MuJoCo
 /// would turn it silently into the identity.
@@ -321,11 +436,23 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     const std::string file = path.substr(path.find_last_of('/') + 1);
     model.name = file.substr(0, file.find_last_of('.'));
   }
-  model.gravity = vec3(m->opt.gravity);
+  // MuJoCo's own switches, taken as MuJoCo takes them: gravity and the
+  // joints' springs and dashpots (passive forces) can be off, and so can the
+  // equality constraints (alone, or with every constraint).
+  const int off = m->opt.disableflags;
+  const bool passive = !(off & mjDSBL_PASSIVE);
+  const bool equalities = !(off & mjDSBL_EQUALITY) && !(off & mjDSBL_CONSTRAINT);
+  model.gravity = off & mjDSBL_GRAVITY ? Eigen::Vector3d::Zero() : vec3(m->opt.gravity);
   model.timestep = m->opt.timestep;
+  // An element's line: by its name, or for an unnamed one by its place
+  // among the file's elements of its kind (MuJoCo numbers bodies, joints,
+  // geoms and equalities in document order), when the file holds them all.
+  const ElementLines unnamed(xml);
   auto line = [&](const char* tag, int type, int id) {
     const char* n = mj_id2name(m.get(), type, id);
-    return n ? xml.line(tag, n) : 0;
+    // (Equalities are <connect>, <weld>, <joint> ... elements: by place.)
+    if (n && *n && type != mjOBJ_EQUALITY) return xml.line(tag, n);
+    return unnamed.line(m.get(), type, id);
   };
   auto label = [&](const char* tag, int type, int id) {
     return elementLabel(tag, nameOf(m.get(), type, id, tag), line(tag, type, id));
@@ -352,6 +479,12 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   for (int t = 0; t < m->ntendon; ++t) unsupported.add("tendons", label("tendon", mjOBJ_TENDON, t));
   for (int e = 0; e < m->neq; ++e)
     if (!representedEquality(m.get(), e)) unsupported.add("equalities", label("equality", mjOBJ_EQUALITY, e));
+  // The medium's forces (lift, drag and buoyancy from density, viscosity and
+  // wind), which lieflow has no model of.
+  if (m->opt.density != 0.0 || m->opt.viscosity != 0.0 || vec3(m->opt.wind).squaredNorm() != 0.0)
+    unsupported.add("fluid", "option (line " + std::to_string(xml.firstLine("option")) + "): density " +
+                                 formatNumber(m->opt.density) + ", viscosity " + formatNumber(m->opt.viscosity) +
+                                 ", wind " + formatNumbers(vec3(m->opt.wind)));
   unsupported.resolve(options, &model);
 
   // Links: every body but the world (body 0), at qpos0.
@@ -401,9 +534,9 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     auto coordinate = [&](int j, int i) {
       const int q = m->jnt_qposadr[j];
       mj.initial[i] = d->qpos[q];
-      mj.stiffness[i] = m->jnt_stiffness[j];
+      mj.stiffness[i] = passive ? m->jnt_stiffness[j] : 0.0;
       mj.rest[i] = m->qpos_spring[q];
-      mj.damping[i] = m->dof_damping[m->jnt_dofadr[j]];
+      mj.damping[i] = passive ? m->dof_damping[m->jnt_dofadr[j]] : 0.0;
     };
     const int type = m->jnt_type[j0];
     if (count == 1) {
@@ -466,7 +599,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
   }
 
   // Equality constraints: connect → spherical, weld → fixed, joint → coupling.
-  for (int e = 0; e < m->neq; ++e) {
+  for (int e = 0; e < m->neq && equalities; ++e) {
     if (!m->eq_active[e]) continue;
     const int type = m->eq_type[e];
     const mjtNum* c = m->eq_data + e * mjNEQDATA;

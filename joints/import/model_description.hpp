@@ -99,7 +99,7 @@ struct ModelDescription {
   std::vector<ModelCoupling> couplings;
   std::vector<ModelClosure> closures;
   /// What the reader left out because the user allowed it (--ignore), one
-  /// line each ("contacts: geom 'floor' (line 12)").
+  /// line each ("ignored contacts: geom 'floor' (line 12)").
   std::vector<std::string> ignored;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include "joints/import/model_readers.hpp"
@@ -21,6 +22,36 @@ bool endsWith(const std::string& s, const std::string& suffix) {
                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
+/// A scene reader's field for an imported scene ("arm.urdf: bodies[1].inertia")
+/// as the model element it came from ("arm.urdf: link 'arm' (line 3), as the
+/// scene's bodies[1].inertia"): the scene is lieflow's, the file the user's.
+std::string modelElementOf(const model_import::ModelDescription& model, const SceneDescription& scene,
+                           const std::string& field) {
+  static const std::regex indexed(R"((bodies|joints)\[(\d+)\])");
+  std::smatch m;
+  if (!std::regex_search(field, m, indexed)) return field;
+  const std::size_t k = std::stoul(m[2].str());
+  const bool body = m[1].str() == "bodies";
+  if (k >= (body ? scene.bodies.size() : scene.joints.size())) return field;
+  const std::string& name = body ? scene.bodies[k].name : scene.joints[k].name;
+  std::string element = (body ? "link '" : "joint '") + name + "'";
+  const auto label = [&](const char* kind, int line) {
+    element = model_import::elementLabel(kind, name, line);
+  };
+  if (body) {
+    for (const auto& l : model.links)
+      if (l.name == name) label("link", l.line);
+  } else {
+    for (const auto& j : model.joints)
+      if (j.name == name) label("joint", j.line);
+    for (const auto& c : model.closures)
+      if (c.name == name) label("equality", c.line);
+    for (const auto& c : model.couplings)
+      if (c.name == name) label("coupling", c.line);
+  }
+  return model.source + ": " + element + ", as the scene's " + field.substr(static_cast<std::size_t>(m.position(0)));
+}
+
 }  // namespace
 
 namespace model_import {
@@ -29,7 +60,7 @@ void UnsupportedFeatures::resolve(const ModelImportOptions& options, ModelDescri
   std::map<std::string, std::vector<std::string>> refused;
   for (const Item& i : items_) {
     if (options.ignores(i.category))
-      model->ignored.push_back(i.category + ": " + i.element);
+      model->ignored.push_back("ignored " + i.category + ": " + i.element);
     else
       refused[i.category].push_back(i.element);
   }
@@ -59,6 +90,7 @@ const std::vector<std::pair<std::string, std::string>>& ignorableFeatures() {
       {"armature", "rotor inertia added to a joint coordinate (MJCF armature)"},
       {"tendons", "MJCF tendons"},
       {"equalities", "MJCF equality constraints other than connect, weld and linear joint couplings"},
+      {"fluid", "MJCF forces of the medium (<option density, viscosity, wind>: lift, drag, buoyancy)"},
   };
   return kFeatures;
 }
@@ -102,9 +134,13 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
   // Through the scene file's reader, so that an imported model passes every
   // check a scene file does and `lieflow import` writes what runs.
   const SceneDescription built = model_import::sceneFromModel(model);
-  SceneDescription scene = parseScene(sceneToJson(built), path, limits.max_bodies);
-  scene.import_notes = built.import_notes;
-  return scene;
+  try {
+    SceneDescription scene = parseScene(sceneToJson(built), path, limits.max_bodies);
+    scene.import_notes = built.import_notes;
+    return scene;
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(modelElementOf(model, built, e.field()), e.reason());
+  }
 }
 
 }  // namespace lieflow

@@ -192,7 +192,7 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I_body).eigenvalues();
     if (!(ev.minCoeff() > kInertiaConditionFloor * ev.maxCoeff()) || !(ev.maxCoeff() > 0.0)) {
       std::ostringstream why;
-      why << "has a singular inertia (principal moments " << ev.transpose() << " kg m² about its centre of mass"
+      why << "has a singular inertia (principal moments " << formatNumbers(ev) << " kg m² about its centre of mass"
           << (members.size() > 1 ? ", welded links: " + names : std::string()) << "): give it an <inertia>";
       throw fail(elementLabel("link", r.name, r.line), why.str());
     }
@@ -322,6 +322,23 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     d.axes_secondary = axes(jf.axis_secondary);
     scene.joints.push_back(d);
   }
+  // Models name links and joints apart (a URDF's link 'base' and joint
+  // 'base', MJCF's body 's' and slide 's'); a scene's bodies and joints name
+  // its CSV columns together (s.x would be the body's and the slide's).
+  std::set<std::string> taken;
+  for (const BodyDescription& b : scene.bodies) taken.insert(b.name);
+  for (const JointDescription& j : scene.joints) taken.insert(j.name);
+  std::set<std::string> bodies;
+  for (const BodyDescription& b : scene.bodies) bodies.insert(b.name);
+  for (JointDescription& j : scene.joints) {
+    if (!bodies.count(j.name)) continue;
+    std::string name = j.name + "_joint";
+    for (int k = 2; taken.count(name); ++k) name = j.name + "_joint" + std::to_string(k);
+    scene.import_notes.push_back("renamed joint '" + j.name + "' to '" + name +
+                                 "' (a body has its name, and they would name the same CSV columns)");
+    taken.insert(name);
+    j.name = name;
+  }
   if (model.timestep > 0.0) {
     scene.has_integrator = true;
     scene.integrator.name = "rkmk4";
@@ -331,7 +348,7 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
   text << "imported from " << model.source;
   if (!model.ignored.empty()) text << " (ignored: " << model.ignored.size() << " elements)";
   scene.description = text.str();
-  scene.import_notes = model.ignored;
+  scene.import_notes.insert(scene.import_notes.begin(), model.ignored.begin(), model.ignored.end());
   return scene;
 }
 

@@ -13,8 +13,10 @@
 #include <sstream>
 #include <vector>
 
+#include "integrators/integrate.hpp"
 #include "joints/import/mjcf_model.hpp"
 #include "joints/invariants.hpp"
+#include "joints/progress_pacer.hpp"
 #endif
 
 namespace lieflow {
@@ -48,9 +50,6 @@ MujocoPeerRun MujocoPeer::run(const std::string&, double, double, bool, long, co
 #else
 
 namespace {
-
-/// Heartbeats (MujocoPeer::run) this often, as lieflow's own runs report progress.
-constexpr long kHeartbeatSteps = 65536;
 
 using model_import::mjMat3;
 using model_import::mjVec3;
@@ -171,7 +170,11 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
   d->time = 0.0;
 
   MujocoPeerRun run;
-  const long steps = std::max(1L, std::lround(t_end / h));
+  // The steps lieflow takes (integrate.hpp): the last one shortened to land
+  // on t_end when t_end is not a multiple of h, so both engines are compared
+  // at the same time.
+  const long steps = std::max(1L, stepCount(0.0, t_end, h));
+  const auto time_at = [&](long k) { return k == steps ? t_end : static_cast<double>(k) * h; };
   every = std::max(1L, every);
   Measured first;
   DissipatedWork dissipated;
@@ -179,7 +182,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     mj_forward(m, d.get());
     const Measured now = measure(m, d.get());
     if (k == 0) first = now;
-    dissipated.add(k * h, now.power);
+    dissipated.add(time_at(k), now.power);
     const double work = dissipated.value();
     const double scale = std::abs(first.energy);
     run.energy_drift = std::max(run.energy_drift, relativeDrift(std::abs(now.energy - first.energy), scale));
@@ -188,7 +191,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     run.momentum_drift = std::max(run.momentum_drift, relativeDrift((now.L - first.L).norm(), first.L.norm()));
     run.com_momentum_drift =
         std::max(run.com_momentum_drift, relativeDrift((now.L_com - first.L_com).norm(), first.L_com.norm()));
-    if (k % every == 0 || k == steps) run.samples.push_back({k * h, now.energy, work, now.L, now.L_com});
+    if (k % every == 0 || k == steps) run.samples.push_back({time_at(k), now.energy, work, now.L, now.L_com});
   };
   const auto failed = [&](long k) {
     std::string what = nonFinite(m, d.get());
@@ -198,19 +201,21 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
       why << "MuJoCo's state " << what << " became non-finite";
     else
       why << "MuJoCo found a bad acceleration and reset the simulation";
-    why << " by t = " << k * h << " (step " << k << ")";
+    why << " by t = " << time_at(k) << " (step " << k << ")";
     run.failed = true;
     run.failure = why.str();
     return true;
   };
 
   if (observe) sample(0);
+  ProgressPacer pacer;
   const auto start = std::chrono::steady_clock::now();
   long k = 0;
   while (k < steps) {
+    if (k + 1 == steps) m->opt.timestep = t_end - static_cast<double>(k) * h;  // h unless shortened
     mj_step(m, d.get());
     ++k;
-    if (heartbeat && k % kHeartbeatSteps == 0) heartbeat();
+    if (heartbeat && pacer.due(k)) heartbeat();
     if (observe) {
       if (failed(k)) break;
       sample(k);

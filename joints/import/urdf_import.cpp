@@ -12,7 +12,9 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <cstdlib>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include "joints/import/model_to_scene.hpp"
@@ -93,6 +95,53 @@ void listUnsupported(const XmlLines& xml, const std::string& path, UnsupportedFe
   }
 }
 
+/// The URDF attributes that hold numbers, by element, and how many: urdfdom
+/// reads them with a stream that takes decimal numbers only, and refuses a
+/// file with a wrong count or a word (or hex) there with a message that names
+/// no line ("joint xml is not initialized correctly").
+struct NumericAttribute {
+  const char* tag;
+  const char* attribute;
+  int count;
+};
+constexpr NumericAttribute kUrdfNumbers[] = {
+    {"origin", "xyz", 3},    {"origin", "rpy", 3},         {"axis", "xyz", 3},        {"mass", "value", 1},
+    {"inertia", "ixx", 1},   {"inertia", "ixy", 1},        {"inertia", "ixz", 1},     {"inertia", "iyy", 1},
+    {"inertia", "iyz", 1},   {"inertia", "izz", 1},        {"limit", "lower", 1},     {"limit", "upper", 1},
+    {"limit", "effort", 1},  {"limit", "velocity", 1},     {"dynamics", "damping", 1}, {"dynamics", "friction", 1},
+    {"mimic", "multiplier", 1}, {"mimic", "offset", 1},    {"box", "size", 3},        {"cylinder", "radius", 1},
+    {"cylinder", "length", 1}, {"sphere", "radius", 1},    {"mesh", "scale", 3},      {"color", "rgba", 4},
+    {"safety_controller", "soft_lower_limit", 1}, {"safety_controller", "soft_upper_limit", 1},
+    {"safety_controller", "k_position", 1}, {"safety_controller", "k_velocity", 1},
+    {"calibration", "rising", 1}, {"calibration", "falling", 1},
+};
+
+/// Each numeric attribute holds its count of decimal numbers (their values
+/// are checked by XmlLines::requireUsableNumbers). Throws InvalidInput naming
+/// the element, its line and the attribute.
+void requireNumberFormats(const XmlLines& xml, const std::string& path) {
+  for (const tinyxml2::XMLElement* e : xml.elements())
+    for (const NumericAttribute& n : kUrdfNumbers) {
+      if (std::string(e->Name()) != n.tag) continue;
+      const char* value = e->Attribute(n.attribute);
+      if (!value) continue;
+      std::istringstream tokens(value);
+      std::string token;
+      int count = 0;
+      bool numbers = true;
+      while (tokens >> token) {
+        ++count;
+        char* end = nullptr;
+        std::strtod(token.c_str(), &end);
+        numbers = numbers && end == token.c_str() + token.size() && token.find_first_of("xXnN") == std::string::npos;
+      }
+      if (!numbers || count != n.count)
+        throw InvalidInput(path + ": " + XmlLines::label(e) + ", attribute " + n.attribute,
+                           "expected " + std::to_string(n.count) + (n.count == 1 ? " decimal number" : " decimal numbers") +
+                               ", got '" + std::string(value).substr(0, 60) + "'");
+    }
+}
+
 /// A URDF is a tree: every link but the root is the child of exactly one
 /// joint, no joint joins a link to itself, and every link hangs from the one
 /// root. Checked on the file's elements, before urdfdom reads it: urdfdom
@@ -111,21 +160,53 @@ void requireTree(const XmlLines& xml, const std::string& path) {
   std::map<std::string, int> links;  // name → line
   for (const tinyxml2::XMLElement* e : xml.elements()) {
     const tinyxml2::XMLElement* up = e->Parent() ? e->Parent()->ToElement() : nullptr;
-    if (!up || std::string(up->Name()) != "robot" || !e->Attribute("name")) continue;
+    if (!up || std::string(up->Name()) != "robot") continue;
     const std::string tag = e->Name();
-    if (tag == "link") links.emplace(e->Attribute("name"), e->GetLineNum());
-    if (tag != "joint") continue;
+    if (tag != "link" && tag != "joint") continue;
+    const char* name = e->Attribute("name");
+    if (!name || !*name) throw InvalidInput(path + ": " + tag + " (line " + std::to_string(e->GetLineNum()) + ")",
+                                            "has no name");
+    const std::string here = elementLabel(tag, name, e->GetLineNum());
+    if (tag == "link") {
+      const auto [it, first] = links.emplace(name, e->GetLineNum());
+      if (!first)
+        throw InvalidInput(path + ": " + here, "a link of this name is on line " + std::to_string(it->second) +
+                                                    " too: each link's name is its own");
+      continue;
+    }
     Joint j;
     j.line = e->GetLineNum();
-    const auto attribute = [&](const char* child, const char* name) {
+    const auto attribute = [&](const char* child, const char* attr) {
       const tinyxml2::XMLElement* c = e->FirstChildElement(child);
-      return c && c->Attribute(name) ? std::string(c->Attribute(name)) : std::string();
+      return c && c->Attribute(attr) ? std::string(c->Attribute(attr)) : std::string();
     };
     j.parent = attribute("parent", "link");
     j.child = attribute("child", "link");
     j.mimic = attribute("mimic", "joint");
-    joints.emplace(e->Attribute("name"), j);
+    if (j.parent.empty() || j.child.empty())
+      throw InvalidInput(path + ": " + here, std::string("needs <parent link=\"...\"/> and <child link=\"...\"/>"));
+    const char* type = e->Attribute("type");
+    static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic", "fixed", "floating",
+                                                 "planar"};
+    if (!type || !kTypes.count(type))
+      throw InvalidInput(path + ": " + here + ", attribute type",
+                         std::string(type ? "'" + std::string(type) + "' is not a URDF joint type" : "missing") +
+                             " (revolute, continuous, prismatic, fixed, floating, planar)");
+    if ((std::string(type) == "revolute" || std::string(type) == "prismatic") && !e->FirstChildElement("limit"))
+      throw InvalidInput(path + ": " + here,
+                         std::string("a ") + type + " joint needs <limit effort=\"...\" velocity=\"...\"/> (URDF "
+                                                    "requires it; use type continuous for a joint without limits)");
+    const auto [it, first] = joints.emplace(name, j);
+    if (!first)
+      throw InvalidInput(path + ": " + here, "a joint of this name is on line " + std::to_string(it->second.line) +
+                                                  " too: each joint's name is its own");
   }
+  if (links.empty()) throw InvalidInput(path, "the robot has no <link>");
+  for (const auto& [name, j] : joints)
+    for (const std::string* l : {&j.parent, &j.child})
+      if (!links.count(*l))
+        throw InvalidInput(path + ": " + elementLabel("joint", name, j.line),
+                           "names link '" + *l + "', which the robot does not have");
   const auto joint = [&](const std::string& name) { return elementLabel("joint", name, joints.at(name).line); };
   const auto link = [&](const std::string& name) {
     const auto it = links.find(name);
@@ -183,12 +264,17 @@ void requireTree(const XmlLines& xml, const std::string& path) {
 }  // namespace
 
 ModelDescription readUrdf(const std::string& text, const std::string& path, const ModelImportOptions& options) {
+  // Entities a DTD defines are not expanded by the XML readers (and a file
+  // of nested ones grows without bound where they are): URDF has none.
+  if (text.find("<!ENTITY") != std::string::npos)
+    throw InvalidInput(path, "declares XML entities (<!ENTITY ...>): URDF files have none, and they are not read");
   const XmlLines xml(text, path);
   if (xml.rootTag() != "robot")
     throw InvalidInput(path, "a URDF file's root element is <robot>, not <" + xml.rootTag() + ">");
   // Every number where it is written, before urdfdom reads (and, for some
   // attributes, silently zeroes) it: names, links and file names aside.
   xml.requireUsableNumbers(path, {"name", "link", "joint", "filename", "type", "version"});
+  requireNumberFormats(xml, path);
   requireTree(xml, path);
   ModelDescription model;
   model.source = path;

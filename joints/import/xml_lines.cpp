@@ -72,6 +72,12 @@ int XmlLines::line(const std::string& tag, const std::string& name) const {
   return it == lines_.end() ? 0 : it->second;
 }
 
+int XmlLines::firstLine(const std::string& tag) const {
+  for (const tinyxml2::XMLElement* e : elements_)
+    if (tag == e->Name()) return e->GetLineNum();
+  return 0;
+}
+
 std::string XmlLines::rootTag() const {
   const tinyxml2::XMLElement* root = doc_->xml.RootElement();
   return root ? root->Name() : "";

@@ -27,6 +27,8 @@ class XmlLines {
 
   /// The line of the first element <tag name="NAME">, or 0.
   int line(const std::string& tag, const std::string& name) const;
+  /// The line of the first element <tag>, or 0.
+  int firstLine(const std::string& tag) const;
 
   /// Every element (depth first, document order); see tinyxml2::XMLElement.
   const std::vector<const tinyxml2::XMLElement*>& elements() const { return elements_; }

@@ -1,4 +1,5 @@
 #include "joints/multibody/constrained_acceleration.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace multibody {
@@ -161,7 +162,7 @@ bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const Mul
       return fail(st.row, "gives a non-finite J M⁻¹ Jᵀ");
     std::ostringstream why;
     why << "is redundant or conflicting with other constraints (singular J M⁻¹ Jᵀ: pivot "
-        << st.pivot << " vs diagonal " << st.diagonal << ")";
+        << formatNumber(st.pivot) << " vs diagonal " << formatNumber(st.diagonal) << ")";
     return fail(st.row, why.str());
   }
   out.factor_nonzeros = schur_.factorNonzeros();

@@ -1,6 +1,7 @@
 // MultibodySystem: applied forces, the constraint rows into the Schur solver,
 // its factorization (and reuse) and the constrained accelerations.
 #include "joints/multibody/multibody_system.hpp"
+#include "liegroup/number_text.hpp"
 
 #include <cmath>
 #include <limits>
@@ -174,8 +175,8 @@ bool MultibodySystem::factorConstraints(double t, const State& y, RowSet set, st
         << prescribed_[g - nj].coordinate + 1;
     else
       s << gears_[g - nj - np].name << ": gear row " << (st.row - S.rowBegin(g));
-    s << " is redundant or conflicting with other constraints (singular J M⁻¹ Jᵀ: pivot " << st.pivot
-      << " vs diagonal " << st.diagonal << ")";
+    s << " is redundant or conflicting with other constraints (singular J M⁻¹ Jᵀ: pivot " << formatNumber(st.pivot)
+      << " vs diagonal " << formatNumber(st.diagonal) << ")";
     *why = s.str();
   }
   return false;

@@ -17,12 +17,15 @@ def main():
 
     out = sys.stdout
     sys.stdout = sys.stderr  # nothing but rows on the channel
-    for line in sys.stdin:
-        if not line.strip():
-            continue
-        row = sweep.run_case(json.loads(line))
-        out.write(json.dumps(row) + "\n")
-        out.flush()
+    try:
+        for line in sys.stdin:
+            if not line.strip():
+                continue
+            row = sweep.run_case(json.loads(line))
+            out.write(json.dumps(row) + "\n")
+            out.flush()
+    except (KeyboardInterrupt, BrokenPipeError):
+        return 130  # the sweep stopped: nothing to report
     return 0
 
 

@@ -46,7 +46,10 @@ class SimulationResult:
 
 
 def _shown(value):
-    """repr(value), cut to 60 characters for a message."""
+    """repr(value) for a message: an integer of many digits by its size, other
+    values cut to 60 characters."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool) and abs(int(value)) >= 10**20:
+        return f"an integer of {len(str(abs(int(value))))} digits"
     text = repr(value)
     return text if len(text) <= 60 else text[:60] + "…"
 
@@ -227,7 +230,7 @@ def import_model(model, ignore=None, keyframe=None):
     text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "",
                                         _keyframe("keyframe", keyframe) if keyframe is not None else "")
     if notes:
-        warnings.warn(f"lieflow: {os.fspath(model)}: ignored " + "; ".join(notes), stacklevel=2)
+        warnings.warn(f"lieflow: {os.fspath(model)}: " + "; ".join(notes), stacklevel=2)
     return json.loads(text)
 
 
@@ -289,7 +292,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     partial:    return a failed run's rows and stats instead of raising.
     Returns a SimulationResult (columns, stats, failed, failure). The run
     releases the GIL; Ctrl-C stops it (KeyboardInterrupt) at its next
-    progress report (every 65536 steps).
+    progress report (about every 0.25 s of run time).
     """
     positional, scene_json = _scene(scene)
     partial = _switch("partial", partial)
@@ -448,7 +451,10 @@ def _write_recording(recording, path):
     columns = []
     for name in names:
         if not isinstance(name, str):
-            raise InputError(f"recording: column names must be strings, got {name!r}")
+            raise InputError(f"recording: column names must be strings, got {_shown(name)}")
+        if not name or any(c in name for c in ',"') or any(ord(c) < 0x20 or ord(c) == 0x7f for c in name):
+            raise InputError(f"recording[{name!r}]: a column name must be non-empty, without commas, quotes or "
+                             "control characters")
         try:
             column = np.asarray(recording[name], dtype=np.float64)
         except (TypeError, ValueError) as e:

@@ -34,10 +34,12 @@ Without a client the sweep starts a local cluster of `workers` processes
 """
 import argparse
 import csv
+import fcntl
 import hashlib
 import io
 import itertools
 import json
+import logging
 import math
 import numbers
 import os
@@ -62,6 +64,8 @@ _STATS_KEYS = ["steps", "wall_seconds", "ns_per_step", "energy_drift", "momentum
 _EVERY = 1_000_000_000
 # A case's run may take this long [s] unless the spec or the caller says otherwise.
 DEFAULT_CASE_TIMEOUT = 3600.0
+# The longest a case may be given [s]: a year (the clock's waits take no more).
+MAX_CASE_TIMEOUT = 365.0 * 86400.0
 # Local worker processes beyond this many per CPU only compete for it.
 _MAX_WORKERS_PER_CPU = 4
 # Cases handed to the cluster at once per worker: enough to keep every worker
@@ -132,8 +136,9 @@ def _cases(spec):
     t_end = spec.get("t_end")
     if t_end is not None:
         t_end = _positive("sweep spec: 't_end'", t_end)
-    if spec.get("case_timeout") is not None:
-        _positive("sweep spec: 'case_timeout'", spec["case_timeout"])
+    if spec.get("case_timeout") is not None and \
+            _positive("sweep spec: 'case_timeout'", spec["case_timeout"]) > MAX_CASE_TIMEOUT:
+        raise InputError(f"sweep spec: 'case_timeout' is beyond {MAX_CASE_TIMEOUT:g} s (a year)")
     noise = spec.get("noise")
     if noise is not None:
         if not isinstance(noise, dict):
@@ -242,8 +247,11 @@ class _IsolatedRunner:
         env = dict(os.environ)
         paths = [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
         env["PYTHONPATH"] = os.pathsep.join([package_parent] + [p for p in paths if p != package_parent])
+        # A session of its own: a Ctrl-C in the terminal reaches the sweep,
+        # which stops its workers, not every case process with a traceback.
         self._child = subprocess.Popen([sys.executable, "-m", "lieflow._sweep_child"], stdin=subprocess.PIPE,
-                                       stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env)
+                                       stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env,
+                                       start_new_session=True)
         self._pending = b""
 
     def _stop(self):
@@ -389,6 +397,24 @@ def _local_cluster(workers):
     return Client(cluster), cluster
 
 
+def _lock(out):
+    """An exclusive lock on DIR for the sweep's life (flock on DIR/.lock):
+    two sweeps into one directory would overwrite each other's spec and
+    results. The lock goes with the process, also when it is killed."""
+    path = os.path.join(out, ".lock")
+    try:
+        f = open(path, "a")
+    except OSError as e:
+        raise InputError(f"out: cannot create {path} ({e.strerror or e})") from None
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.close()
+        raise InputError(f"out: {out!r} is in use by another sweep (it holds {path}); give another directory "
+                         "or wait for it") from None
+    return f
+
+
 def _prepare_directory(out, spec):
     """DIR and DIR/cases, checked writable; DIR/spec.json written, or
     InputError when DIR holds another spec's sweep."""
@@ -406,6 +432,7 @@ def _prepare_directory(out, spec):
     except OSError as e:
         raise InputError(f"out: {out!r} cannot hold the sweep ({e.strerror or e}): give a writable directory") \
             from None
+    lock = _lock(out)
     spec_path = os.path.join(out, "spec.json")
     spec_text = json.dumps(spec, sort_keys=True, indent=1)
     if os.path.exists(spec_path):
@@ -419,7 +446,7 @@ def _prepare_directory(out, spec):
                              "or remove its spec.json and results.csv to replace that sweep")
     else:
         _write_atomically(spec_path, spec_text + "\n")
-    return out, case_dir
+    return out, case_dir, lock
 
 
 def _importing_a_worker():
@@ -429,11 +456,14 @@ def _importing_a_worker():
     ``if __name__ == "__main__":`` guard would start a sweep in each of them,
     and they theirs, without end. There the call does nothing; the script's
     own process runs the sweep."""
-    import multiprocessing
-
-    if multiprocessing.parent_process() is None:
-        return False
-    return getattr(sys.modules.get("__main__"), "__name__", None) == "__mp_main__"
+    # multiprocessing runs the script as the module "__mp_main__" in a
+    # spawned process (its parent_process() is not set yet at that point).
+    frame = sys._getframe(1)
+    while frame is not None:
+        if frame.f_globals.get("__name__") == "__mp_main__":
+            return True
+        frame = frame.f_back
+    return False
 
 
 def sweep(spec, client=None, out=None, workers=None, progress=None, case_timeout=None, log=None):
@@ -456,8 +486,21 @@ def sweep(spec, client=None, out=None, workers=None, progress=None, case_timeout
     if case_timeout is None:
         case_timeout = spec.get("case_timeout")
     timeout = DEFAULT_CASE_TIMEOUT if case_timeout is None else _positive("case_timeout", case_timeout)
+    if timeout > MAX_CASE_TIMEOUT:
+        raise InputError(f"case_timeout: {timeout:g} s is beyond {MAX_CASE_TIMEOUT:g} s (a year)")
     all_cases, duplicates = _cases(spec)
-    out, case_dir = _prepare_directory(out, spec)
+    out, case_dir, lock = _prepare_directory(out, spec)
+    try:
+        return _run_sweep(spec, all_cases, duplicates, out, case_dir, client, workers, progress, timeout, log)
+    finally:
+        lock.close()
+
+
+def _run_sweep(spec, all_cases, duplicates, out, case_dir, client, workers, progress, timeout, log):
+    for case in all_cases:
+        path = os.path.join(case_dir, case["case_id"] + ".json")
+        if os.path.lexists(path) and not os.path.isfile(path):
+            raise InputError(f"out: {path} is not a file (a case's result goes there): remove it")
     to_run = [c for c in all_cases if _finished_row(case_dir, c) is None]
     if log:
         log(f"{len(all_cases)} cases: {len(to_run)} to run, {len(all_cases) - len(to_run)} done before"
@@ -554,6 +597,12 @@ def main(argv=None):
     except InputError as e:
         print(f"lieflow sweep: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        # Dask's workers and nannies report their own shutdown: not the user's news.
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        print(f"lieflow sweep: interrupted; {os.path.join(args.out, 'results.csv')} holds the cases finished so far "
+              "(the others are rows saying they were not run); run the sweep again to finish it", file=sys.stderr)
+        return 130
     finally:
         if client is not None:
             client.close()

@@ -180,6 +180,40 @@ TEST(HostileModelFiles, AUrdfThatIsNotATreeOrMimicsInCirclesIsRefusedNamingTheJo
   }
 }
 
+TEST(HostileModelFiles, AUrdfThatUrdfdomWouldMisreadIsRefusedNamingTheElement) {
+  // urdfdom reads "1.0.0", "0x10" or two numbers for a mass without a line
+  // ("joint xml is not initialized correctly"), links a joint to a link that
+  // is not there, and expands entities: each is refused, named, before it.
+  if (!lieflow::canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  struct Case {
+    std::string from, to, expected;
+  };
+  const std::vector<Case> cases = {
+      {"<mass value=\"0.5\"/>", "<mass value=\"0.5.1\"/>", "mass (line 4), attribute value: expected 1 decimal number"},
+      {"<mass value=\"0.5\"/>", "<mass value=\"0x10\"/>", "mass (line 4), attribute value: expected 1 decimal number"},
+      {"<mass value=\"0.5\"/>", "<mass value=\"1 2\"/>", "got '1 2'"},
+      {"<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 1\"/>", "axis (line 10), attribute xyz: expected 3 decimal numbers"},
+      {"<child link=\"arm\"/>", "<child link=\"elbow\"/>", "joint 'shoulder' (line 9)"},
+      {"<link name=\"twin\">", "<link name=\"finger\">", "a link of this name is on line 7 too"},
+      {"type=\"continuous\"><parent link=\"base\"/>", "type=\"revolute\"><parent link=\"base\"/>",
+       "a revolute joint needs <limit"},
+      {"<link name=\"base\">", "<link>", "link (line 2): has no name"},
+      {"<robot name=\"r\">", "<!DOCTYPE r [<!ENTITY big \"x\">]>\n<robot name=\"r\">", "declares XML entities"},
+  };
+  const std::string path = testFile(".urdf");
+  for (const Case& c : cases) {
+    std::string text = kUrdf;
+    ASSERT_NE(text.find(c.from), std::string::npos) << c.from;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    write(path, text);
+    const Outcome o = runLieflow("import " + path + " --out " + testFile(".json"));
+    EXPECT_EQ(o.signal, 0) << c.to;
+    EXPECT_EQ(o.status, 2) << c.to << "\n" << o.err;
+    EXPECT_NE(o.err.find(c.expected), std::string::npos) << c.to << "\n" << o.err;
+    EXPECT_EQ(o.err.find("not initialized"), std::string::npos) << o.err;  // urdfdom's words
+  }
+}
+
 TEST(HostileModelFiles, MjcfLimitsAreCheckedBeforeMujocoCompiles) {
   if (!lieflow::canReadMjcf()) GTEST_SKIP() << "this build has no MJCF reader";
   // Declared bodies against --max-bodies: refused from the files.
@@ -217,6 +251,15 @@ TEST(HostileModelFiles, MjcfLimitsAreCheckedBeforeMujocoCompiles) {
   o = runLieflow("import " + path + " --out " + testFile(".json"));
   EXPECT_EQ(o.status, 2) << o.err;
   EXPECT_NE(o.err.find(big + ": geom (line 1), attribute mass: is not a finite number"), std::string::npos) << o.err;
+  // Sizes MuJoCo allocates before it reads a body: refused from the file.
+  for (const char* size : {"<size nstack=\"1e12\"/>", "<size memory=\"1e15\"/>", "<size nuser_body=\"100000\"/>"}) {
+    std::string text = kMjcf;
+    text.replace(text.find("<worldbody>"), 11, std::string(size) + "<worldbody>");
+    write(path, text);
+    o = runLieflow("import " + path + " --out " + testFile(".json"), 1024);
+    EXPECT_EQ(o.status, 2) << size << o.err;
+    EXPECT_NE(o.err.find("is more than lieflow lets MuJoCo allocate"), std::string::npos) << o.err;
+  }
 }
 
 TEST(HostileModelFiles, ZeroQuaternionsTimestepsAndBrokenXmlAreRefusedInWords) {

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "joints/import/model_import.hpp"
 #include "tests/command_runner.hpp"
@@ -194,6 +195,59 @@ TEST(HostileRuns, GyroscopesOnlyOnARecordingWithIdleAccelerometersStillAnswers) 
   EXPECT_TRUE(contains(o.out, "\"axis_main\"")) << o.out;
   EXPECT_TRUE(contains(o.out, "\"anchor_note\"")) << o.out;
   expectReadableMessage(o.err + o.out);
+}
+
+TEST(HostileRuns, RecordingsTooShortForAFitAreAnsweredInWords) {
+  // Two or three rows with --fit-time-offset once aborted in Ceres (a
+  // parameter block with no residual); the likelihood fit read past its
+  // differencing stencil.
+  const std::string rec = testFile(".csv");
+  ASSERT_EQ(runLieflow("simulate hinge-pair --t-end 1 --out " + rec).status, 0);
+  const std::string full = slurp(rec);
+  for (int rows : {1, 2, 3, 6}) {
+    std::size_t end = 0;
+    for (int k = 0; k <= rows; ++k) end = full.find('\n', end) + 1;  // the header and `rows` rows
+    const std::string path = testFile("_short.csv");
+    std::ofstream(path) << full.substr(0, end);
+    for (const char* flags : {"hinge", "hinge --fit-time-offset", "hinge --fit-gyro-bias", "hinge --estimator likelihood",
+                              "hinge --estimator likelihood --fit-time-offset", "universal --fit-time-offset",
+                              "universal --fit-gyro-bias", "spherical"}) {
+      const std::string command = std::string("calibrate ") + flags;
+      const Outcome o = runLieflow(command.substr(0, command.find(' ', 10)) + " " + path + command.substr(
+                                       std::min(command.size(), command.find(' ', 10))));
+      EXPECT_EQ(o.signal, 0) << rows << flags;
+      EXPECT_TRUE(o.status == 1 || o.status == 2) << rows << " rows" << flags << ": " << o.status << o.err << o.out;
+      EXPECT_FALSE(o.err.empty()) << rows << flags;
+      expectReadableMessage(o.err + o.out);
+    }
+  }
+}
+
+TEST(HostileRuns, SceneFileMessagesAreWordsWithTheLine) {
+  const std::string path = testFile(".json");
+  struct Case {
+    std::string text, expected;
+  };
+  const std::vector<Case> cases = {
+      {"{\"name\": \"s\",\n \"bodies\": [}", "not valid JSON: line 2, column "},
+      {"{\"name\": \"s\", \"bodies\": [{\"name\": \"b\", \"mass\": 1e999999, \"inertia\": [1, 2, 3]}]}",
+       "the number 1e999999 overflows a double"},
+      {"{\"name\": \"s\", \"bodies\": [{\"name\": \"b\", \"mass\": 1, \"inertia\": [1e-40, 1e-40, 1e-40]}]}",
+       "bodies[0].inertia: principal moment 1e-40 is below"},
+      {"{\"name\": \"s\", \"bodies\": [{\"name\": \"b\", \"mass\": 1e-40, \"inertia\": [1, 2, 3]}]}",
+       "bodies[0].mass"},
+      {"{\"name\": \"s\", \"bodies\": [{\"name\": \"b\", \"mass\": 1, \"inertia\": [1, 2, 3]}], \"joints\": [{\"name\": "
+       "\"b\", \"type\": \"spherical\", \"main\": \"ground\", \"secondary\": \"b\", \"anchor_main\": [0, 0, 0], \"anchor_secondary\": [0, 0, 0]}]}",
+       "joints[0].name: 'b' is also the name of bodies[0]"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(path) << c.text;
+    const Outcome o = runLieflow("simulate " + path + " --t-end 0.01");
+    EXPECT_EQ(o.status, 2) << c.text << o.err;
+    EXPECT_NE(o.err.find(c.expected), std::string::npos) << c.text << "\n" << o.err;
+    EXPECT_EQ(o.err.find("parse_error"), std::string::npos) << o.err;
+    expectReadableMessage(o.err);
+  }
 }
 
 TEST(HostileRuns, MujocoBesideLieflowOnBodiesWithoutNames) {

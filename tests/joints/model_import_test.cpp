@@ -148,40 +148,103 @@ std::vector<Eigen::Vector3d> mujocoCentres(const std::string& path, double h, do
   return out;
 }
 
+/// The largest distance between lieflow's rkmk4 and MuJoCo's RK4 centres of
+/// mass after t_end at step h on the model file `path`, over the bodies both
+/// have (a link merged with a welded one has another centre and is left out);
+/// `travel` gets the largest distance a centre moved.
+double worstCentreDistance(const std::string& path, const ModelImportOptions& options, double h, double t_end,
+                           double* travel) {
+  const SceneDescription scene = importModel(path, options);
+  const Trajectory tr = simulate(scene, "rkmk4", h, t_end, 1000);
+  const std::vector<Eigen::Vector3d> ref = mujocoCentres(path, h, t_end);
+  char error[512] = "";
+  std::unique_ptr<mjModel, void (*)(mjModel*)> m(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)),
+                                                 mj_deleteModel);
+  double worst = 0.0;
+  *travel = 0.0;
+  const std::size_t last = tr.rows.size() - 1;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const std::string& n = scene.bodies[b].name;
+    // Scene bodies are the MJCF bodies that move, in model order.
+    const Eigen::Vector3d p(tr.at(last, n + ".x"), tr.at(last, n + ".y"), tr.at(last, n + ".z"));
+    const int mj_index = mj_name2id(m.get(), mjOBJ_BODY, n.c_str()) - 1;
+    EXPECT_GE(mj_index, 0) << n;
+    if (mj_index < 0 || m->body_weldid[mj_index + 1] != mj_index + 1) continue;
+    bool merged = false;  // a welded child merged into this link moves its centre
+    for (int c = 1; c < m->nbody; ++c) merged = merged || (m->body_parentid[c] == mj_index + 1 && m->body_jntnum[c] == 0);
+    if (merged) continue;
+    worst = std::max(worst, (p - ref[mj_index]).norm());
+    *travel = std::max(*travel, (p - scene.bodies[b].position).norm());
+  }
+  return worst;
+}
+
 TEST(ModelImport, EveryMappedMjcfJointAgreesWithMuJoCo) {
   // Both fourth order at h = 1e-4 for 0.5 s: what remains is the mapping.
-  const double h = 1e-4, t_end = 0.5;
   for (const char* file : {"mechanism.xml", "arm6.xml"}) {
-    SCOPED_TRACE(file);
-    const SceneDescription scene = importModel(model(file), {});
-    const Trajectory tr = simulate(scene, "rkmk4", h, t_end, 1000);
-    const std::vector<Eigen::Vector3d> ref = mujocoCentres(model(file), h, t_end);
-    double worst = 0.0, travel = 0.0;
-    std::size_t compared = 0;
-    const std::size_t last = tr.rows.size() - 1;
-    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
-      const std::string& n = scene.bodies[b].name;
-      // Scene bodies are the MJCF bodies that move, in model order (arm6:
-      // the base is welded to the world and the tool to link6).
-      const Eigen::Vector3d p(tr.at(last, n + ".x"), tr.at(last, n + ".y"), tr.at(last, n + ".z"));
-      int mj_index = -1;
-      {
-        char error[512] = "";
-        std::unique_ptr<mjModel, void (*)(mjModel*)> m(mj_loadXML(model(file).c_str(), nullptr, error, sizeof(error)),
-                                                       mj_deleteModel);
-        mj_index = mj_name2id(m.get(), mjOBJ_BODY, n.c_str()) - 1;
-      }
-      ASSERT_GE(mj_index, 0) << n;
-      if (std::string(file) == "arm6.xml" && n == "link6") continue;  // merged with the tool: another centre
-      worst = std::max(worst, (p - ref[mj_index]).norm());
-      travel = std::max(travel, (p - scene.bodies[b].position).norm());
-      ++compared;
-    }
+    double travel = 0.0;
+    const double worst = worstCentreDistance(model(file), {}, 1e-4, 0.5, &travel);
     std::cout << "[ measured ] " << file << ": lieflow rkmk4 vs MuJoCo RK4, h = 1e-4, t = 0.5 s: max centre distance "
-              << worst << " m over " << compared << " bodies (largest travel " << travel << " m)\n";
-    EXPECT_LE(worst, 1e-8);
-    EXPECT_GT(travel, 0.05);
+              << worst << " m (largest travel " << travel << " m)\n";
+    EXPECT_LE(worst, 1e-8) << file;
+    EXPECT_GT(travel, 0.05) << file;
   }
+}
+
+TEST(ModelImport, MujocosOwnSwitchesAreTakenAsMujocoTakesThem) {
+  // <flag gravity/passive/equality="disable"> switch MuJoCo's gravity, the
+  // joints' springs and dashpots, and its equality constraints off: the
+  // import takes them as MuJoCo does (it once read gravity and the springs
+  // regardless), checked against MuJoCo on the same file.
+  std::ifstream in(model("mechanism.xml"));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string option = "<option gravity=\"0 0 -9.81\" timestep=\"0.001\"/>";
+  ASSERT_NE(text.find(option), std::string::npos);
+  for (const char* flags : {"gravity=\"disable\"", "passive=\"disable\"", "gravity=\"disable\" passive=\"disable\""}) {
+    std::string changed = text;
+    changed.replace(changed.find(option), option.size(),
+                    "<option gravity=\"0 0 -9.81\" timestep=\"0.001\"><flag " + std::string(flags) + "/></option>");
+    const TempModel file("switches.xml", changed);
+    const SceneDescription s = importModel(file.path(), {});
+    const bool no_gravity = std::string(flags).find("gravity") != std::string::npos;
+    const bool no_passive = std::string(flags).find("passive") != std::string::npos;
+    EXPECT_EQ(s.gravity.norm(), no_gravity ? 0.0 : 9.81) << flags;
+    bool sprung = false;
+    for (const JointDescription& j : s.joints)
+      for (const CoordinateDescription& c : j.coordinates) sprung = sprung || c.stiffness != 0.0 || c.damping != 0.0;
+    EXPECT_EQ(sprung, !no_passive) << flags;
+    double travel = 0.0;
+    const double worst = worstCentreDistance(file.path(), {}, 1e-4, 0.3, &travel);
+    EXPECT_LE(worst, 1e-8) << flags;
+    if (no_gravity && no_passive)
+      EXPECT_LE(travel, 1e-12) << "nothing drives the mechanism at rest, yet it moved";
+    else
+      EXPECT_GT(travel, 1e-3) << flags;
+  }
+  // The medium (density, viscosity, wind) has no model in lieflow: refused
+  // naming the option's line, or ignored by name and listed.
+  std::string fluid = text;
+  fluid.replace(fluid.find(option), option.size(), "<option gravity=\"0 0 -9.81\" density=\"1.2\" viscosity=\"2e-5\"/>");
+  const TempModel medium("medium.xml", fluid);
+  expectContains(refusal(medium.path()), {"medium.xml", "fluid", "option (line 8)", "density 1.2"});
+  const SceneDescription s = importModel(medium.path(), parseIgnoreList("fluid"));
+  bool listed = false;
+  for (const std::string& note : s.import_notes) listed = listed || note.find("fluid") != std::string::npos;
+  EXPECT_TRUE(listed);
+}
+
+TEST(ModelImport, AJointNamedLikeABodyIsRenamedAndSaysSo) {
+  // Scene names are one namespace (columns, --columns, calibration's
+  // --main/--secondary): MJCF and URDF allow a joint and a body of one name.
+  const TempModel file("same-name.xml", R"(<mujoco><worldbody><body name="arm" pos="0 0 1">
+  <joint name="arm" type="hinge" axis="0 1 0"/>
+  <inertial pos="0.2 0 0" mass="1" diaginertia="0.01 0.01 0.01"/></body></worldbody></mujoco>)");
+  const SceneDescription s = importModel(file.path(), {});
+  ASSERT_EQ(s.joints.size(), 1u);
+  EXPECT_EQ(s.joints[0].name, "arm_joint");
+  bool said = false;
+  for (const std::string& note : s.import_notes) said = said || note.find("renamed joint 'arm'") != std::string::npos;
+  EXPECT_TRUE(said);
 }
 
 TEST(ModelImport, HumanoidSpinningInFreeFallAgreesWithMuJoCo) {
@@ -350,7 +413,7 @@ TEST(ModelImport, BadModelsNameTheFileElementAndReason) {
   const TempModel unknown("unknown.urdf", R"(<robot name="r"><link name="base"/>
 <joint name="j" type="twisty"><parent link="base"/><child link="a"/></joint>
 <link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)");
-  expectContains(refusal(unknown.path()), {"unknown.urdf", "urdfdom"});
+  expectContains(refusal(unknown.path()), {"unknown.urdf", "joint 'j' (line 2)", "'twisty' is not a URDF joint type"});
   const TempModel planar("planar.urdf", R"(<robot name="r"><link name="base"/>
 <joint name="p" type="planar"><parent link="base"/><child link="a"/></joint>
 <link name="a"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)");

@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -113,18 +114,32 @@ def test_bad_specs_and_bad_cases():
     assert row["failed"] is True and row["failure"].startswith("bad input: ")
 
 
+def _parent(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return int(f.read().rsplit(")", 1)[1].split()[1])
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
 def _case_processes():
-    """The pids of the processes running sweep cases (lieflow._sweep_child)."""
+    """The pids of the processes running this test's sweep cases
+    (lieflow._sweep_child under this process: not another test's)."""
     pids = []
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
             continue
         try:
             with open(f"/proc/{entry}/cmdline", "rb") as f:
-                if b"lieflow._sweep_child" in f.read():
-                    pids.append(int(entry))
+                if b"lieflow._sweep_child" not in f.read():
+                    continue
         except OSError:
-            pass
+            continue
+        ancestor = int(entry)
+        while ancestor > 1 and ancestor != os.getpid():
+            ancestor = _parent(ancestor)
+        if ancestor == os.getpid():
+            pids.append(int(entry))
     return pids
 
 
@@ -136,10 +151,15 @@ def test_a_crashed_or_hung_case_is_a_failed_row_and_the_others_complete(tmp_path
     killed = []
 
     def crash_the_running_case(done, total):
-        if not killed:
+        # On a loaded machine the long case's process may still be starting
+        # when the short one is in: wait for it (up to 30 s).
+        deadline = time.monotonic() + 30.0
+        while not killed and time.monotonic() < deadline:
             for pid in _case_processes():
                 os.kill(pid, signal.SIGSEGV)
                 killed.append(pid)
+            if not killed:
+                time.sleep(0.05)
 
     summary = lieflow.sweep(spec, client=client, out=tmp_path / "crash", progress=crash_the_running_case)
     assert killed
@@ -149,11 +169,14 @@ def test_a_crashed_or_hung_case_is_a_failed_row_and_the_others_complete(tmp_path
     assert rows["chain-30"]["failure"].startswith("crashed: the process running the case ended with SIGSEGV")
     with open(tmp_path / "crash" / "results.csv", newline="") as f:
         assert len(list(csv.DictReader(f))) == 2
-    # The time limit: the long case is a failed row, the sweep ends.
-    hung = lieflow.sweep(spec, client=client, out=tmp_path / "hung", case_timeout=0.5)
+    # The time limit: the long case (chain-100, about 7 s of work) is a
+    # failed row, the sweep ends; the short one, which starts a Python
+    # process too (a second on a loaded machine), is well inside it.
+    hung = lieflow.sweep(dict(spec, scenes=["pendulum", "chain-100"]), client=client, out=tmp_path / "hung",
+                         case_timeout=3)
     rows = {r["scene"]: r for r in hung["rows"]}
-    assert rows["chain-30"]["failure"].startswith("timed out: the case ran longer than its limit of 0.5 s")
-    assert rows["pendulum"]["failed"] is False
+    assert rows["chain-100"]["failure"].startswith("timed out: the case ran longer than its limit of 3 s")
+    assert rows["pendulum"]["failed"] is False, rows["pendulum"]["failure"]
 
 
 def test_output_directories_and_case_files_that_are_not_the_sweeps(tmp_path, client):
@@ -204,3 +227,30 @@ def test_the_readme_example_with_empty_options_runs_every_case(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "lieflow.sweep", str(spec), "--out", str(spec)],
                          capture_output=True, text=True, timeout=200)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr and "cannot hold the sweep" in bad.stderr
+
+
+def test_a_directory_in_use_and_limits_of_the_case_time(tmp_path, client):
+    import fcntl
+    spec = {"scenes": ["pendulum"], "dt": [0.01], "t_end": 0.05}
+    out = tmp_path / "out"
+    out.mkdir()
+    # Another sweep (here: this process, as another one would) holds DIR/.lock.
+    with open(out / ".lock", "a") as held:
+        fcntl.flock(held.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(lieflow.InputError, match="is in use by another sweep"):
+            lieflow.sweep(spec, client=client, out=out)
+    # Released, the sweep runs, and leaves the lock free for the next one.
+    assert lieflow.sweep(spec, client=client, out=out)["ran"] == 1
+    with open(out / ".lock", "a") as again:
+        fcntl.flock(again.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    for bad in (1e300, float("inf"), float("nan"), 0, -1, True, "10"):
+        with pytest.raises(lieflow.InputError, match="case_timeout"):
+            lieflow.sweep(spec, client=client, out=out, case_timeout=bad)
+    with pytest.raises(lieflow.InputError, match="case_timeout"):
+        lieflow.sweep(dict(spec, case_timeout=1e12), client=client, out=out)
+    # A case file that is a directory is named, not a traceback.
+    case_file = next((out / "cases").glob("*.json"))
+    case_file.unlink()
+    case_file.mkdir()
+    with pytest.raises(lieflow.InputError, match=case_file.name):
+        lieflow.sweep(spec, client=client, out=out)
