@@ -117,6 +117,11 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
   return v;
 }
 
+const std::set<std::string>& modelSwitches() {
+  static const std::set<std::string> switches = {"--floating-base"};
+  return switches;
+}
+
 const std::set<std::string>& runLimitFlags() {
   static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--ignore",
                                               "--keyframe"};
@@ -131,6 +136,10 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
   if (args.has("--keyframe") && import.keyframe.empty()) throw UsageError("--keyframe: expected a keyframe name or index");
   if (!import.keyframe.empty() && !isModelFile(scene))
     throw UsageError("--keyframe: '" + scene + "' is not an MJCF model (.xml); only MJCF models have keyframes");
+  import.floating_base = args.has("--floating-base");
+  if (import.floating_base && (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".urdf") != 0))
+    throw UsageError("--floating-base: '" + scene + "' is not a URDF (.urdf); a scene or an MJCF model says "
+                     "which bodies are free itself");
   return import;
 }
 

@@ -63,9 +63,13 @@ ResourceLimits resourceLimitsFrom(const Arguments& args);
 /// stability): --max-steps, --max-input-mb, --max-bodies, --ignore (what a
 /// model file may leave out) and --keyframe (an MJCF keyframe as the start).
 const std::set<std::string>& runLimitFlags();
+/// The switches of the commands that read model files (simulate, study,
+/// stability, import): --floating-base (a URDF's root on a free joint).
+const std::set<std::string>& modelSwitches();
 
-/// How SCENE is imported when it is a model file: the --ignore list and the
-/// --keyframe of `args` (UsageError when SCENE is not a model file).
+/// How SCENE is imported when it is a model file: the --ignore list, the
+/// --keyframe and --floating-base of `args` (UsageError when SCENE is not a
+/// model file, or for --floating-base not a URDF).
 ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::string& scene);
 
 /// SCENE (a built-in name, a JSON file or a model file) with the limits,

@@ -33,7 +33,7 @@ int runIntegrators(int argc, char** argv) {
               << i.description << "\n";
     const std::string indent(11, ' ');
     std::cout << indent << "with joints: " << i.joints_note
-              << (runsInJointCoordinates(i.name) ? "; also in joint coordinates (--formulation joint)" : "") << "\n";
+              << (runsInJointCoordinates(i.name) ? "; in joint coordinates where they represent the scene" : "") << "\n";
     for (const IntegratorOption& o : i.options) {
       std::ostringstream line;
       line << indent << "option " << o.name << " = " << o.default_value << " (" << o.meaning << "; "
@@ -42,10 +42,11 @@ int runIntegrators(int argc, char** argv) {
     }
   }
   std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
-            << "Scenes with joints run in " << kDefaultFormulation
-            << " coordinates unless --formulation joint is given (trees of revolute, universal and\n"
-               "spherical joints hanging from the ground or from rotation-only bodies; joints closing\n"
-               "loops and gear rows on multipliers, with the explicit integrators).\n";
+            << "Scenes with joints run in joint coordinates wherever they represent the scene and the\n"
+               "integrator runs there (trees of revolute, universal and spherical joints hanging from the\n"
+               "ground or from rotation-only bodies; joints closing loops and gear rows on multipliers,\n"
+               "with the explicit integrators), else in maximal coordinates (bodies' poses with\n"
+               "multipliers); --formulation maximal|joint chooses, and --stats prints the one used.\n";
   return kSuccess;
 }
 

@@ -54,7 +54,11 @@ const std::set<std::string>& simulateValueFlags() {
 }
 
 const std::set<std::string>& simulateSwitches() {
-  static const std::set<std::string> switches = {"--stats", "--quiet", "--imu"};
+  static const std::set<std::string> switches = [] {
+    std::set<std::string> s = {"--stats", "--quiet", "--imu"};
+    s.insert(modelSwitches().begin(), modelSwitches().end());
+    return s;
+  }();
   return switches;
 }
 

@@ -16,6 +16,11 @@ std::set<std::string> withRunLimits(std::set<std::string> flags) {
   return flags;
 }
 
+std::set<std::string> withModelSwitches(std::set<std::string> switches) {
+  switches.insert(modelSwitches().begin(), modelSwitches().end());
+  return switches;
+}
+
 }  // namespace
 
 const std::set<std::string>& studyValueFlags() {
@@ -25,7 +30,7 @@ const std::set<std::string>& studyValueFlags() {
 }
 
 const std::set<std::string>& studySwitches() {
-  static const std::set<std::string> switches = {"--no-plots", "--with-mujoco"};
+  static const std::set<std::string> switches = withModelSwitches({"--no-plots", "--with-mujoco"});
   return switches;
 }
 
@@ -65,7 +70,7 @@ const std::set<std::string>& stabilityValueFlags() {
 }
 
 const std::set<std::string>& stabilitySwitches() {
-  static const std::set<std::string> switches = {"--no-plots"};
+  static const std::set<std::string> switches = withModelSwitches({"--no-plots"});
   return switches;
 }
 

@@ -275,11 +275,21 @@ bool Simulation::hasJointFormulation(std::string* why) const {
   return false;
 }
 
-bool Simulation::supports(const std::string& integrator, std::string* why, const std::string& formulation) const {
+std::string Simulation::defaultFormulation(const std::string& integrator) const {
+  if (!model_->multibody) return "joint";
+  return supports(integrator, nullptr, "joint") ? "joint" : "maximal";
+}
+
+bool Simulation::supports(const std::string& integrator, std::string* why, const std::string& formulation_in) const {
   if (!findIntegrator(integrator)) {
     if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
     return false;
   }
+  if (model_->multibody && model_->multibody->has_user_loads && (integrator == "lgvi" || integrator == "genalpha")) {
+    if (why) *why = "'" + integrator + "' treats forces implicitly; loads from a program need an explicit integrator";
+    return false;
+  }
+  const std::string formulation = formulation_in.empty() ? defaultFormulation(integrator) : formulation_in;
   if (model_->multibody && formulation == "joint") {
     if (!hasJointFormulation(why)) {
       if (why) *why = "joint coordinates cannot represent this scene: " + *why;
@@ -301,10 +311,6 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
   }
   if (model_->multibody) {
     const IntegratorInfo& info = *findIntegrator(integrator);
-    if (model_->multibody->has_user_loads && (integrator == "lgvi" || integrator == "genalpha")) {
-      if (why) *why = "'" + integrator + "' treats forces implicitly; loads from a program need an explicit integrator";
-      return false;
-    }
     if (info.supports_joints) return true;
     if (why) {
       *why = "'" + integrator + "' is not available for scenes with joints (" + info.joints_note + "; available:";
@@ -335,7 +341,7 @@ SimulationResult Simulation::run(const SimulationOptions& options,
                                            "' (see lieflow integrators)");
   if (!options.formulation.empty() && options.formulation != "maximal" && options.formulation != "joint")
     throw InvalidInput("--formulation", "'" + options.formulation + "' is not a formulation (maximal or joint)");
-  const std::string formulation = options.formulation.empty() ? kDefaultFormulation : options.formulation;
+  const std::string formulation = options.formulation.empty() ? defaultFormulation(options.integrator) : options.formulation;
   std::string why;
   if (model_->multibody && formulation == "joint" && !hasJointFormulation(&why))
     throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +

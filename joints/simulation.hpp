@@ -50,7 +50,7 @@ struct SimulationOptions {
   bool diagnostics = true;
   /// "maximal" (bodies' poses with multipliers for the joints), "joint" (the
   /// joints' own coordinates, joints/articulated_scene.hpp) or empty for the
-  /// default, kDefaultFormulation.
+  /// default, Simulation::defaultFormulation.
   std::string formulation;
   /// Rows carry each body's accelerometer reading B.ax, B.ay, B.az after its
   /// other columns (columns(true)): the specific force f = Rᵀ(a_s − g) at the
@@ -58,9 +58,6 @@ struct SimulationOptions {
   /// included, as an inertial sensor reports it (../shared/DESIGN.md).
   bool imu = false;
 };
-
-/// The formulation of a scene with joints when none is asked for.
-inline constexpr const char* kDefaultFormulation = "maximal";
 
 /// Whether the integrator runs in joint coordinates (the explicit Lie-group
 /// steppers; lgvi, genalpha and splitting are written for bodies in maximal
@@ -123,15 +120,25 @@ class Simulation {
 
   /// Whether the integrator can run this scene (e.g. `exact` needs a
   /// torque-free body); if not, `why` says so.
-  /// `formulation` as in SimulationOptions (empty: the default).
+  /// `formulation` as in SimulationOptions (empty: the default, in which
+  /// the integrator runs the scene when either formulation can).
   bool supports(const std::string& integrator, std::string* why, const std::string& formulation = "") const;
 
   /// Whether the scene can run in joint coordinates; if not, `why` says so.
   bool hasJointFormulation(std::string* why) const;
 
-  /// Whether the scene is a mechanism whose default (maximal) formulation
-  /// imposes constraints with multipliers (a single body, free or on the
-  /// reduced model of its one joint to the ground, is not).
+  /// The formulation `integrator` runs this scene in when none is asked for
+  /// (../shared/DESIGN.md, "Default formulation"): the fastest that
+  /// represents it, "joint" wherever joint coordinates represent the scene
+  /// and the integrator runs there (a tree, or loops and gear rows with the
+  /// explicit steppers: 2 to 3 times fewer operations per step than bodies'
+  /// poses with multipliers, bench/multibody), else "maximal". A scene
+  /// without joints has one formulation, "joint".
+  std::string defaultFormulation(const std::string& integrator) const;
+
+  /// Whether the scene is a mechanism, whose maximal formulation imposes
+  /// constraints with multipliers (a single body, free or on the reduced
+  /// model of its one joint to the ground, is not).
   bool hasConstraints() const;
 
   /// Runs the scene; calls `row` with each output row (may be empty).

@@ -187,6 +187,28 @@ inline double constraintErrorOf(const articulated::ArticulatedSystem& sys, doubl
   return sys.constraintError(t, y);
 }
 
+/// The sum of the magnitudes of the energy's terms, the scale of its
+/// round-off: the systems of joints sum kinetic, gravitational and spring
+/// terms of opposite signs; a single body's energy is its scale.
+template <typename System, typename State>
+double energyTermScaleOf(const System& sys, double t, const State& y) {
+  return std::abs(sys.energy(t, y));
+}
+inline double energyTermScaleOf(const multibody::MultibodySystem& sys, double,
+                                const multibody::MultibodyGroupState& y) {
+  return sys.energyTermScale(y);
+}
+inline double energyTermScaleOf(const articulated::ArticulatedSystem& sys, double t,
+                                const articulated::ArticulatedState& y) {
+  return sys.energyTermScale(t, y);
+}
+
+/// An initial energy below this fraction of its terms' magnitudes
+/// (energyTermScaleOf) is round-off of a sum that is zero (a pendulum
+/// released level with its pivot, cos(π/2) = 6e-17): the drift is then
+/// absolute, in joules, as for E₀ = 0.
+inline constexpr double kEnergyRoundOff = 1e-12;
+
 /// An energy error this many times the initial energy means the run has
 /// blown up, even while the state is still finite (an explicit method beyond
 /// its stability limit can take thousands of steps to overflow).
@@ -194,11 +216,13 @@ inline constexpr double kBlowUpEnergyGrowth = 1e8;
 
 /// Tracks energy and momentum drift over the observed states. The drifts are
 /// relative to |E₀| and ‖L₀‖ (relativeDrift, invariants.hpp); when E₀ (or L₀)
-/// is zero or near it — a body at rest at zero potential — there is no scale
-/// and the drift is absolute.
+/// is zero or near it — a body at rest at zero potential, or E₀ within
+/// round-off of its terms (kEnergyRoundOff) — there is no scale and the
+/// drift is absolute.
 struct DriftTracker {
   bool momentum_conserved = false;
-  double e0 = 0.0;
+  double e0 = 0.0;       ///< the initial energy, 0 when it is round-off of its terms
+  double e_start = 0.0;  ///< the initial energy as computed
   Eigen::Vector3d L0 = Eigen::Vector3d::Zero();
   double energy_drift = 0.0;
   double momentum_drift = 0.0;
@@ -209,11 +233,12 @@ struct DriftTracker {
     const double e = sys.energy(t, y);
     const Eigen::Vector3d L = momentumOf(sys, t, y);
     if (k == 0) {
-      e0 = e;
+      e0 = std::abs(e) > kEnergyRoundOff * energyTermScaleOf(sys, t, y) ? e : 0.0;
+      e_start = e;
       L0 = L;
       return;
     }
-    energy_drift = std::max(energy_drift, relativeDrift(std::abs(e - e0), e0));
+    energy_drift = std::max(energy_drift, relativeDrift(std::abs(e - e_start), e0));
     if (momentum_conserved) momentum_drift = std::max(momentum_drift, relativeDrift((L - L0).norm(), L0.norm()));
   }
 

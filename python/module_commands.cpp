@@ -318,13 +318,14 @@ void defineCommands(py::module_& m) {
 #endif
   m.def(
       "import_model",
-      [](const std::string& path, const std::string& ignore, const std::string& keyframe) {
+      [](const std::string& path, const std::string& ignore, const std::string& keyframe, bool floating_base) {
         ModelImportOptions options = parseIgnoreList(ignore);
         options.keyframe = keyframe;
+        options.floating_base = floating_base;
         const SceneDescription s = importModel(path, options);
         return py::make_tuple(sceneToJson(s), s.import_notes);
       },
-      py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "");
+      py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "", py::arg("floating_base") = false);
   m.attr("reads_mjcf") = canReadMjcf();
   m.attr("reads_urdf") = canReadUrdf();
   m.def("scenes", [] {

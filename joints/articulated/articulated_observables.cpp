@@ -1,5 +1,6 @@
 // ArticulatedSystem: body poses and velocities, energy, angular momentum and
 // the joint outputs.
+#include <cmath>
 #include "joints/articulated/articulated_system.hpp"
 
 namespace lieflow {
@@ -25,6 +26,23 @@ double ArticulatedSystem::energy(double t, const State& y) const {
     }
   }
   return E;
+}
+
+double ArticulatedSystem::energyTermScale(double t, const State& y) const {
+  kinematics(t, y);
+  double S = 0.0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    const Eigen::Vector3d w = angularVelocityBody(i);
+    S += 0.5 * w.dot(b.inertia * w);
+    if (!b.rotation_only)
+      S += 0.5 * b.mass * velocityOfCentre(i).squaredNorm() + b.mass * model_.gravity.norm() * data_.bodies[i].c.norm();
+    for (int k = 0; k < b.coordinates(); ++k) {
+      const double e = data_.bodies[i].phi[k] - model_.drives[i][k].rest_angle;
+      S += 0.5 * model_.drives[i][k].stiffness * e * e;
+    }
+  }
+  return S;
 }
 
 Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) const {

@@ -135,6 +135,10 @@ class ArticulatedSystem {
 
   /// Kinetic + gravitational + spring energy (the maximal formulation's).
   double energy(double t, const State& y) const;
+  /// The sum of the magnitudes of the energy's terms (kinetic, m ‖g‖ ‖c‖ per
+  /// body, springs): the scale of the energy's round-off, against which an
+  /// energy near zero is zero (DriftTracker).
+  double energyTermScale(double t, const State& y) const;
   /// Spatial angular momentum about the world origin.
   Eigen::Vector3d angularMomentum(double t, const State& y) const;
   /// Whether the scene conserves its spatial angular momentum: the same

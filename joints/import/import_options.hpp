@@ -15,6 +15,10 @@ struct ModelImportOptions {
   /// qvel are the scene's initial state; without it a model starts where
   /// MuJoCo's mj_resetData puts it, at qpos0 and at rest.
   std::string keyframe;
+  /// A URDF's root link on a free joint to the world (`--floating-base`);
+  /// without it the root is fixed to the world, as URDF's tools take it,
+  /// and the import says so.
+  bool floating_base = false;
   bool ignores(const std::string& category) const { return ignore.count(category) > 0; }
 };
 

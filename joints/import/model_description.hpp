@@ -101,6 +101,9 @@ struct ModelDescription {
   /// What the reader left out because the user allowed it (--ignore), one
   /// line each ("ignored contacts: geom 'floor' (line 12)").
   std::vector<std::string> ignored;
+  /// What the reader says of the model beyond that, one sentence each (a
+  /// URDF's root fixed to the world).
+  std::vector<std::string> notes;
 };
 
 }  // namespace model_import

@@ -126,6 +126,9 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
   const bool urdf = endsWith(path, ".urdf");
   if (urdf && !options.keyframe.empty())
     throw InvalidInput(path + ": --keyframe", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
+  if (!urdf && options.floating_base)
+    throw InvalidInput(path + ": --floating-base", "frees a URDF's root link; an MJCF model says which bodies are free "
+                                                   "itself (<freejoint/>)");
   model_import::ModelDescription model =
       urdf ? model_import::readUrdf(text, path, options) : model_import::readMjcf(text, path, options, limits);
   if (static_cast<long>(model.links.size()) > limits.max_bodies)

@@ -349,6 +349,7 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
   if (!model.ignored.empty()) text << " (ignored: " << model.ignored.size() << " elements)";
   scene.description = text.str();
   scene.import_notes.insert(scene.import_notes.begin(), model.ignored.begin(), model.ignored.end());
+  scene.import_notes.insert(scene.import_notes.end(), model.notes.begin(), model.notes.end());
   return scene;
 }
 

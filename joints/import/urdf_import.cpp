@@ -291,13 +291,54 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
   model.name = robot->getName();
   unsupported.resolve(options, &model);
 
-  // Links in breadth-first order from the root, which is the ground (a
-  // fixed base); their frames at every joint coordinate 0.
+  // A link at frame T (link → world): its mass properties in the world.
+  const auto linkAt = [&](const urdf::LinkConstSharedPtr& link, const Eigen::Isometry3d& T) {
+    ModelLink l;
+    l.name = link->name;
+    l.line = xml.line("link", link->name);
+    if (link->name == "ground")
+      throw InvalidInput(path + ": " + elementLabel("link", l.name, l.line),
+                         "'ground' is lieflow's name for the world: rename the link");
+    l.orientation = Eigen::Quaterniond(T.linear());
+    if (const urdf::InertialSharedPtr& in = link->inertial) {
+      const Eigen::Isometry3d Ti = T * isometry(in->origin);
+      Eigen::Matrix3d I;
+      I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
+      if (!(std::isfinite(in->mass) && in->mass >= 0.0) || !I.allFinite())
+        throw InvalidInput(path + ": " + elementLabel("link", l.name, l.line),
+                           "inertial mass and inertia must be finite, mass >= 0");
+      l.mass = in->mass;
+      l.com_world = Ti.translation();
+      l.inertia_world = Ti.linear() * I * Ti.linear().transpose();
+    } else {
+      l.com_world = T.translation();
+    }
+    return l;
+  };
+
+  // Links in breadth-first order from the root; their frames at every joint
+  // coordinate 0, the root's at the world origin. The root is the ground (a
+  // fixed base, as URDF's tools take it) or, with --floating-base, a body on
+  // a free joint to the world (a legged robot's trunk).
   const urdf::LinkConstSharedPtr root = robot->getRoot();
-  std::map<std::string, int> index;  // link name → model link (the root: −1)
+  std::map<std::string, int> index;  // link name → model link (a fixed root: −1)
   std::map<std::string, Eigen::Isometry3d> frame;
   frame[root->name] = Eigen::Isometry3d::Identity();
   index[root->name] = -1;
+  if (options.floating_base) {
+    index[root->name] = 0;
+    model.links.push_back(linkAt(root, Eigen::Isometry3d::Identity()));
+    ModelJoint free;
+    free.name = root->name + "_floating_base";
+    free.line = model.links.back().line;
+    free.type = ModelJointType::kFree;
+    free.parent = -1;
+    free.child = 0;
+    model.joints.push_back(free);
+  } else {
+    model.notes.push_back("the root link '" + root->name +
+                          "' is fixed to the world (a URDF's base; --floating-base frees it)");
+  }
   std::deque<urdf::LinkConstSharedPtr> queue{root};
   while (!queue.empty()) {
     const urdf::LinkConstSharedPtr link = queue.front();
@@ -308,27 +349,8 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       if (!child) throw InvalidInput(path + ": " + elementLabel("joint", j->name, jline), "has no child link");
       const Eigen::Isometry3d T = frame[link->name] * isometry(j->parent_to_joint_origin_transform);
       frame[child->name] = T;
-      ModelLink l;
-      l.name = child->name;
-      l.line = xml.line("link", child->name);
-      if (child->name == "ground")
-        throw InvalidInput(path + ": " + elementLabel("link", l.name, l.line),
-                           "'ground' is lieflow's name for the world: rename the link");
-      l.orientation = Eigen::Quaterniond(T.linear());
-      if (const urdf::InertialSharedPtr& in = child->inertial) {
-        const Eigen::Isometry3d Ti = T * isometry(in->origin);
-        Eigen::Matrix3d I;
-        I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
-        if (!(std::isfinite(in->mass) && in->mass >= 0.0) || !I.allFinite())
-          throw InvalidInput(path + ": " + elementLabel("link", l.name, l.line), "inertial mass and inertia must be finite, mass >= 0");
-        l.mass = in->mass;
-        l.com_world = Ti.translation();
-        l.inertia_world = Ti.linear() * I * Ti.linear().transpose();
-      } else {
-        l.com_world = T.translation();
-      }
       index[child->name] = static_cast<int>(model.links.size());
-      model.links.push_back(l);
+      model.links.push_back(linkAt(child, T));
 
       ModelJoint mj;
       mj.name = j->name;
@@ -354,7 +376,10 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       }
       if (mj.type == ModelJointType::kFree && mj.parent != -1)
         throw InvalidInput(path + ": " + elementLabel("joint", j->name, jline),
-                           "a floating joint frees a link from the world: its parent must be the root link");
+                           options.floating_base
+                               ? "a floating joint frees a link from the world: with --floating-base the root link "
+                                 "floats itself, and no other link may"
+                               : "a floating joint frees a link from the world: its parent must be the root link");
       if (j->dynamics) mj.damping[0] = j->dynamics->damping;
       if (j->mimic) {
         ModelCoupling c;

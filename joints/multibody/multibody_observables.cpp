@@ -35,6 +35,25 @@ double MultibodySystem::energy(const State& y) const {
   return E;
 }
 
+double MultibodySystem::energyTermScale(const State& y) const {
+  double S = 0.0;
+  for (int i = 0; i < bodyCount(); ++i) {
+    const RigidBody& b = model_.bodies[i];
+    const Eigen::Vector3d& w = y.bodies.velocities[i].omega;
+    S += 0.5 * w.dot(b.inertia * w);
+    if (!rot_[i])
+      S += 0.5 * b.mass * y.bodies.velocities[i].v.squaredNorm() +
+           b.mass * model_.gravity.norm() * y.bodies.poses[i].p.norm();
+  }
+  for (std::size_t k = 0; k < model_.joints.size(); ++k)
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
+      const CoordinateDrive& d = drives_[k][i];
+      const double e = y.angles[angleSlot(static_cast<int>(k), i)] - d.rest_angle;
+      S += 0.5 * d.stiffness * e * e;
+    }
+  return S;
+}
+
 Eigen::Vector3d MultibodySystem::angularMomentum(const State& y) const {
   return momentumAbout(y, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
 }

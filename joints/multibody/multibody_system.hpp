@@ -257,6 +257,9 @@ class MultibodySystem {
   /// Kinetic + gravity potential + spring energy.
   double energy(const State& y) const;
   double energy(double /*t*/, const State& y) const { return energy(y); }
+  /// The sum of the magnitudes of the energy's terms (kinetic, m ‖g‖ ‖p‖ per
+  /// body, springs): the scale of the energy's round-off (DriftTracker).
+  double energyTermScale(const State& y) const;
   Eigen::Vector3d spatialAngularMomentum(const State& y) const { return angularMomentum(y); }
   /// Σ (p × m v + R J ω), the spatial angular momentum about the world origin.
   Eigen::Vector3d angularMomentum(const State& y) const;

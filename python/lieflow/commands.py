@@ -163,7 +163,7 @@ def _flags(spec, values):
 
 _LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input-mb", _integer),
            "max_bodies": ("--max-bodies", _integer), "ignore": ("--ignore", _names),
-           "keyframe": ("--keyframe", _keyframe)}
+           "keyframe": ("--keyframe", _keyframe), "floating_base": ("--floating-base", None)}
 
 
 def _plain(value, where):
@@ -216,19 +216,22 @@ def _scene(scene, what="scene"):
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
 
 
-def import_model(model, ignore=None, keyframe=None):
+def import_model(model, ignore=None, keyframe=None, floating_base=False):
     """A MuJoCo MJCF (.xml) or URDF (.urdf) model as the scene it becomes, as
     ``lieflow import MODEL``: a dict in the scene schema (welded links merged;
     pass it to simulate, study or stability, or edit it first). ignore: what
     the model may leave out (e.g. ["contacts", "limits"], or ["all"]); what was
     left out is reported with warnings.warn. keyframe: an MJCF keyframe's name
     or index whose qpos and qvel are the start (default: qpos0, at rest).
+    floating_base: a URDF's root link on a free joint to the world (default:
+    fixed to it, as URDF's tools take it; the notes say so).
     Raises InputError naming the file, element and line for what lieflow
     cannot represent."""
     if not isinstance(model, (str, os.PathLike)):
         raise InputError(f"model: expected a path to a .xml or .urdf file, got {type(model).__name__}")
     text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "",
-                                        _keyframe("keyframe", keyframe) if keyframe is not None else "")
+                                        _keyframe("keyframe", keyframe) if keyframe is not None else "",
+                                        _switch("floating_base", floating_base))
     if notes:
         warnings.warn(f"lieflow: {os.fspath(model)}: " + "; ".join(notes), stacklevel=2)
     return json.loads(text)
@@ -263,7 +266,7 @@ def _callables(name, loads):
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
              moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
-             imu=False, ignore=None, keyframe=None):
+             imu=False, ignore=None, keyframe=None, floating_base=False):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a model file (MJCF .xml, URDF .urdf), a built-in
@@ -274,7 +277,8 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
                 (None: the scene's own);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
-    formulation: "maximal" or "joint" (--formulation; None: the default);
+    formulation: "maximal" or "joint" (--formulation; None: the default, joint
+                coordinates wherever they represent the scene, as stats["formulation"] says);
     noise:      dict with any of gyro, angle, quat, acc, bias_gyro (standard
                 deviations, as --noise-gyro/--noise-angle/--noise-quat/
                 --noise-acc/--bias-gyro) and seed;
@@ -310,7 +314,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
             "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
                                             formulation=formulation, imu=imu, ignore=ignore, keyframe=keyframe,
-                                            max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
+                                            floating_base=floating_base, max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
     data = raw["data"]
@@ -368,7 +372,7 @@ class _OutputDirectory:
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
           max_steps=None, max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None,
-          with_mujoco=False):
+          with_mujoco=False, floating_base=False):
     """Work-precision study, as ``lieflow study SCENE``.
 
     Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
@@ -389,7 +393,8 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
         tokens = positional + _flags(spec, dict(integrators=integrators, dt=dt, t_end=t_end, min_time=min_time,
                                                 options=options, max_steps=max_steps, max_input_mb=max_input_mb,
                                                 max_bodies=max_bodies, formulation=formulation, ignore=ignore,
-                                                keyframe=keyframe, with_mujoco=with_mujoco))
+                                                keyframe=keyframe, with_mujoco=with_mujoco,
+                                                floating_base=floating_base))
         tokens += ["--out", directory.path]
         if not plots:
             tokens.append("--no-plots")
@@ -404,7 +409,8 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
 
 
 def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
-              max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None):
+              max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None,
+              floating_base=False):
     """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
     and scene the largest bounded h*omega_c. scenes: a list of files, built-in
     names or dicts (default stiff-spring and fast-top). Returns a dict:
@@ -429,7 +435,8 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
     with _OutputDirectory(out) as directory:
         tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
                                                 max_input_mb=max_input_mb, max_bodies=max_bodies,
-                                                formulation=formulation, ignore=ignore, keyframe=keyframe))
+                                                formulation=formulation, ignore=ignore, keyframe=keyframe,
+                                                floating_base=floating_base))
         tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
         raw = _lieflow.stability(tokens, jsons)
         result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),

