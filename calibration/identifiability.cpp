@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include <Eigen/Eigenvalues>
@@ -29,13 +28,6 @@ int countMotionDetermined(const AxisInformation& info, const AxisFitOptions& opt
   int n = 0;
   for (int i = 0; i < 4; ++i) n += info.motion_to_noise[i] >= options.min_motion_to_noise;
   return n;
-}
-
-std::string number(double x, const char* format) {
-  if (std::isinf(x)) return "unbounded";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, format, x);
-  return buf;
 }
 
 /// Which axis a direction of the 4 axis angles mostly turns.

@@ -1,49 +1,45 @@
 // ArticulatedSystem: body poses and velocities, energy, angular momentum and
 // the joint outputs.
-#include <cmath>
 #include "joints/articulated/articulated_system.hpp"
+
+#include <cmath>
+#include <utility>
 
 namespace lieflow {
 namespace articulated {
 
 void ArticulatedSystem::kinematics(double t, const State& y) const { forwardPass(t, y, false, true); }
 
-double ArticulatedSystem::energy(double t, const State& y) const {
+std::pair<double, double> ArticulatedSystem::energyAndTermScale(double t, const State& y) const {
   kinematics(t, y);
-  double E = 0.0;
+  double E = 0.0, S = 0.0;  // the energy and its terms' magnitudes
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     const Eigen::Vector3d w = angularVelocityBody(i);
-    const Eigen::Vector3d v = velocityOfCentre(i);
-    E += 0.5 * w.dot(b.inertia * w);
+    const double rotation = 0.5 * w.dot(b.inertia * w);
+    E += rotation;
+    S += rotation;
     // A rotation-only body has no translational energy (as in the maximal formulation).
-    if (!b.rotation_only) E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(data_.bodies[i].c);
+    if (!b.rotation_only) {
+      const Eigen::Vector3d& c = data_.bodies[i].c;
+      const double translation = 0.5 * b.mass * velocityOfCentre(i).squaredNorm();
+      E += translation - b.mass * model_.gravity.dot(c);
+      S += translation + b.mass * model_.gravity.norm() * c.norm();
+    }
     for (int k = 0; k < b.coordinates(); ++k) {
       const multibody::CoordinateDrive& drive = model_.drives[i][k];
       if (drive.stiffness == 0.0) continue;
       const double e = data_.bodies[i].phi[k] - drive.rest_angle;
       E += 0.5 * drive.stiffness * e * e;
+      S += 0.5 * drive.stiffness * e * e;
     }
   }
-  return E;
+  return {E, S};
 }
 
-double ArticulatedSystem::energyTermScale(double t, const State& y) const {
-  kinematics(t, y);
-  double S = 0.0;
-  for (int i = 0; i < bodyCount(); ++i) {
-    const ArticulatedBody& b = model_.bodies[i];
-    const Eigen::Vector3d w = angularVelocityBody(i);
-    S += 0.5 * w.dot(b.inertia * w);
-    if (!b.rotation_only)
-      S += 0.5 * b.mass * velocityOfCentre(i).squaredNorm() + b.mass * model_.gravity.norm() * data_.bodies[i].c.norm();
-    for (int k = 0; k < b.coordinates(); ++k) {
-      const double e = data_.bodies[i].phi[k] - model_.drives[i][k].rest_angle;
-      S += 0.5 * model_.drives[i][k].stiffness * e * e;
-    }
-  }
-  return S;
-}
+double ArticulatedSystem::energy(double t, const State& y) const { return energyAndTermScale(t, y).first; }
+
+double ArticulatedSystem::energyTermScale(double t, const State& y) const { return energyAndTermScale(t, y).second; }
 
 Eigen::Vector3d ArticulatedSystem::angularMomentum(double t, const State& y) const {
   kinematics(t, y);

@@ -44,6 +44,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -234,6 +235,8 @@ class ArticulatedSystem {
   bool hasVelocityDependentForces() const;
 
  private:
+  /// energy() and energyTermScale() in one pass over the bodies.
+  std::pair<double, double> energyAndTermScale(double t, const State& y) const;
   using BodyData = ArticulatedData::Body;
 
   /// Pass 1 of the ABA: kinematics, velocities, bias accelerations and

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 namespace lieflow {
 namespace multibody {
@@ -14,15 +15,19 @@ using Row6 = Eigen::Matrix<double, 1, 6>;
 
 // --- Observables ---------------------------------------------------------------
 
-double MultibodySystem::energy(const State& y) const {
-  double E = 0.0;
+std::pair<double, double> MultibodySystem::energyAndTermScale(const State& y) const {
+  double E = 0.0, S = 0.0;  // the energy and its terms' magnitudes
   for (int i = 0; i < bodyCount(); ++i) {
     const RigidBody& b = model_.bodies[i];
     const Eigen::Vector3d& w = y.bodies.velocities[i].omega;
-    E += 0.5 * w.dot(b.inertia * w);
+    const double rotation = 0.5 * w.dot(b.inertia * w);
+    E += rotation;
+    S += rotation;
     if (!rot_[i]) {
-      const Eigen::Vector3d& v = y.bodies.velocities[i].v;
-      E += 0.5 * b.mass * v.squaredNorm() - b.mass * model_.gravity.dot(y.bodies.poses[i].p);
+      const Eigen::Vector3d& p = y.bodies.poses[i].p;
+      const double translation = 0.5 * b.mass * y.bodies.velocities[i].v.squaredNorm();
+      E += translation - b.mass * model_.gravity.dot(p);
+      S += translation + b.mass * model_.gravity.norm() * p.norm();
     }
   }
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
@@ -31,28 +36,14 @@ double MultibodySystem::energy(const State& y) const {
       if (d.stiffness == 0.0) continue;
       const double e = y.angles[angleSlot(static_cast<int>(k), i)] - d.rest_angle;
       E += 0.5 * d.stiffness * e * e;
-    }
-  return E;
-}
-
-double MultibodySystem::energyTermScale(const State& y) const {
-  double S = 0.0;
-  for (int i = 0; i < bodyCount(); ++i) {
-    const RigidBody& b = model_.bodies[i];
-    const Eigen::Vector3d& w = y.bodies.velocities[i].omega;
-    S += 0.5 * w.dot(b.inertia * w);
-    if (!rot_[i])
-      S += 0.5 * b.mass * y.bodies.velocities[i].v.squaredNorm() +
-           b.mass * model_.gravity.norm() * y.bodies.poses[i].p.norm();
-  }
-  for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
-      const CoordinateDrive& d = drives_[k][i];
-      const double e = y.angles[angleSlot(static_cast<int>(k), i)] - d.rest_angle;
       S += 0.5 * d.stiffness * e * e;
     }
-  return S;
+  return {E, S};
 }
+
+double MultibodySystem::energy(const State& y) const { return energyAndTermScale(y).first; }
+
+double MultibodySystem::energyTermScale(const State& y) const { return energyAndTermScale(y).second; }
 
 Eigen::Vector3d MultibodySystem::angularMomentum(const State& y) const {
   return momentumAbout(y, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());

@@ -47,6 +47,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -291,6 +292,8 @@ class MultibodySystem {
   std::vector<JointOutput> jointOutputs(double t, const State& y) const;
 
  private:
+  /// energy() and energyTermScale() in one pass over the bodies.
+  std::pair<double, double> energyAndTermScale(const State& y) const;
   struct CoordinateRef {
     int joint, coordinate;
   };

@@ -196,7 +196,9 @@ TEST(CalibUniversal, GyroscopeBiasesFitted) {
     EXPECT_LT(fitted.bias_ratio[a], test::kSanitized ? 2.5 : 1.6);
   }
   // Unmodelled, the biases leave σ too small by about 1.5 (measured: mean (error/σ)² 2.20 / 2.29).
-  if (!test::kSanitized) EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 1.6);
+  if (!test::kSanitized) {
+    EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 1.6);
+  }
 }
 
 /// The secondary sensor's clock off by up to ±50 ms (±5 samples), without biases.
@@ -213,7 +215,9 @@ TEST(CalibUniversal, ClockOffsetFitted) {
   EXPECT_GT(fitted.offset_ratio, test::kSanitized ? 0.3 : 0.5);
   EXPECT_LT(fitted.offset_ratio, test::kSanitized ? 2.5 : 1.6);
   // Unmodelled, the offset leaves the axes tens of σ off (measured: 77 / 85).
-  if (!test::kSanitized) EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 10.0);
+  if (!test::kSanitized) {
+    EXPECT_GT(plain.axis_ratio[0] + plain.axis_ratio[1], 2.0 * 10.0);
+  }
   // Biases and the offset together.
   const BiasTally both = universalBiasTrials(true, kTrials, 0.05, 0.05, true);
   EXPECT_EQ(both.answered, kTrials);
