@@ -4,7 +4,6 @@
 /// and prints one JSON object (../shared/DESIGN.md). Exit 1 when the data
 /// cannot identify the parameters or the solver does not converge (the JSON
 /// is still printed then), 2 on bad input.
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +22,7 @@
 #include "app/calibrate_outcome.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/progress.hpp"
 #include "app/run_setup.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/low_pass.hpp"
@@ -325,15 +325,11 @@ void announceLargeRecording(const std::string& path, const std::string& what) {
 /// Progress of a fit on stderr: silent for the first 2 s (most fits end
 /// sooner), then a line at most every 5 s with the iteration and the cost.
 calibration::FitProgress fitProgressOnStderr(const std::string& what) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto last = std::make_shared<double>(-1e300);
-  return [what, start, last](int iteration, double cost) {
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-    if (elapsed < 2.0 || elapsed - *last < 5.0) return;
-    *last = elapsed;
+  auto lines = std::make_shared<LineThrottle>(ProgressReporter::kProgressDelay, ProgressReporter::kProgressInterval);
+  return [what, lines](int iteration, double cost) {
+    if (!lines->due()) return;
     std::cerr << "lieflow: " << what << ": solver iteration " << iteration << ", cost " << cost << ", "
-              << static_cast<long>(elapsed) << " s" << std::endl;
+              << static_cast<long>(lines->elapsed()) << " s" << std::endl;
   };
 }
 

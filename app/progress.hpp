@@ -12,6 +12,31 @@
 namespace lieflow {
 namespace app {
 
+/// When a progress line is due: none in the first `delay` seconds since the
+/// start (or restart()), then one at most every `interval` seconds.
+class LineThrottle {
+ public:
+  LineThrottle(double delay, double interval) : delay_(delay), interval_(interval) { restart(); }
+  void restart() {
+    start_ = Clock::now();
+    last_ = -1e300;
+  }
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  /// Whether a line is due now (then the next one is `interval` away).
+  bool due() {
+    const double t = elapsed();
+    if (t < delay_ || t - last_ < interval_) return false;
+    last_ = t;
+    return true;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double delay_, interval_;
+  Clock::time_point start_;
+  double last_;
+};
+
 class ProgressReporter {
  public:
   static constexpr double kProgressDelay = 2.0;
@@ -19,13 +44,12 @@ class ProgressReporter {
 
   /// `what` names the work ("simulate pendulum with rkmk4"); `t_end` its end time.
   ProgressReporter(std::string what, double t_end, std::ostream& out = std::cerr)
-      : what_(std::move(what)), t_end_(t_end), out_(out), start_(Clock::now()) {}
+      : what_(std::move(what)), t_end_(t_end), out_(out), lines_(kProgressDelay, kProgressInterval) {}
 
   /// Reports (t, steps) if it is time to.
   void operator()(double t, long steps) {
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-    if (elapsed < kProgressDelay || elapsed - last_ < kProgressInterval) return;
-    last_ = elapsed;
+    if (!lines_.due()) return;
+    const double elapsed = lines_.elapsed();
     const double fraction = t_end_ > 0.0 ? t / t_end_ : 0.0;
     out_ << "lieflow: " << what_ << ": t = " << t << " of " << t_end_ << " (" << static_cast<int>(100.0 * fraction)
          << " %), " << steps << " steps, " << static_cast<long>(elapsed) << " s";
@@ -34,12 +58,10 @@ class ProgressReporter {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   std::string what_;
   double t_end_;
   std::ostream& out_;
-  Clock::time_point start_;
-  double last_ = -1e300;
+  LineThrottle lines_;
 };
 
 }  // namespace app

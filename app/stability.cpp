@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "app/plotting.hpp"
+#include "app/progress.hpp"
 #include "app/run_setup.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -115,7 +115,7 @@ double characteristicFrequency(const SceneDescription& scene) {
 }
 
 /// Seconds between the progress lines of a long scan.
-constexpr int kProgressLineSeconds = 5;
+constexpr double kProgressLineSeconds = 5.0;
 
 std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOptions& o) {
   const double omega_c = characteristicFrequency(sim.scene());
@@ -132,17 +132,15 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
   std::vector<StabilityRow> rows;
   // A line for each probe that follows seconds of work (a scan of a large
   // scene runs minutes between the integrators' lines).
-  auto last_line = std::chrono::steady_clock::now();
+  LineThrottle lines(kProgressLineSeconds, kProgressLineSeconds);
   const auto report = [&](const std::string& name, double h_omega) {
-    const auto now = std::chrono::steady_clock::now();
-    if (!o.progress || now - last_line < std::chrono::seconds(kProgressLineSeconds)) return;
-    last_line = now;
+    if (!o.progress || !lines.due()) return;
     *o.progress << "stability: " << sim.scene().name << " " << name << ": probing h*omega_c = " << formatNumber(h_omega)
                 << "\n";
   };
   for (const std::string& name : integrators) {
     if (o.progress) *o.progress << "stability: " << sim.scene().name << " " << name << "\n";
-    last_line = std::chrono::steady_clock::now();
+    lines.restart();
     StabilityRow row;
     row.scene = sim.scene().name;
     row.integrator = name;
