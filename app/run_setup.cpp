@@ -1,13 +1,18 @@
 #include "app/run_setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
+#include <sstream>
 
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
+#include "app/stability.hpp"
 #include "integrators/registry.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace app {
@@ -32,6 +37,7 @@ nlohmann::ordered_json statsJson(const SimulationResult& r) {
   j["formulation"] = r.formulation;
   j["dt"] = r.dt;
   j["steps"] = r.steps;
+  j["checked_every"] = r.checked_every;
   j["wall_seconds"] = r.wall_seconds;
   j["ns_per_step"] = r.ns_per_step;
   // A failed run has no meaningful drift: null rather than a reassuring 0.
@@ -88,12 +94,27 @@ std::string describeOptions(const SimulationOptions& o) {
   return text;
 }
 
+double defaultStep(const SceneDescription& scene) {
+  double h = kDefaultStep;
+  try {
+    h = std::min(h, kDefaultStepTimesFrequency / characteristicFrequency(scene));
+  } catch (const InvalidInput&) {
+    // No spin and no spring: MuJoCo's step stands.
+  }
+  // Rounded down to 1, 2 or 5 times a power of ten, a step a user can read.
+  const double decade = std::pow(10.0, std::floor(std::log10(h)));
+  for (const double m : {5.0, 2.0, 1.0})
+    if (m * decade <= h) return m * decade;
+  return decade;
+}
+
 SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arguments& args) {
   SimulationOptions o;
   o.integrator = args.value("--integrator", scene.has_integrator ? scene.integrator.name : "");
-  if (o.integrator.empty())
-    throw InvalidInput(scene.source + ": integrator",
-                       "missing (give --integrator or an \"integrator\" object in the scene)");
+  // A scene (a URDF, a JSON scene) that names no integrator runs with the
+  // default, and says so: the step too when the scene has none.
+  const bool default_integrator = o.integrator.empty();
+  if (default_integrator) o.integrator = kDefaultIntegrator;
   if (scene.has_integrator && scene.integrator.name == o.integrator)
     o.integrator_options = scene.integrator.options;
   for (const auto& kv : parseOptionList(args.list("--options"))) {
@@ -103,9 +124,22 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
   o.max_steps = resourceLimitsFrom(args).max_steps;
   o.formulation = args.value("--formulation", "");
   o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
-  if (!(o.dt > 0.0))
-    throw InvalidInput(scene.source + ": integrator.dt", "missing (give --dt or integrator.dt in the scene)");
-  if (!args.has("--dt")) o.dt_source = scene.source + ": integrator.dt";
+  if (!(o.dt > 0.0)) {
+    o.dt = defaultStep(scene);
+    o.dt_source = "the default step";
+  } else if (!args.has("--dt")) {
+    o.dt_source = scene.source + ": integrator.dt";
+  }
+  if (default_integrator || o.dt_source == "the default step") {
+    std::ostringstream note;
+    note << "lieflow: " << scene.source << " names no " << (default_integrator ? "integrator" : "step") << ": running "
+         << o.integrator << " at dt = " << formatNumber(o.dt) << " s (the default";
+    if (o.dt_source == "the default step")
+      note << "; the step is MuJoCo's default 0.002 s or " << kDefaultStepTimesFrequency
+           << "/omega for the scene's fastest spin or spring, omega, if shorter";
+    note << "; " << (default_integrator ? "--integrator and " : "") << "--dt choose)\n";
+    std::cerr << note.str();
+  }
   o.t_end = args.positiveNumber("--t-end", scene.has_t_end ? scene.t_end : 0.0);
   if (!(o.t_end > 0.0))
     throw InvalidInput(scene.source + ": t_end", "missing (give --t-end or t_end in the scene)");

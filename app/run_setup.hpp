@@ -12,6 +12,20 @@
 namespace lieflow {
 namespace app {
 
+/// The integrator a scene that names none runs with (named on stderr and in
+/// --stats): fourth order, explicit, on the joints' groups.
+inline constexpr const char* kDefaultIntegrator = "rkmk4";
+/// MuJoCo's default <option timestep>, the step its users know.
+inline constexpr double kDefaultStep = 0.002;
+/// The default step is at most this over the scene's fastest angular rate
+/// (spin, or a spring's √(k/I)): h·ω = 0.05 keeps rkmk4's error per period
+/// near (hω)⁴ ≈ 6e-6 and far from its stability limit h·ω ≈ 2.8.
+inline constexpr double kDefaultStepTimesFrequency = 0.05;
+
+/// The step of a scene that gives none: min(kDefaultStep,
+/// kDefaultStepTimesFrequency / ω), rounded down to 1, 2 or 5 × 10^k.
+double defaultStep(const SceneDescription& scene);
+
 /// Integrator, dt, t_end and options for `scene` given --integrator, --dt,
 /// --t-end and --options. The scene's integrator options apply only when the
 /// integrator is the scene's own.

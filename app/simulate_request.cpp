@@ -45,7 +45,7 @@ std::unique_ptr<Simulation> simulationFrom(const Arguments& args, std::optional<
 const std::set<std::string>& simulateValueFlags() {
   static const std::set<std::string> flags = [] {
     std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",
-                               "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed",
+                               "--check-every", "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed",
                                "--noise-acc",  "--bias-gyro"};
     f.insert(runLimitFlags().begin(), runLimitFlags().end());
     return f;
@@ -67,6 +67,7 @@ SimulateRequest simulateRequestFrom(const Arguments& args, std::optional<SceneDe
   request.simulation = simulationFrom(args, std::move(scene), "simulate");
   request.options = simulationOptionsFrom(request.simulation->scene(), args);
   request.options.every = args.positiveInt("--every", 1);
+  request.options.check_every = args.positiveInt("--check-every", 0);
   request.options.imu = args.has("--imu");
   request.noise = noiseFrom(args, request.simulation->columns(request.options.imu));
   return request;

@@ -36,6 +36,7 @@ SimulationOptions probeRun(const Simulation& sim, const std::string& integrator,
   run.dt_source = "the stability scan's step";
   run.t_end_source = "its run time";
   run.max_steps = o.max_steps;
+  run.check_every = 1;  // the energy bound and the blow-up test hold at every step
   if (o.heartbeat) {
     o.heartbeat();
     run.progress = [heartbeat = o.heartbeat](double, long) { heartbeat(); };

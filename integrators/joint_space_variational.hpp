@@ -163,6 +163,17 @@ class JointSpaceVariationalStepper {
   }
 
  private:
+  /// Two times (or steps) closer than this fraction of the step are the
+  /// same: a run's k-th step starts at t₀ + k h and lasts (t₀ + (k+1)h) −
+  /// (t₀ + k h), which differ from the last step's end and length in their
+  /// last bits. The continued quantities (p₁, Q₁) and the extrapolated start
+  /// then carry over; without this a run through integrateFixedStep lost
+  /// them at every step (5.3 passes per step instead of 3.4 on a chain of 10).
+  static constexpr double kSameInstantFraction = 1e-9;
+  static bool sameInstant(double a, double b, double h) {
+    return std::abs(a - b) <= kSameInstantFraction * std::abs(h);
+  }
+
   /// One step of size h (the file comment) into result_; false, with the
   /// report saying why, when an iteration does not converge.
   bool stepOnce(const System& system, double t, const State& y, double h, StepReport* report) const {
@@ -176,7 +187,7 @@ class JointSpaceVariationalStepper {
     w.end_valid = false;
     // p₀ = M(q₀) q̇₀ and Q₀: the last step's p₁ and Q₁ when this one continues
     // it (the same quantities, p₁ exactly the momentum q̇₀ was solved from).
-    if (!(continues && t == w.t_end)) {
+    if (!(continues && sameInstant(t, w.t_end, h))) {
       system.kinetic(w.start, y.u, &w.p_end, nullptr);
       system.generalizedForces(t, w.start, y.u, &w.Q_end);
     }
@@ -186,7 +197,7 @@ class JointSpaceVariationalStepper {
     // continues (same h), extrapolated by the polynomial through as many as
     // there are (quartic: error O(h⁵)); after one step 2 q̇₀ − v₋₁ (O(h²));
     // else q̇₀ (O(h)). The start only sets how many passes the iteration takes.
-    if (!(continues && h == w.h_last)) w.history = 0;
+    if (!(continues && sameInstant(h, w.h_last, h))) w.history = 0;
     if (w.history >= 5)
       w.v = 5.0 * (w.v1 - w.v4) + 10.0 * (w.v3 - w.v2) + w.v5;
     else if (w.history >= 4)

@@ -183,20 +183,28 @@ class InvariantSet {
     Eigen::Vector3d L = Eigen::Vector3d::Zero();      ///< about the world origin
     Eigen::Vector3d L_com = Eigen::Vector3d::Zero();  ///< about the centre of mass
     double energy = 0.0;
-    double dissipated_power = 0.0;  ///< Σ c φ̇² of the dashpots, ≥ 0
   };
 
-  /// Whether observe(t, MultibodyValues) needs L_com, the energy and the
-  /// dissipated power (else only L).
+  /// Whether observe(t, MultibodyValues) needs L_com and the energy (else
+  /// only L).
   bool needsMultibodyValues() const {
     return std::find(kinds_.begin(), kinds_.end(), Kind::kComMomentum) != kinds_.end() ||
            std::find(kinds_.begin(), kinds_.end(), Kind::kEnergyBalance) != kinds_.end();
   }
 
-  /// Records a multibody state at time t (the dissipated work integrates
-  /// the power over the observed times: DissipatedWork).
-  void observe(double t, const MultibodyValues& v) {
-    work_.add(t, v.dissipated_power);
+  /// Whether the dissipated work integrates the dashpots' power: then
+  /// addPower takes it at every step (the quadrature of a power sampled only
+  /// at the output rows would be the error of the figure).
+  bool integratesPower() const {
+    return std::find(kinds_.begin(), kinds_.end(), Kind::kEnergyBalance) != kinds_.end();
+  }
+
+  /// Adds the dashpots' power P at time t (t increasing) to the dissipated
+  /// work (DissipatedWork).
+  void addPower(double t, double P) { work_.add(t, P); }
+
+  /// Records a multibody state at time t, whose power addPower took.
+  void observe(double, const MultibodyValues& v) {
     const double dissipated = work_.value();
     observeEach([&](Kind kind) -> std::pair<Eigen::Vector3d, double> {
       switch (kind) {

@@ -1,5 +1,7 @@
 #include "joints/multibody_scene.hpp"
 
+#include <tuple>
+
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -81,6 +83,17 @@ multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k,
   multibody::Gear g;
   g.name = label;
   g.bodies = {{body(j.carrier), body(j.main), body(j.secondary), kGround}};
+  if (j.type == "coupling") {
+    for (const auto& [side, slide, i] : {std::tuple<const char*, bool, int>{"main", j.slide_main, g.bodies[1]},
+                                         {"secondary", j.slide_secondary, g.bodies[2]}})
+      if (slide && scene.bodies[i].rotation_only)
+        throw InvalidInput(prefix + "." + side, "'" + scene.bodies[i].name +
+                                                    "' is rotation_only: a sliding node needs translational "
+                                                    "coordinates");
+    g.constraint = constraints::makeCouplingJoint<double>(j.ratio, j.axes_main.r, j.slide_main, j.axes_secondary.r,
+                                                          j.slide_secondary, prefix);
+    return g;
+  }
   const auto a1 = nodeAxes(j.axes_main, prefix + ".axes_main");
   const auto a2 = nodeAxes(j.axes_secondary, prefix + ".axes_secondary");
   if (j.type == "gear") {

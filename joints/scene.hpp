@@ -95,7 +95,7 @@ struct JointDescription {
   std::array<double, 3> initial_angles{{0.0, 0.0, 0.0}};
   /// revolute, prismatic: [0]; universal, gimbal: [i] = φ_{i+1} (suffix "1", "2", "3").
   std::array<CoordinateDescription, 3> coordinates;
-  /// gear, rack_pinion, differential: ratio α, carrier body (default
+  /// gear, rack_pinion, differential, coupling: ratio α, carrier body (default
   /// "ground"), third node (differential: `tertiary`) and node axes
   /// (axes_main, axes_secondary, axes_tertiary).
   double ratio = 0.0;
@@ -103,8 +103,17 @@ struct JointDescription {
   std::string tertiary;
   NodeAxesDescription axes_main, axes_secondary, axes_tertiary;
 
-  /// gear, rack_pinion or differential (velocity rows between a carrier and nodes).
-  bool isGear() const { return type == "gear" || type == "rack_pinion" || type == "differential"; }
+  /// coupling: whether each node slides (a prismatic joint to the carrier)
+  /// or turns (a revolute one) along its axis (axes_main.r,
+  /// axes_secondary.r: "axis_main", "axis_secondary" in the scene file;
+  /// "motion_main", "motion_secondary": "turn" or "slide").
+  bool slide_main = false, slide_secondary = false;
+
+  /// gear, rack_pinion, differential or coupling (velocity rows between a
+  /// carrier and nodes).
+  bool isGear() const {
+    return type == "gear" || type == "rack_pinion" || type == "differential" || type == "coupling";
+  }
 };
 
 /// The integrator a scene asks for: a name of `lieflow integrators`, a step

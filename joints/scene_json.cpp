@@ -301,12 +301,12 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
   j.name = r.string("name");
   if (const std::string problem = columnNameProblem(j.name); !problem.empty()) r.fail("name", problem);
   j.type = r.string("type");
-  static const std::set<std::string> kTypes = {"spherical", "revolute", "universal",   "gimbal",      "prismatic",
-                                               "fixed",     "gear",     "rack_pinion", "differential"};
+  static const std::set<std::string> kTypes = {"spherical", "revolute",    "universal",    "gimbal",  "prismatic",
+                                               "fixed",     "gear",        "rack_pinion",  "differential", "coupling"};
   if (!kTypes.count(j.type))
     r.fail("type", "unknown joint type '" + j.type +
                        "' (known: spherical, revolute, universal, gimbal, prismatic, fixed, gear, rack_pinion, "
-                       "differential)");
+                       "differential, coupling)");
   j.main = r.string("main");
   j.secondary = r.string("secondary");
   if (j.type == "spherical" || j.type == "fixed")
@@ -359,8 +359,22 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
     j.ratio = r.number("ratio");
     if (j.ratio == 0.0) r.fail("ratio", "gear ratio is 0 (a non-zero ratio is required)");
     if (r.has("carrier")) j.carrier = r.string("carrier");
-    j.axes_main = readNodeAxes(r, "axes_main");
-    j.axes_secondary = readNodeAxes(r, "axes_secondary");
+    if (j.type == "coupling") {
+      // One row α q̇_main + q̇_secondary = 0 between two joints' rates: each
+      // node's axis and whether it turns or slides.
+      j.axes_main.r = r.vector3("axis_main");
+      j.axes_secondary.r = r.vector3("axis_secondary");
+      const auto motion = [&](const char* key) {
+        const std::string m = r.string(key);
+        if (m != "turn" && m != "slide") r.fail(key, "expected \"turn\" or \"slide\", got '" + m + "'");
+        return m == "slide";
+      };
+      j.slide_main = motion("motion_main");
+      j.slide_secondary = motion("motion_secondary");
+    } else {
+      j.axes_main = readNodeAxes(r, "axes_main");
+      j.axes_secondary = readNodeAxes(r, "axes_secondary");
+    }
     if (j.type == "differential") {
       j.tertiary = r.string("tertiary");
       j.axes_tertiary = readNodeAxes(r, "axes_tertiary");

@@ -55,6 +55,13 @@ json joint(const JointDescription& d) {
   if (d.isGear()) {
     j["ratio"] = d.ratio;
     j["carrier"] = d.carrier;
+    if (d.type == "coupling") {
+      j["axis_main"] = vec(d.axes_main.r);
+      j["motion_main"] = d.slide_main ? "slide" : "turn";
+      j["axis_secondary"] = vec(d.axes_secondary.r);
+      j["motion_secondary"] = d.slide_secondary ? "slide" : "turn";
+      return j;
+    }
     j["axes_main"] = nodeAxes(d.axes_main);
     j["axes_secondary"] = nodeAxes(d.axes_secondary);
     if (d.type == "differential") {

@@ -44,7 +44,16 @@ struct SimulationOptions {
   /// Called with each output row's time and the current relative error of
   /// each invariant (invariantNames() order), beside the row sink.
   std::function<void(double, const std::vector<double>&)> invariant_sink;
-  /// Compute energy/momentum statistics at every step (off: only the final
+  /// Steps between the checks of the run's figures (energy and momentum
+  /// drift, the invariants, the constraint error and the blow-up test):
+  /// 0 checks them at the output steps (every `every`-th and the last), so
+  /// that a run with few rows costs what its stepper costs; 1 at every step
+  /// (study and stability do: their drift figures and blow-up test are the
+  /// result). Every step's state is checked for finiteness whatever it is
+  /// (integrateFixedStep, integrateAdaptive), so a run that overflows stops
+  /// there; a dashpot's power is taken at every step for energy_balance.
+  int check_every = 0;
+  /// Compute energy/momentum statistics (off: only the final
   /// state is observed, so the timing measures the stepping alone, and a
   /// blow-up is caught only once the state is non-finite).
   bool diagnostics = true;
@@ -74,7 +83,10 @@ struct SimulationResult {
   long rejected_steps = 0;
   double wall_seconds = 0.0;
   double ns_per_step = 0.0;
-  /// max |E − E₀|/|E₀| over the observed steps (absolute when E₀ = 0).
+  /// The interval of the checks in steps (SimulationOptions::check_every
+  /// resolved: `every` when that was 0).
+  long checked_every = 1;
+  /// max |E − E₀|/|E₀| over the checked steps (absolute when E₀ = 0).
   double energy_drift = 0.0;
   /// Whether the spatial angular momentum is conserved by this scene, and
   /// max ‖L − L₀‖/‖L₀‖ if it is.

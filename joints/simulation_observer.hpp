@@ -266,7 +266,6 @@ inline void observeInvariants(InvariantSet* set, const multibody::MultibodySyste
   if (set->needsMultibodyValues()) {
     v.L_com = sys.centreOfMassMomentum(y);
     v.energy = sys.energy(y);
-    v.dissipated_power = sys.dissipatedPower(y);
   }
   set->observe(t, v);
 }
@@ -277,13 +276,25 @@ inline void observeInvariants(InvariantSet* set, const articulated::ArticulatedS
   if (set->needsMultibodyValues()) {
     v.L_com = sys.centreOfMassMomentum(t, y);
     v.energy = sys.energy(t, y);
-    v.dissipated_power = sys.dissipatedPower(t, y);
   }
   set->observe(t, v);
 }
 template <typename System, typename State>
 void observeInvariants(InvariantSet* set, const System& sys, const State& y, double) {
   observeInvariants(set, sys, y);
+}
+
+/// The dashpots' power Σ c φ̇² of a state (single bodies have none).
+template <typename System, typename State>
+double dissipatedPowerOf(const System&, double, const State&) {
+  return 0.0;
+}
+inline double dissipatedPowerOf(const multibody::MultibodySystem& sys, double, const multibody::MultibodyGroupState& y) {
+  return sys.dissipatedPower(y);
+}
+inline double dissipatedPowerOf(const articulated::ArticulatedSystem& sys, double t,
+                                const articulated::ArticulatedState& y) {
+  return sys.dissipatedPower(t, y);
 }
 
 /// Index of the first non-finite value of a row, or −1.
@@ -325,10 +336,15 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
     stop_reason = why.str();
     return true;
   };
+  const long check_every = options.check_every > 0 ? options.check_every : options.every;
+  result.checked_every = check_every;
+  const bool integrates_power = invariants.integratesPower();
   auto observer = [&](long k, double t, const typename System::State& y) {
     last_written = false;
     if (options.progress && pacer.due(k)) options.progress(t, k);
-    if (options.diagnostics) {
+    const bool row_due = k % options.every == 0 || k == n_outputs;
+    if (options.diagnostics && integrates_power) invariants.addPower(t, dissipatedPowerOf(system, t, y));
+    if (options.diagnostics && (row_due || k % check_every == 0)) {
       drift.observe(system, k, t, y);
       observeInvariants(&invariants, system, y, t);
       constraint_error = std::max(constraint_error, constraintErrorOf(system, t, y));
@@ -340,7 +356,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
         stop_reason = why.str();
         return false;
       }
-      if (row_sink && (k % options.every == 0 || k == n_outputs)) {
+      if (row_sink && row_due) {
         rows(system, t, y, &row);
         if (non_finite(row, k, t)) return false;
         row_sink(row);

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
         o.dt = r.dt;
         o.t_end = t_end;
         o.every = static_cast<int>(every);
+        o.check_every = 1;  // the drifts of every step, as MuJoCo's are measured
         o.max_steps = steps + 1;
         o.invariant_sink = [&](double t, const std::vector<double>& errors) {
           trace << r.integrator << "," << r.dt << "," << t;

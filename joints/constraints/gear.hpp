@@ -159,6 +159,56 @@ struct RackPinionJoint {
   }
 };
 
+/// A coupling of two one-coordinate joints of a common parent (the carrier):
+/// node i turns (revolute) or slides (prismatic) relative to the carrier
+/// along its axis x_i (body frame), and its rate q̇_i = Δω_i·x_i or
+/// ΔV_i·x_i (gear_terms.hpp; the node's own joint holds its other relative
+/// motions, so these are the joint's φ̇ or ẋ). Bodies (carrier, N1, N2),
+/// 1 row: α q̇₁ + q̇₂ = 0, i.e. q₂ = −α q₁ + const — a URDF <mimic> with
+/// multiplier −α, or an MJCF joint equality of first order. Unlike the
+/// gear's, the row does not hold the nodes' other motions: their joints do.
+template <typename T>
+struct CouplingJoint {
+  static constexpr int kRows = 1;
+  static constexpr std::size_t kBodies = 3;
+  using Poses = std::array<BodyPose<T>, kBodies>;
+  using Velocities = std::array<BodyVelocity<T>, kBodies>;
+  using Blocks = ConstraintBlocks<T, kRows, kBodies>;
+  using Rows = Eigen::Matrix<T, kRows, 1>;
+
+  T ratio;  ///< α
+  Vector3<T> axis1, axis2;
+  bool slide1 = false, slide2 = false;  ///< prismatic nodes (else revolute)
+
+  /// B(q): α q̇₁ + q̇₂ with q̇_i = Δω_i·x_i or ΔV_i·x_i.
+  Blocks rows(const Poses& X) const {
+    Blocks B;
+    for (auto& b : B) b.setZero();
+    addTerm(B, ratio, 1, X, axis1, slide1);
+    addTerm(B, T(1), 2, X, axis2, slide2);
+    return B;
+  }
+
+  Rows velocity(const Poses& X, const Velocities& V) const { return applyBlocks(rows(X), V); }
+
+  Rows convective(const Poses& X, const Velocities& V) const {
+    Rows c;
+    c << term(ratio, 1, X, V, axis1, slide1) + term(T(1), 2, X, V, axis2, slide2);
+    return c;
+  }
+
+ private:
+  static void addTerm(Blocks& B, const T& c, std::size_t node, const Poses& X, const Vector3<T>& x, bool slide) {
+    if (slide)
+      detail::addSlideTerm(B, 0, c, node, X, x);
+    else
+      detail::addSpinTerm(B, 0, c, node, X, x);
+  }
+  static T term(const T& c, std::size_t node, const Poses& X, const Velocities& V, const Vector3<T>& x, bool slide) {
+    return slide ? detail::slideTermConvective(c, node, X, V, x) : detail::spinTermConvective(c, node, X, V, x);
+  }
+};
+
 /// Differential gear: bodies (carrier, input N1, outputs N2, N3), 3 rows.
 template <typename T>
 struct DifferentialJoint {
@@ -211,6 +261,15 @@ template <typename T>
 RackPinionJoint<T> makeRackPinionJoint(const T& ratio, const NodeAxes<T>& pinion,
                                        const NodeAxes<T>& rack, const std::string& prefix = "") {
   return RackPinionJoint<T>{checkedGearRatio(ratio, fieldName(prefix, "ratio")), pinion, rack};
+}
+/// A coupling; the axes must be unit to 1e-6 ("PREFIX.axis_main",
+/// "PREFIX.axis_secondary"; normalized).
+template <typename T>
+CouplingJoint<T> makeCouplingJoint(const T& ratio, const Vector3<T>& axis1, bool slide1, const Vector3<T>& axis2,
+                                   bool slide2, const std::string& prefix = "") {
+  return CouplingJoint<T>{checkedGearRatio(ratio, fieldName(prefix, "ratio")),
+                          checkedUnitAxis(axis1, fieldName(prefix, "axis_main")),
+                          checkedUnitAxis(axis2, fieldName(prefix, "axis_secondary")), slide1, slide2};
 }
 template <typename T>
 DifferentialJoint<T> makeDifferentialJoint(const T& ratio, const NodeAxes<T>& node1,

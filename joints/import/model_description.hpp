@@ -69,9 +69,9 @@ struct ModelJoint {
   std::array<double, 3> damping{{0.0, 0.0, 0.0}};
 };
 
-/// A coupling q_follower = multiplier q_leader + offset of two revolute
-/// joints (URDF <mimic>, MJCF equality joint with a linear polycoef): a gear
-/// row in the scene when both joints turn their child about the same parent.
+/// A coupling q_follower = multiplier q_leader + offset of two joints (URDF
+/// <mimic>, MJCF equality joint with a linear polycoef): a coupling row in
+/// the scene when both are revolute or prismatic joints of one parent.
 struct ModelCoupling {
   std::string name;
   int line = 0;

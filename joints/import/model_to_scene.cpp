@@ -291,35 +291,53 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
   for (const ModelClosure& c : model.closures)
     scene.joints.push_back(
         jointBetween(c.name, elementLabel("equality", c.name, c.line), c.type, c.link1, c.link2, c.anchor_world));
+  // A coupling q_f = m q_l + c of two joints of one parent: the coupling
+  // row −m q̇_l + q̇_f = 0 between their children, each turning or sliding
+  // along its axis (held, in its own body's frame, by its joint).
+  std::map<std::string, const ModelJoint*> model_joint;
+  for (const ModelJoint& j : model.joints) model_joint[j.name] = &j;
+  const auto body_rotation = [&](const std::string& body) -> Eigen::Matrix3d {
+    const int i = scene.bodyIndex(body);
+    return i < 0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(scene.bodies[i].orientation.toRotationMatrix());
+  };
   for (const ModelCoupling& g : model.couplings) {
     const std::string label = elementLabel("coupling", g.name, g.line);
     const auto lead = scene_joint_of.find(g.leader), follow = scene_joint_of.find(g.follower);
     if (lead == scene_joint_of.end() || follow == scene_joint_of.end())
-      throw fail(label, "couples '" + g.follower + "' to '" + g.leader + "': both must be revolute joints of the model");
+      throw fail(label, "couples '" + g.follower + "' to '" + g.leader +
+                            "': both must be revolute or prismatic joints of the model");
     const JointDescription& jl = scene.joints[lead->second];
     const JointDescription& jf = scene.joints[follow->second];
-    if (jl.type != "revolute" || jf.type != "revolute" || jl.main != jf.main)
+    const auto one_coordinate = [](const JointDescription& j) { return j.type == "revolute" || j.type == "prismatic"; };
+    if (!one_coordinate(jl) || !one_coordinate(jf) || jl.main != jf.main)
       throw fail(label, "couples '" + g.follower + "' to '" + g.leader +
-                            "': lieflow couples two revolute joints on one parent body (a gear row); these are " +
+                            "': lieflow couples two revolute or prismatic joints of one parent body (a coupling "
+                            "row); these are " +
                             jf.type + " on '" + jf.main + "' and " + jl.type + " on '" + jl.main + "'");
-    if (std::abs(jf.initial_angles[0] - (g.multiplier * jl.initial_angles[0] + g.offset)) > 1e-9)
-      throw fail(label, "the reference configuration does not satisfy the coupling (q_follower ≠ multiplier q_leader + offset)");
+    const double q_l = model_joint.at(g.leader)->initial[0], q_f = model_joint.at(g.follower)->initial[0];
+    if (std::abs(q_f - (g.multiplier * q_l + g.offset)) > 1e-9)
+      throw fail(label, "the reference configuration does not satisfy the coupling (q_follower = " +
+                            formatNumber(q_f) + ", multiplier q_leader + offset = " +
+                            formatNumber(g.multiplier * q_l + g.offset) + ")");
+    if (g.multiplier == 0.0) throw fail(label, "multiplier 0: the follower is held, not coupled");
+    // A node's axis in its own body's frame: a revolute joint's
+    // axis_secondary; a prismatic joint's axis (main frame) carried into the
+    // child's, whose rotation relative to the parent the joint holds.
+    const auto node_axis = [&](const JointDescription& j) -> Eigen::Vector3d {
+      if (j.type == "revolute") return j.axis_secondary.normalized();
+      return (body_rotation(j.secondary).transpose() * body_rotation(j.main) * j.axis_main).normalized();
+    };
     JointDescription d;
     d.name = g.name;
-    d.type = "gear";
+    d.type = "coupling";
     d.carrier = jl.main;
     d.main = jl.secondary;
     d.secondary = jf.secondary;
     d.ratio = -g.multiplier;
-    if (d.ratio == 0.0) throw fail(label, "multiplier 0: the follower is held, not coupled");
-    auto axes = [](const Eigen::Vector3d& r) {
-      NodeAxesDescription n;
-      n.r = r.normalized();
-      n.s = constraints::perpendicularUnit<double>(n.r);
-      return n;
-    };
-    d.axes_main = axes(jl.axis_secondary);
-    d.axes_secondary = axes(jf.axis_secondary);
+    d.axes_main.r = node_axis(jl);
+    d.axes_secondary.r = node_axis(jf);
+    d.slide_main = jl.type == "prismatic";
+    d.slide_secondary = jf.type == "prismatic";
     scene.joints.push_back(d);
   }
   // Models name links and joints apart (a URDF's link 'base' and joint

@@ -72,6 +72,8 @@ MultibodySystem::MultibodySystem(MultibodyModel model, std::vector<CoordinateDri
         }
     } else if (gear.constraint.index() == 1) {  // rack and pinion: both rows
       rows = {0, 1};
+    } else if (std::holds_alternative<constraints::CouplingJoint<double>>(gear.constraint)) {
+      rows = {0};  // a coupling: its one row (the nodes' joints hold the rest)
     } else {  // differential: r row; s, t rows unless every node is hinged
       const auto& dj = std::get<constraints::DifferentialJoint<double>>(gear.constraint);
       rows.push_back(0);

@@ -93,7 +93,7 @@ struct CoordinateDrive {
 using CoordinateDrives = std::array<CoordinateDrive, kMaxJointCoordinates>;
 
 using GearConstraint = std::variant<constraints::GearJoint<double>, constraints::RackPinionJoint<double>,
-                                    constraints::DifferentialJoint<double>>;
+                                    constraints::DifferentialJoint<double>, constraints::CouplingJoint<double>>;
 
 /// A gear-type constraint: bodies (carrier N0, node 1, node 2[, node 3]),
 /// kGround allowed for the carrier.

@@ -266,7 +266,7 @@ def _callables(name, loads):
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
              moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
-             imu=False, ignore=None, keyframe=None, floating_base=False):
+             imu=False, ignore=None, keyframe=None, floating_base=False, check_every=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a model file (MJCF .xml, URDF .urdf), a built-in
@@ -275,7 +275,12 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
                 ["contacts", "limits"]; what was left out is printed to stderr;
     keyframe:   an MJCF model's keyframe (name or index) as the start (--keyframe);
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
-                (None: the scene's own);
+                (None: the scene's own; a scene that names no integrator or step
+                runs rkmk4 at a default step, as stats["integrator"] and
+                stats["dt"] say);
+    check_every: steps between the checks of the drifts, invariants and
+                constraint error (--check-every; None: at the rows, every
+                `every`-th step, as stats["checked_every"] says);
     options:    dict of integrator options (--options), e.g. {"rho_inf": 0.8};
     formulation: "maximal" or "joint" (--formulation; None: the default, joint
                 coordinates wherever they represent the scene, as stats["formulation"] says);
@@ -307,13 +312,13 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     if unknown:
         raise InputError(f"noise: unknown key(s) {sorted(unknown)} (gyro, angle, quat, acc, bias_gyro, seed)")
     spec = {"integrator": ("--integrator", _text), "dt": ("--dt", _number), "t_end": ("--t-end", _number),
-            "every": ("--every", _integer), "options": ("--options", _options),
-            "gyro": ("--noise-gyro", _number), "angle": ("--noise-angle", _number),
+            "every": ("--every", _integer), "check_every": ("--check-every", _integer),
+            "options": ("--options", _options), "gyro": ("--noise-gyro", _number), "angle": ("--noise-angle", _number),
             "quat": ("--noise-quat", _number), "seed": ("--seed", _integer),
             "acc": ("--noise-acc", _number), "bias_gyro": ("--bias-gyro", _number),
             "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
-    tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, options=options,
-                                            formulation=formulation, imu=imu, ignore=ignore, keyframe=keyframe,
+    tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, check_every=check_every,
+                                            options=options, formulation=formulation, imu=imu, ignore=ignore, keyframe=keyframe,
                                             floating_base=floating_base, max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))

@@ -4,6 +4,8 @@
 /// is, 17 significant digits) and the --stats JSON keys.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/command_runner.hpp"
 
 #include <cmath>
@@ -79,6 +81,48 @@ TEST(Cli, CsvHasFirstAndLastRowsWhateverEvery) {
   EXPECT_EQ(rows.size(), 1u + 1u + 200u / 7u + 1u);  // header, t = 0, every 7th, t = 2
   // 17 significant digits: ω₃ = 2π prints as 6.2831853071795862.
   EXPECT_NE(rows[1].find("6.2831853071795862"), std::string::npos) << rows[1];
+}
+
+TEST(Cli, AModelOrSceneWithoutAnIntegratorRunsTheNamedDefault) {
+  // No integrator object, no step: rkmk4 at MuJoCo's 0.002 s, or shorter for
+  // a fast scene (0.05/omega), said on stderr and in --stats.
+  const std::string plain = lieflow::testing_support::testFile("no_integrator.json"),
+                    fast = lieflow::testing_support::testFile("fast_no_integrator.json");
+  std::ofstream(plain) << R"({"name": "plain", "gravity": [0, 0, -9.81], "t_end": 0.1,
+    "bodies": [{"name": "b", "mass": 1, "inertia": [1, 2, 3], "angular_velocity": [0.1, 0.2, 0.3]}]})";
+  std::ofstream(fast) << R"({"name": "fast", "gravity": [0, 0, 0], "t_end": 0.01,
+    "bodies": [{"name": "b", "mass": 1, "inertia": [1, 2, 3], "angular_velocity": [0, 0, 300]}]})";
+  const Outcome o = run("simulate " + plain + " --stats");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const auto stats = nlohmann::json::parse(o.out);
+  EXPECT_EQ(stats["integrator"], "rkmk4");
+  EXPECT_EQ(stats["dt"], 0.002);
+  EXPECT_NE(o.err.find("names no integrator: running rkmk4 at dt = 0.002 s"), std::string::npos) << o.err;
+  // |omega| = 300 rad/s: 0.05/300 = 1.67e-4, rounded down to 1e-4.
+  const Outcome f = run("simulate " + fast + " --stats");
+  ASSERT_EQ(f.status, 0) << f.err;
+  EXPECT_EQ(nlohmann::json::parse(f.out)["dt"], 1e-4);
+  // --dt alone keeps the default integrator; --integrator alone the default step.
+  const Outcome d = run("simulate " + plain + " --dt 0.01 --stats");
+  EXPECT_EQ(nlohmann::json::parse(d.out)["dt"], 0.01);
+  EXPECT_NE(d.err.find("names no integrator: running rkmk4 at dt = 0.01 s"), std::string::npos) << d.err;
+  const Outcome i = run("simulate " + plain + " --integrator cf4 --stats");
+  EXPECT_EQ(nlohmann::json::parse(i.out)["integrator"], "cf4");
+  EXPECT_NE(i.err.find("names no step: running cf4 at dt = 0.002 s"), std::string::npos) << i.err;
+  // A scene that names both says nothing.
+  EXPECT_EQ(run("simulate heavy-top --t-end 0.01 --stats").err, "");
+}
+
+TEST(Cli, ChecksAtTheRowsUnlessCheckEveryAsksForMore) {
+  const Outcome sparse = run("simulate chain-3 --t-end 1 --every 1000000 --stats");
+  const Outcome dense = run("simulate chain-3 --t-end 1 --every 1000000 --check-every 1 --stats");
+  ASSERT_EQ(sparse.status, 0) << sparse.err;
+  ASSERT_EQ(dense.status, 0) << dense.err;
+  const auto s = nlohmann::json::parse(sparse.out), d = nlohmann::json::parse(dense.out);
+  EXPECT_EQ(s["checked_every"], 1000000);
+  EXPECT_EQ(d["checked_every"], 1);
+  EXPECT_LE(s["energy_drift"].get<double>(), d["energy_drift"].get<double>());
+  EXPECT_EQ(run("simulate chain-3 --check-every 0").status, 2);
 }
 
 TEST(Cli, StatsJsonHasTheContractKeys) {

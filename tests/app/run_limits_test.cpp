@@ -169,10 +169,16 @@ TEST(RunLimits, ConstraintsHoldFarFromTheOrigin) {
     "joints": [{"name": "hinge", "type": "revolute", "main": "ground", "secondary": "rod",
       "anchor_main": [100000, 0, 0], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
       "initial_angle": 1.0}], "t_end": 0.5})";
-  // genalpha in maximal coordinates: in joint coordinates the forces are
-  // summed about the world origin, whose round-off at 1e5 m (|c × m g| terms
-  // of 1e6 cancelling to 5 N m) stops its Newton iteration (issue 30).
-  for (const char* integrator : {"rkmk4", "lgvi", "genalpha --options rho_inf=0.9 --formulation maximal"}) {
+  // lgvi and genalpha in maximal coordinates: in joint coordinates the
+  // forces are summed about the world origin, whose round-off at 1e5 m
+  // (|c × m g| terms of 1e6 cancelling to 5 N m) puts the floor of their
+  // iterations' changes above the tolerance (issue 30). lgvi in joint
+  // coordinates passed here while every step of a run restarted its
+  // iteration from q̇₀ (the run's step lengths differed from the last step's
+  // in their last bits); continuing the last step, as it now does, its
+  // first change already lies on that floor.
+  for (const char* integrator : {"rkmk4", "lgvi --formulation maximal",
+                                 "genalpha --options rho_inf=0.9 --formulation maximal"}) {
     const auto o = testing_support::runLieflow("simulate " + scene + " --dt 1e-3 --stats --integrator " + integrator);
     EXPECT_EQ(o.status, 0) << integrator << ": " << o.err;
     if (o.status != 0) continue;

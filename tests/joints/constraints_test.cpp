@@ -693,6 +693,15 @@ Eigen::Matrix<S, 3, 1> refDifferential(const DifferentialJoint<double>& j,
   return r;
 }
 
+template <typename S>
+Eigen::Matrix<S, 1, 1> refCoupling(const CouplingJoint<double>& j, const std::array<BodyPose<S>, 3>& X,
+                                   const std::array<BodyVelocity<S>, 3>& V) {
+  const auto rate = [&](std::size_t i, const Vec3& x, bool slide) {
+    return (slide ? relVelocity(X, V, i) : relSpin(X, V, i)).dot(world(X, i, x));
+  };
+  return Eigen::Matrix<S, 1, 1>(S(j.ratio) * rate(1, j.axis1, j.slide1) + rate(2, j.axis2, j.slide2));
+}
+
 /// B against ∂(reference rows)/∂q̇ (Jet and FD), B q̇ against the reference,
 /// and the convective term against d/dt(B q̇) − B q̈ along random motions.
 template <std::size_t N, typename JointD, typename Ref>
@@ -773,6 +782,12 @@ TEST(GearRows, BlocksAndConvectiveTermsAgainstTheRadiossFormulas) {
     checkGearRows<4>(
         worst, "differential", diff,
         [&](const auto& X, const auto& V) { return refDifferential(diff, X, V); }, gen);
+    // Couplings: turn-turn, turn-slide, slide-turn, slide-slide.
+    const auto coupling = makeCouplingJoint<double>(alpha, randomNodeAxes(gen).r, i % 2 == 1,
+                                                    randomNodeAxes(gen).r, (i / 2) % 2 == 1);
+    checkGearRows<3>(
+        worst, "coupling", coupling, [&](const auto& X, const auto& V) { return refCoupling(coupling, X, V); },
+        gen);
   }
   worst.print("gear rows");
   worst.expectAllBelow(kJacobianTolerance);

@@ -169,13 +169,13 @@ def test_a_crashed_or_hung_case_is_a_failed_row_and_the_others_complete(tmp_path
     assert rows["chain-30"]["failure"].startswith("crashed: the process running the case ended with SIGSEGV")
     with open(tmp_path / "crash" / "results.csv", newline="") as f:
         assert len(list(csv.DictReader(f))) == 2
-    # The time limit: the long case (chain-100, about 7 s of work) is a
+    # The time limit: the long case (chain-300, about 9 s of work) is a
     # failed row, the sweep ends; the short one, which starts a Python
     # process too (a second on a loaded machine), is well inside it.
-    hung = lieflow.sweep(dict(spec, scenes=["pendulum", "chain-100"]), client=client, out=tmp_path / "hung",
+    hung = lieflow.sweep(dict(spec, scenes=["pendulum", "chain-300"]), client=client, out=tmp_path / "hung",
                          case_timeout=3)
     rows = {r["scene"]: r for r in hung["rows"]}
-    assert rows["chain-100"]["failure"].startswith("timed out: the case ran longer than its limit of 3 s")
+    assert rows["chain-300"]["failure"].startswith("timed out: the case ran longer than its limit of 3 s")
     assert rows["pendulum"]["failed"] is False, rows["pendulum"]["failure"]
 
 
