@@ -1,10 +1,14 @@
 #include "app/arguments.hpp"
 
+#include <algorithm>
+#include <map>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "app/cli.hpp"
@@ -118,7 +122,7 @@ long Arguments::boundedLong(const std::string& flag, long fallback, long min, lo
 }
 
 const std::set<std::string>& modelSwitches() {
-  static const std::set<std::string> switches = {"--floating-base"};
+  static const std::set<std::string> switches = {"--floating-base", "--verbose"};
   return switches;
 }
 
@@ -143,9 +147,40 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
   return import;
 }
 
+std::vector<std::string> summarizedNotes(const std::vector<std::string>& notes, bool verbose) {
+  if (verbose) return notes;
+  // "ignored CATEGORY: ELEMENT" notes, one line per category in the order
+  // the categories first appear; the other notes as they are.
+  constexpr std::size_t kNamesShown = 3;
+  const std::string prefix = "ignored ";
+  std::vector<std::string> out, order;
+  std::map<std::string, std::vector<std::string>> elements;
+  for (const std::string& note : notes) {
+    const std::size_t colon = note.find(": ");
+    if (note.rfind(prefix, 0) != 0 || colon == std::string::npos) {
+      out.push_back(note);
+      continue;
+    }
+    const std::string category = note.substr(prefix.size(), colon - prefix.size());
+    if (!elements.count(category)) order.push_back(category);
+    elements[category].push_back(note.substr(colon + 2));
+  }
+  std::vector<std::string> summary;
+  for (const std::string& category : order) {
+    const std::vector<std::string>& e = elements[category];
+    std::string line = prefix + category + ": " + std::to_string(e.size()) + (e.size() == 1 ? " element (" : " elements (");
+    for (std::size_t i = 0; i < std::min(e.size(), kNamesShown); ++i) line += (i ? ", " : "") + e[i];
+    if (e.size() > kNamesShown) line += ", and " + std::to_string(e.size() - kNamesShown) + " more; --verbose lists them";
+    summary.push_back(line + ")");
+  }
+  summary.insert(summary.end(), out.begin(), out.end());
+  return summary;
+}
+
 SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
   SceneDescription s = loadScene(scene, resourceLimitsFrom(args), modelImportOptionsFrom(args, scene));
-  for (const std::string& note : s.import_notes) std::cerr << "lieflow: " << scene << ": " << note << "\n";
+  for (const std::string& note : summarizedNotes(s.import_notes, args.has("--verbose")))
+    std::cerr << "lieflow: " << scene << ": " << note << "\n";
   return s;
 }
 

@@ -72,9 +72,16 @@ const std::set<std::string>& modelSwitches();
 /// model file, or for --floating-base not a URDF).
 ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::string& scene);
 
+/// An import's notes as the command prints them: the "ignored CATEGORY:
+/// ELEMENT" notes one line per category with their count and first three
+/// elements ("ignored contacts: 42 elements (geom 'floor' (line 12), ...,
+/// and 39 more; --verbose lists them)"), then the other notes; with
+/// `verbose` every note as it is.
+std::vector<std::string> summarizedNotes(const std::vector<std::string>& notes, bool verbose);
+
 /// SCENE (a built-in name, a JSON file or a model file) with the limits,
-/// the --ignore list and the --keyframe of `args`; what a model import left out is printed to
-/// stderr, one line each ("lieflow: MODEL: ignored contacts: geom 'floor' (line 12)").
+/// the --ignore list and the --keyframe of `args`; what a model import left
+/// out is printed to stderr (summarizedNotes; every element with --verbose).
 SceneDescription sceneFrom(const Arguments& args, const std::string& scene);
 
 }  // namespace app

@@ -19,7 +19,7 @@ int runImport(int argc, char** argv) {
                        modelSwitches());
   if (args.help()) {
     std::cout << "usage: lieflow import MODEL.xml|MODEL.urdf [--out SCENE.json] [--ignore LIST] [--keyframe K]\n"
-                 "                      [--floating-base]\n\n"
+                 "                      [--floating-base] [--verbose]\n\n"
                  "Writes the lieflow scene a model file becomes (to stdout without --out). MJCF is read by\n"
                  "MuJoCo's compiler (libmujoco-dev: " << (canReadMjcf() ? "present" : "absent in this build")
               << "), URDF by urdfdom (liburdfdom-dev: " << (canReadUrdf() ? "present" : "absent in this build")
@@ -27,9 +27,10 @@ int runImport(int argc, char** argv) {
                  "says so), or with --floating-base a body on a free joint (a legged robot's trunk). What lieflow\n"
                  "cannot represent is refused with the list of elements, unless --ignore names its category:\n";
     for (const auto& [name, what] : ignorableFeatures()) std::cout << "  " << name << ": " << what << "\n";
-    std::cout << "  all: every category above\nWhat was ignored is printed to stderr. An MJCF model starts at qpos0 "
+    std::cout << "  all: every category above\nWhat was ignored is printed to stderr, one line per category with the count\n"
+                 "and the first elements (--verbose: every element). An MJCF model starts at qpos0 "
                  "and at rest, as\nMuJoCo's mj_resetData puts it, or at the qpos and qvel of --keyframe NAME|INDEX.\n"
-                 "The same --ignore, --keyframe and --floating-base work on simulate, study and stability, which take\nmodel files "
+                 "The same --ignore, --keyframe, --floating-base and --verbose work on simulate, study and stability, which take\nmodel files "
                  "wherever they take a SCENE.\n";
     return kSuccess;
   }

@@ -135,8 +135,7 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
     note << "lieflow: " << scene.source << " names no " << (default_integrator ? "integrator" : "step") << ": running "
          << o.integrator << " at dt = " << formatNumber(o.dt) << " s (the default";
     if (o.dt_source == "the default step")
-      note << "; the step is MuJoCo's default 0.002 s or " << kDefaultStepTimesFrequency
-           << "/omega for the scene's fastest spin or spring, omega, if shorter";
+      note << ": MuJoCo's step, or " << kDefaultStepTimesFrequency << "/omega for a faster spin or spring";
     note << "; " << (default_integrator ? "--integrator and " : "") << "--dt choose)\n";
     std::cerr << note.str();
   }

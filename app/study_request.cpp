@@ -49,12 +49,13 @@ StudyRequest studyRequestFrom(const Arguments& args, std::optional<SceneDescript
   options.min_timing_seconds = args.positiveNumber("--min-time", options.min_timing_seconds);
   options.plots = !args.has("--no-plots");
   if (args.has("--with-mujoco")) {
-    // MuJoCo runs the model file itself: a scene given as JSON (Python) or
-    // a JSON or built-in scene has no MJCF to give it.
+    // MuJoCo reads the model file itself (MJCF, or URDF through its own
+    // URDF reader): a scene given as JSON (Python) or a JSON or built-in
+    // scene has no model file to give it.
     const std::string model = args.positional().empty() ? std::string() : args.positional().front();
-    if (model.empty() || !isModelFile(model) || model.size() < 4 ||
-        model.compare(model.size() - 4, 4, ".xml") != 0)
-      throw UsageError("--with-mujoco: MuJoCo runs beside lieflow on an MJCF model (SCENE ending in .xml), not on '" +
+    if (model.empty() || !isModelFile(model))
+      throw UsageError("--with-mujoco: MuJoCo runs beside lieflow on a model file (SCENE ending in .xml or .urdf), "
+                       "not on '" +
                        (model.empty() ? std::string("a scene given as JSON") : model) + "'");
     options.mujoco_model = model;
     options.mujoco_import = modelImportOptionsFrom(args, model);

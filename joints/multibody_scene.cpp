@@ -90,8 +90,23 @@ multibody::Gear sceneGear(const SceneDescription& scene, std::size_t k,
         throw InvalidInput(prefix + "." + side, "'" + scene.bodies[i].name +
                                                     "' is rotation_only: a sliding node needs translational "
                                                     "coordinates");
+    // One slot per body in the roles (carrier 1, node 1, carrier 2, node 2):
+    // a body in two roles, the ground included, has one slot.
+    const std::array<int, 4> roles = {
+        {body(j.carrier), g.bodies[1], body(j.carrier_secondary.empty() ? j.carrier : j.carrier_secondary),
+         g.bodies[2]}};
+    std::array<std::size_t, 4> slot{};
+    std::array<int, 4> slots{{kGround, kGround, kGround, kGround}};
+    std::size_t used = 0;
+    for (std::size_t r = 0; r < 4; ++r) {
+      std::size_t k = 0;
+      while (k < used && slots[k] != roles[r]) ++k;
+      if (k == used) slots[used++] = roles[r];
+      slot[r] = k;
+    }
+    g.bodies = slots;
     g.constraint = constraints::makeCouplingJoint<double>(j.ratio, j.axes_main.r, j.slide_main, j.axes_secondary.r,
-                                                          j.slide_secondary, prefix);
+                                                          j.slide_secondary, slot, prefix);
     return g;
   }
   const auto a1 = nodeAxes(j.axes_main, prefix + ".axes_main");

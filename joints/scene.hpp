@@ -100,6 +100,9 @@ struct JointDescription {
   /// (axes_main, axes_secondary, axes_tertiary).
   double ratio = 0.0;
   std::string carrier = "ground";
+  /// coupling: the secondary node's carrier (its joint's other body; JSON
+  /// "carrier_secondary", default `carrier`, then the main node's).
+  std::string carrier_secondary;
   std::string tertiary;
   NodeAxesDescription axes_main, axes_secondary, axes_tertiary;
 

@@ -371,6 +371,7 @@ JointDescription readJoint(const json& v, int index, const std::string& source) 
       };
       j.slide_main = motion("motion_main");
       j.slide_secondary = motion("motion_secondary");
+      j.carrier_secondary = r.has("carrier_secondary") ? r.string("carrier_secondary") : j.carrier;
     } else {
       j.axes_main = readNodeAxes(r, "axes_main");
       j.axes_secondary = readNodeAxes(r, "axes_secondary");
@@ -541,12 +542,23 @@ SceneDescription parseScene(const std::string& text, const std::string& source, 
                                                                         {"secondary", &j.secondary}};
       if (j.isGear()) named.emplace_back("carrier", &j.carrier);
       if (j.type == "differential") named.emplace_back("tertiary", &j.tertiary);
+      if (j.type == "coupling") named.emplace_back("carrier_secondary", &j.carrier_secondary);
       for (const auto& nb : named)
         if (*nb.second != "ground" && !body_index.count(*nb.second))
           throw InvalidInput(field + "." + nb.first, "unknown body '" + *nb.second + "'");
+      // A coupling's two joints may share a body in other roles (a common
+      // parent; a follower hung from the leader's node): each joint's two
+      // bodies and the two nodes must differ.
+      const auto distinct = [&](std::size_t a, std::size_t b) {
+        if (j.type != "coupling") return true;
+        const std::string& x = named[a].first;
+        const std::string& y = named[b].first;
+        const auto is = [&](const char* p, const char* q) { return (x == p && y == q) || (x == q && y == p); };
+        return is("main", "secondary") || is("carrier", "main") || is("carrier_secondary", "secondary");
+      };
       for (std::size_t a = 0; a < named.size(); ++a)
         for (std::size_t b = 0; b < a; ++b)
-          if (*named[a].second == *named[b].second)
+          if (distinct(a, b) && *named[a].second == *named[b].second)
             throw InvalidInput(field + "." + named[a].first,
                                "joint connects body '" + *named[a].second + "' to itself (also its " +
                                    named[b].first + ")");

@@ -60,6 +60,7 @@ json joint(const JointDescription& d) {
       j["motion_main"] = d.slide_main ? "slide" : "turn";
       j["axis_secondary"] = vec(d.axes_secondary.r);
       j["motion_secondary"] = d.slide_secondary ? "slide" : "turn";
+      if (!d.carrier_secondary.empty() && d.carrier_secondary != d.carrier) j["carrier_secondary"] = d.carrier_secondary;
       return j;
     }
     j["axes_main"] = nodeAxes(d.axes_main);

@@ -159,18 +159,22 @@ struct RackPinionJoint {
   }
 };
 
-/// A coupling of two one-coordinate joints of a common parent (the carrier):
-/// node i turns (revolute) or slides (prismatic) relative to the carrier
-/// along its axis x_i (body frame), and its rate q̇_i = Δω_i·x_i or
-/// ΔV_i·x_i (gear_terms.hpp; the node's own joint holds its other relative
-/// motions, so these are the joint's φ̇ or ẋ). Bodies (carrier, N1, N2),
-/// 1 row: α q̇₁ + q̇₂ = 0, i.e. q₂ = −α q₁ + const — a URDF <mimic> with
-/// multiplier −α, or an MJCF joint equality of first order. Unlike the
-/// gear's, the row does not hold the nodes' other motions: their joints do.
+/// A coupling of two one-coordinate joints: node i turns (revolute) or
+/// slides (prismatic) along its axis x_i (its body frame) relative to its
+/// joint's other body, carrier i, and its rate q̇_i = Δω_i·x_i or ΔV_i·x_i
+/// (gear_terms.hpp, relative to carrier i; the node's own joint holds its
+/// other relative motions, so these are the joint's φ̇ or ẋ). One row:
+/// α q̇₁ + q̇₂ = 0, i.e. q₂ = −α q₁ + const — a URDF <mimic> with multiplier
+/// −α, or an MJCF joint equality of first order. Unlike the gear's, the row
+/// does not hold the nodes' other motions: their joints do.
+/// Four body slots; each role (carrier 1, node 1, carrier 2, node 2) names
+/// one, so that a body in two roles (the two joints' common parent; a
+/// follower hung from the leader's child) has one slot, and unused slots
+/// are the ground (kGround in the system's body list).
 template <typename T>
 struct CouplingJoint {
   static constexpr int kRows = 1;
-  static constexpr std::size_t kBodies = 3;
+  static constexpr std::size_t kBodies = 4;
   using Poses = std::array<BodyPose<T>, kBodies>;
   using Velocities = std::array<BodyVelocity<T>, kBodies>;
   using Blocks = ConstraintBlocks<T, kRows, kBodies>;
@@ -179,13 +183,15 @@ struct CouplingJoint {
   T ratio;  ///< α
   Vector3<T> axis1, axis2;
   bool slide1 = false, slide2 = false;  ///< prismatic nodes (else revolute)
+  /// Slots of carrier 1, node 1, carrier 2, node 2 (distinct nodes).
+  std::array<std::size_t, 4> slot{{0, 1, 0, 2}};
 
   /// B(q): α q̇₁ + q̇₂ with q̇_i = Δω_i·x_i or ΔV_i·x_i.
   Blocks rows(const Poses& X) const {
     Blocks B;
     for (auto& b : B) b.setZero();
-    addTerm(B, ratio, 1, X, axis1, slide1);
-    addTerm(B, T(1), 2, X, axis2, slide2);
+    addTerm(B, ratio, slot[1], slot[0], X, axis1, slide1);
+    addTerm(B, T(1), slot[3], slot[2], X, axis2, slide2);
     return B;
   }
 
@@ -193,19 +199,22 @@ struct CouplingJoint {
 
   Rows convective(const Poses& X, const Velocities& V) const {
     Rows c;
-    c << term(ratio, 1, X, V, axis1, slide1) + term(T(1), 2, X, V, axis2, slide2);
+    c << term(ratio, slot[1], slot[0], X, V, axis1, slide1) + term(T(1), slot[3], slot[2], X, V, axis2, slide2);
     return c;
   }
 
  private:
-  static void addTerm(Blocks& B, const T& c, std::size_t node, const Poses& X, const Vector3<T>& x, bool slide) {
+  static void addTerm(Blocks& B, const T& c, std::size_t node, std::size_t carrier, const Poses& X,
+                      const Vector3<T>& x, bool slide) {
     if (slide)
-      detail::addSlideTerm(B, 0, c, node, X, x);
+      detail::addSlideTerm(B, 0, c, node, X, x, carrier);
     else
-      detail::addSpinTerm(B, 0, c, node, X, x);
+      detail::addSpinTerm(B, 0, c, node, X, x, carrier);
   }
-  static T term(const T& c, std::size_t node, const Poses& X, const Velocities& V, const Vector3<T>& x, bool slide) {
-    return slide ? detail::slideTermConvective(c, node, X, V, x) : detail::spinTermConvective(c, node, X, V, x);
+  static T term(const T& c, std::size_t node, std::size_t carrier, const Poses& X, const Velocities& V,
+                const Vector3<T>& x, bool slide) {
+    return slide ? detail::slideTermConvective(c, node, X, V, x, carrier)
+                 : detail::spinTermConvective(c, node, X, V, x, carrier);
   }
 };
 
@@ -264,12 +273,17 @@ RackPinionJoint<T> makeRackPinionJoint(const T& ratio, const NodeAxes<T>& pinion
 }
 /// A coupling; the axes must be unit to 1e-6 ("PREFIX.axis_main",
 /// "PREFIX.axis_secondary"; normalized).
+/// `slot`: carrier 1, node 1, carrier 2, node 2 (CouplingJoint::slot).
 template <typename T>
 CouplingJoint<T> makeCouplingJoint(const T& ratio, const Vector3<T>& axis1, bool slide1, const Vector3<T>& axis2,
-                                   bool slide2, const std::string& prefix = "") {
+                                   bool slide2, const std::array<std::size_t, 4>& slot = {{0, 1, 0, 2}},
+                                   const std::string& prefix = "") {
   return CouplingJoint<T>{checkedGearRatio(ratio, fieldName(prefix, "ratio")),
                           checkedUnitAxis(axis1, fieldName(prefix, "axis_main")),
-                          checkedUnitAxis(axis2, fieldName(prefix, "axis_secondary")), slide1, slide2};
+                          checkedUnitAxis(axis2, fieldName(prefix, "axis_secondary")),
+                          slide1,
+                          slide2,
+                          slot};
 }
 template <typename T>
 DifferentialJoint<T> makeDifferentialJoint(const T& ratio, const NodeAxes<T>& node1,

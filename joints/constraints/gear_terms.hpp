@@ -21,6 +21,8 @@
 ///   The transport term makes the row integrable: if X_i is fixed in the
 ///   carrier, ΔV_i·X_i = d/dt[(p_i − p₀)·X_i].
 /// The blocks multiply (v, ω) of each body; d/dt(B q̇) = B q̈ + convective.
+/// The carrier is slot 0 unless a term names another (`carrier`: a coupling
+/// of two joints with different parents).
 #pragma once
 
 #include <array>
@@ -34,39 +36,40 @@ namespace detail {
 
 template <typename T, int Rows, std::size_t Bodies>
 void addSpinTerm(ConstraintBlocks<T, Rows, Bodies>& B, int row, const T& c, std::size_t node,
-                 const std::array<BodyPose<T>, Bodies>& X, const Vector3<T>& x_body) {
+                 const std::array<BodyPose<T>, Bodies>& X, const Vector3<T>& x_body, std::size_t carrier = 0) {
   const Vector3<T> Xw = X[node].R * x_body;
   B[node].template rightCols<3>().row(row) += c * x_body.transpose();
-  B[0].template rightCols<3>().row(row) -= c * (X[0].R.inverse() * Xw).transpose();
+  B[carrier].template rightCols<3>().row(row) -= c * (X[carrier].R.inverse() * Xw).transpose();
 }
 
 template <typename T, std::size_t Bodies>
 T spinTermConvective(const T& c, std::size_t node, const std::array<BodyPose<T>, Bodies>& X,
-                     const std::array<BodyVelocity<T>, Bodies>& V, const Vector3<T>& x_body) {
+                     const std::array<BodyVelocity<T>, Bodies>& V, const Vector3<T>& x_body, std::size_t carrier = 0) {
   const Vector3<T> Xw = X[node].R * x_body;
   const Vector3<T> Oi = V[node].omegaWorld(X[node]);
-  const Vector3<T> dw = Oi - V[0].omegaWorld(X[0]);
+  const Vector3<T> dw = Oi - V[carrier].omegaWorld(X[carrier]);
   return c * dw.dot(Oi.cross(Xw));
 }
 
 template <typename T, int Rows, std::size_t Bodies>
 void addSlideTerm(ConstraintBlocks<T, Rows, Bodies>& B, int row, const T& c, std::size_t node,
-                  const std::array<BodyPose<T>, Bodies>& X, const Vector3<T>& x_body) {
+                  const std::array<BodyPose<T>, Bodies>& X, const Vector3<T>& x_body, std::size_t carrier = 0) {
   const Vector3<T> Xw = X[node].R * x_body;
-  const Vector3<T> d = X[node].p - X[0].p;
+  const Vector3<T> d = X[node].p - X[carrier].p;
   B[node].template leftCols<3>().row(row) += c * Xw.transpose();
-  B[0].template leftCols<3>().row(row) -= c * Xw.transpose();
-  B[0].template rightCols<3>().row(row) -= c * (X[0].R.inverse() * d.cross(Xw)).transpose();
+  B[carrier].template leftCols<3>().row(row) -= c * Xw.transpose();
+  B[carrier].template rightCols<3>().row(row) -= c * (X[carrier].R.inverse() * d.cross(Xw)).transpose();
 }
 
 template <typename T, std::size_t Bodies>
 T slideTermConvective(const T& c, std::size_t node, const std::array<BodyPose<T>, Bodies>& X,
-                      const std::array<BodyVelocity<T>, Bodies>& V, const Vector3<T>& x_body) {
+                      const std::array<BodyVelocity<T>, Bodies>& V, const Vector3<T>& x_body,
+                      std::size_t carrier = 0) {
   const Vector3<T> Xw = X[node].R * x_body;
-  const Vector3<T> O0 = V[0].omegaWorld(X[0]);
+  const Vector3<T> O0 = V[carrier].omegaWorld(X[carrier]);
   const Vector3<T> Oi = V[node].omegaWorld(X[node]);
-  const Vector3<T> d = X[node].p - X[0].p;
-  const Vector3<T> d_dot = V[node].v - V[0].v;
+  const Vector3<T> d = X[node].p - X[carrier].p;
+  const Vector3<T> d_dot = V[node].v - V[carrier].v;
   const Vector3<T> dV = d_dot - O0.cross(d);
   return c * (dV.dot(Oi.cross(Xw)) - O0.cross(d_dot).dot(Xw));
 }

@@ -77,6 +77,16 @@ std::string mjcfBodyName(const mjModel_* m, int b);
 /// InvalidInput naming the file and MuJoCo's reason.
 MjcfModel compileMjcf(const std::string& path);
 
+/// MuJoCo's own URDF reader on the URDF `path`, for the MuJoCo peer: mesh
+/// geometry and visuals left out in memory (MuJoCo would look for their
+/// files; they never act with contacts ignored), welded links kept as bodies
+/// of their own (fusestatic off: every body lieflow keeps is a MuJoCo body of
+/// its link's name), and, through MuJoCo's MJCF of the model, what URDF has
+/// no words for in MuJoCo: a free joint on the root link
+/// (options.floating_base) and each <mimic> as a joint equality. Throws
+/// InvalidInput naming the file and MuJoCo's reason.
+MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options);
+
 /// The keyframe `wanted` names (its name, else its index), or −1 when
 /// `wanted` is empty. Throws InvalidInput (field "PATH: --keyframe") listing
 /// the model's keyframes when there is no such one.

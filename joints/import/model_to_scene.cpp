@@ -291,9 +291,10 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
   for (const ModelClosure& c : model.closures)
     scene.joints.push_back(
         jointBetween(c.name, elementLabel("equality", c.name, c.line), c.type, c.link1, c.link2, c.anchor_world));
-  // A coupling q_f = m q_l + c of two joints of one parent: the coupling
-  // row −m q̇_l + q̇_f = 0 between their children, each turning or sliding
-  // along its axis (held, in its own body's frame, by its joint).
+  // A coupling q_f = m q_l + c of two joints anywhere in the tree: the
+  // coupling row −m q̇_l + q̇_f = 0 on their children's rates relative to
+  // their parents, each turning or sliding along its axis (held, in its own
+  // body's frame, by its joint).
   std::map<std::string, const ModelJoint*> model_joint;
   for (const ModelJoint& j : model.joints) model_joint[j.name] = &j;
   const auto body_rotation = [&](const std::string& body) -> Eigen::Matrix3d {
@@ -309,11 +310,10 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     const JointDescription& jl = scene.joints[lead->second];
     const JointDescription& jf = scene.joints[follow->second];
     const auto one_coordinate = [](const JointDescription& j) { return j.type == "revolute" || j.type == "prismatic"; };
-    if (!one_coordinate(jl) || !one_coordinate(jf) || jl.main != jf.main)
+    if (!one_coordinate(jl) || !one_coordinate(jf))
       throw fail(label, "couples '" + g.follower + "' to '" + g.leader +
-                            "': lieflow couples two revolute or prismatic joints of one parent body (a coupling "
-                            "row); these are " +
-                            jf.type + " on '" + jf.main + "' and " + jl.type + " on '" + jl.main + "'");
+                            "': lieflow couples two revolute or prismatic joints (a coupling row); these are " +
+                            jf.type + " and " + jl.type);
     const double q_l = model_joint.at(g.leader)->initial[0], q_f = model_joint.at(g.follower)->initial[0];
     if (std::abs(q_f - (g.multiplier * q_l + g.offset)) > 1e-9)
       throw fail(label, "the reference configuration does not satisfy the coupling (q_follower = " +
@@ -331,6 +331,7 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     d.name = g.name;
     d.type = "coupling";
     d.carrier = jl.main;
+    d.carrier_secondary = jf.main;
     d.main = jl.secondary;
     d.secondary = jf.secondary;
     d.ratio = -g.multiplier;

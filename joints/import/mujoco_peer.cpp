@@ -124,7 +124,8 @@ struct MujocoPeer::Impl {
 MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& options, const SceneDescription& scene)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  impl_->model = model_import::compileMjcf(path);
+  const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
+  impl_->model = urdf ? model_import::compileUrdfForMujoco(path, options) : model_import::compileMjcf(path);
   mjModel* m = impl_->model.get();
   model_import::switchOffIgnored(m, options);
   impl_->key = model_import::keyframeIndex(m, path, options.keyframe);

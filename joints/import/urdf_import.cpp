@@ -381,7 +381,12 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
                                  "floats itself, and no other link may"
                                : "a floating joint frees a link from the world: its parent must be the root link");
       if (j->dynamics) mj.damping[0] = j->dynamics->damping;
-      if (j->mimic) {
+      if (j->mimic && j->type == urdf::Joint::FIXED) {
+        // A fixed joint has no coordinate to couple (PAL's Talos has such
+        // <mimic>s on its grippers' welded links): URDF's tools pass it by.
+        model.notes.push_back("ignored mimics of fixed joints (no coordinate to couple): joint '" + j->name + "' (line " +
+                              std::to_string(jline) + ") mimics '" + j->mimic->joint_name + "'");
+      } else if (j->mimic) {
         ModelCoupling c;
         c.name = j->name + "-mimic";
         c.line = jline;

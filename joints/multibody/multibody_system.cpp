@@ -179,7 +179,9 @@ void MultibodySystem::validate() const {
       const int b = g.bodies[s];
       const std::string field = g.name + (s == 0 ? ".carrier" : ".node" + std::to_string(s));
       if (b < kGround || b >= nb) throw InvalidInput(field, "unknown body index " + std::to_string(b));
-      if (s > 0 && b == kGround)
+      // A coupling's slots are its bodies in their roles (gear.hpp): the
+      // ground may be any of them, and unused ones are the ground.
+      if (s > 0 && b == kGround && !std::holds_alternative<constraints::CouplingJoint<double>>(g.constraint))
         throw InvalidInput(field, "a gear node must be a body with rotary inertia, not the ground");
       for (int r = 0; r < s; ++r)
         if (g.bodies[r] == b && b != kGround)

@@ -386,8 +386,8 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
     "reference_error", and "out" (the directory with the CSV files and, with
     plots=True, the plots; None when out was not given: the files were
     written to a temporary directory and removed). with_mujoco: MuJoCo's
-    Euler, RK4 and implicit integrators beside lieflow's on an MJCF model
-    (--with-mujoco; rows "mujoco-euler", "mujoco-rk4", "mujoco-implicit").
+    Euler, RK4 and implicit integrators beside lieflow's on a model file,
+    MJCF or URDF (--with-mujoco; rows "mujoco-euler", "mujoco-rk4", "mujoco-implicit").
     """
     positional, scene_json = _scene(scene)
     plots = _switch("plots", plots)

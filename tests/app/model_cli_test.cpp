@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iostream>
 #include <string>
 
 #include "joints/import/model_import.hpp"
@@ -44,6 +45,11 @@ TEST(ModelCli, UnrepresentedFeaturesExitTwoOrAreReportedWhenIgnored) {
   EXPECT_NE(o.err.find("collision of link 'arm' (line 10)"), std::string::npos) << o.err;
   o = runLieflow("simulate " + path + " --ignore limits,contacts --integrator rkmk4 --dt 0.01 --t-end 0.1 --stats");
   EXPECT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.err.find("ignored limits: 1 element (limit of joint 'hinge' (line 6))"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("ignored contacts: 1 element (collision of link 'arm' (line 10))"), std::string::npos) << o.err;
+  o = runLieflow("simulate " + path + " --ignore limits,contacts --integrator rkmk4 --dt 0.01 --t-end 0.1 --stats "
+                 "--verbose");
+  EXPECT_EQ(o.status, 0) << o.err;
   EXPECT_NE(o.err.find("ignored limits: limit of joint 'hinge' (line 6)"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("ignored contacts: collision of link 'arm' (line 10)"), std::string::npos) << o.err;
   o = runLieflow("simulate pendulum --ignore limits");
@@ -52,6 +58,43 @@ TEST(ModelCli, UnrepresentedFeaturesExitTwoOrAreReportedWhenIgnored) {
   o = runLieflow("import " + path + " --ignore frobs");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("unknown feature 'frobs'"), std::string::npos) << o.err;
+}
+
+TEST(ModelCli, IgnoredElementsAreOneLinePerCategoryUnlessVerbose) {
+  // A chain of 40 links, each with a collision box and a limited joint: two
+  // lines (limits, contacts) with counts and the first three elements, one
+  // line per element with --verbose.
+  if (!lieflow::canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  const std::string path = testFile("_many.urdf");
+  {
+    std::ofstream f(path);
+    f << "<robot name=\"many\"><link name=\"l0\"/>\n";
+    for (int i = 1; i <= 40; ++i)
+      f << "<joint name=\"j" << i << "\" type=\"revolute\"><parent link=\"l" << i - 1 << "\"/><child link=\"l" << i
+        << "\"/><origin xyz=\"0 0 0.1\"/><axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" "
+           "velocity=\"1\"/></joint>\n<link name=\"l"
+        << i << "\"><inertial><origin xyz=\"0 0 0.05\"/><mass value=\"1\"/><inertia ixx=\"0.01\" iyy=\"0.01\" "
+           "izz=\"0.001\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial><collision><geometry><box size=\"0.1 0.1 "
+           "0.1\"/></geometry></collision></link>\n";
+    f << "</robot>\n";
+  }
+  const auto lines = [](const std::string& text, const std::string& what) {
+    int n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  Outcome o = runLieflow("import " + path + " --ignore all --out " + testFile("_many.json"));
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(lines(o.err, "\n"), 3) << o.err;  // limits, contacts, and the fixed root
+  EXPECT_NE(o.err.find("ignored limits: 40 elements (limit of joint 'j1' (line 2), limit of joint 'j2' (line 4), "
+                       "limit of joint 'j3' (line 6), and 37 more; --verbose lists them)"),
+            std::string::npos)
+      << o.err;
+  EXPECT_NE(o.err.find("ignored contacts: 40 elements ("), std::string::npos) << o.err;
+  o = runLieflow("import " + path + " --ignore all --verbose --out " + testFile("_many.json"));
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(lines(o.err, "ignored limits: limit of joint"), 40) << o.err;
+  EXPECT_EQ(lines(o.err, "ignored contacts: collision of link"), 40) << o.err;
 }
 
 TEST(ModelCli, SliderCrankWritesThePrismaticAndFixedColumns) {
@@ -68,7 +111,7 @@ TEST(ModelCli, StudyWithMujocoPutsMuJoCosIntegratorsBesideLieflows) {
   const std::string dir = testFile("_study");
   Outcome o = runLieflow("study pendulum --with-mujoco --no-plots --out " + dir);
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("--with-mujoco: MuJoCo runs beside lieflow on an MJCF model"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("--with-mujoco: MuJoCo runs beside lieflow on a model file"), std::string::npos) << o.err;
   if (!lieflow::canReadMjcf()) GTEST_SKIP() << "this build has no MJCF reader";
   o = runLieflow("study " + model("spinning.xml") + " --keyframe spin --with-mujoco --integrators rkmk4,lgvi "
                  "--dt 0.004,0.002 --t-end 0.2 --min-time 0.001 --no-plots --out " + dir);
@@ -87,6 +130,43 @@ TEST(ModelCli, StudyWithMujocoPutsMuJoCosIntegratorsBesideLieflows) {
   o = runLieflow("simulate pendulum --keyframe 0");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("only MJCF models have keyframes"), std::string::npos) << o.err;
+}
+
+/// The study's check of its reference against MuJoCo RK4 at the smallest
+/// step: "MuJoCo RK4 at h = H differs from it by X rad" (X, or -1).
+double mujocoDifference(const std::string& csv) {
+  const std::string key = "differs from it by ";
+  const std::size_t at = csv.find(key);
+  return at == std::string::npos ? -1.0 : std::stod(csv.substr(at + key.size()));
+}
+
+TEST(ModelCli, StudyWithMujocoReadsAUrdfWithMujocosOwnReader) {
+  // MuJoCo's URDF reader on the same file (meshes and visuals left out in
+  // memory, welded links kept as bodies): the arm agrees with lieflow's
+  // reference to round-off, fixed and with --floating-base; the hand's
+  // mimics become MuJoCo joint equalities, exact in lieflow and soft in
+  // MuJoCo at its stiffest (impedance 0.9999), which is their difference.
+  if (!lieflow::canReadMjcf() || !lieflow::canReadUrdf()) GTEST_SKIP() << "this build lacks MuJoCo or urdfdom";
+  struct Case {
+    std::string args;
+    double bound;
+  };
+  for (const Case& c : {Case{model("arm6.urdf") + " --dt 0.002", 1e-11},
+                        Case{model("arm6.urdf") + " --floating-base --dt 0.002", 1e-11},
+                        Case{model("hand.urdf") + " --ignore limits --dt 0.0005", 1e-6}}) {
+    SCOPED_TRACE(c.args);
+    const std::string dir = testFile("_urdf_study");
+    const Outcome o = runLieflow("study " + c.args + " --with-mujoco --integrators rkmk4 --t-end 0.5 --min-time 0.001 "
+                                 "--no-plots --out " + dir);
+    ASSERT_EQ(o.status, 0) << o.err;
+    const std::string csv = slurp(dir + "/study.csv");
+    EXPECT_NE(csv.find(",mujoco-rk4,"), std::string::npos) << csv;
+    const double difference = mujocoDifference(csv);
+    std::cout << "[ measured ] " << c.args.substr(c.args.find_last_of('/') + 1)
+              << ": MuJoCo RK4 on the URDF against lieflow's reference after 0.5 s: " << difference << " rad\n";
+    EXPECT_GE(difference, 0.0) << csv;
+    EXPECT_LE(difference, c.bound) << csv;
+  }
 }
 
 }  // namespace

@@ -693,13 +693,18 @@ Eigen::Matrix<S, 3, 1> refDifferential(const DifferentialJoint<double>& j,
   return r;
 }
 
+/// A coupling's row written out: each node's rate relative to its own
+/// carrier (the Radioss terms above with that carrier in the place of N0).
 template <typename S>
-Eigen::Matrix<S, 1, 1> refCoupling(const CouplingJoint<double>& j, const std::array<BodyPose<S>, 3>& X,
-                                   const std::array<BodyVelocity<S>, 3>& V) {
-  const auto rate = [&](std::size_t i, const Vec3& x, bool slide) {
-    return (slide ? relVelocity(X, V, i) : relSpin(X, V, i)).dot(world(X, i, x));
+Eigen::Matrix<S, 1, 1> refCoupling(const CouplingJoint<double>& j, const std::array<BodyPose<S>, 4>& X,
+                                   const std::array<BodyVelocity<S>, 4>& V) {
+  const auto rate = [&](std::size_t carrier, std::size_t node, const Vec3& x, bool slide) {
+    const std::array<BodyPose<S>, 2> Xc{X[carrier], X[node]};
+    const std::array<BodyVelocity<S>, 2> Vc{V[carrier], V[node]};
+    return (slide ? relVelocity(Xc, Vc, 1) : relSpin(Xc, Vc, 1)).dot(world(Xc, 1, x));
   };
-  return Eigen::Matrix<S, 1, 1>(S(j.ratio) * rate(1, j.axis1, j.slide1) + rate(2, j.axis2, j.slide2));
+  return Eigen::Matrix<S, 1, 1>(S(j.ratio) * rate(j.slot[0], j.slot[1], j.axis1, j.slide1) +
+                                rate(j.slot[2], j.slot[3], j.axis2, j.slide2));
 }
 
 /// B against ∂(reference rows)/∂q̇ (Jet and FD), B q̇ against the reference,
@@ -782,10 +787,13 @@ TEST(GearRows, BlocksAndConvectiveTermsAgainstTheRadiossFormulas) {
     checkGearRows<4>(
         worst, "differential", diff,
         [&](const auto& X, const auto& V) { return refDifferential(diff, X, V); }, gen);
-    // Couplings: turn-turn, turn-slide, slide-turn, slide-slide.
+    // Couplings: turn-turn, turn-slide, slide-turn, slide-slide; siblings
+    // (one carrier, slot 3 unused), joints on four bodies, and a follower
+    // hung from the leader's node (node 1 is carrier 2).
+    const std::array<std::array<std::size_t, 4>, 3> layouts = {{{{0, 1, 0, 2}}, {{0, 1, 2, 3}}, {{0, 1, 1, 2}}}};
     const auto coupling = makeCouplingJoint<double>(alpha, randomNodeAxes(gen).r, i % 2 == 1,
-                                                    randomNodeAxes(gen).r, (i / 2) % 2 == 1);
-    checkGearRows<3>(
+                                                    randomNodeAxes(gen).r, (i / 2) % 2 == 1, layouts[i % 3]);
+    checkGearRows<4>(
         worst, "coupling", coupling, [&](const auto& X, const auto& V) { return refCoupling(coupling, X, V); },
         gen);
   }

@@ -1,0 +1,171 @@
+// MuJoCo's own URDF reader for the MuJoCo peer (mjcf_model.hpp:
+// compileUrdfForMujoco).
+#include "joints/import/mjcf_model.hpp"
+
+#ifdef LIEFLOW_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#include <tinyxml2.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
+
+namespace lieflow {
+namespace model_import {
+namespace {
+
+/// A URDF <mimic>: q_follower = multiplier q_leader + offset.
+struct Mimic {
+  std::string follower, leader;
+  double multiplier = 1.0, offset = 0.0;
+};
+
+/// MuJoCo's compiler on `text` as the file `name`, read from memory (an
+/// mjVFS: mj_loadXML reads files only).
+MjcfModel loadFromMemory(const std::string& name, const std::string& text, const std::string& path) {
+  // mjVFS holds 2000 file names of 1000 bytes: on the heap, not the stack.
+  std::unique_ptr<mjVFS> vfs(new mjVFS);
+  mj_defaultVFS(vfs.get());
+  const auto cleanup = [&] { mj_deleteVFS(vfs.get()); };
+  if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(text.size())) != 0) {
+    cleanup();
+    throw InvalidInput(path + ": --with-mujoco", "MuJoCo cannot hold the model in memory");
+  }
+  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name.c_str())], text.data(), text.size());
+  char error[1024] = "";
+  MjcfModel m;
+  std::string warnings;
+  try {
+    const MujocoMessageGuard guard;
+    m.reset(mj_loadXML(name.c_str(), vfs.get(), error, sizeof error));
+    warnings = guard.warnings();
+  } catch (const MujocoError& e) {
+    cleanup();
+    throw InvalidInput(path + ": --with-mujoco", std::string("MuJoCo's URDF reader refuses it: ") + e.what());
+  }
+  cleanup();
+  if (!m)
+    throw InvalidInput(path + ": --with-mujoco",
+                       std::string("MuJoCo's URDF reader refuses it: ") + (*error ? error : warnings.c_str()));
+  return m;
+}
+
+std::string printed(tinyxml2::XMLDocument& doc) {
+  tinyxml2::XMLPrinter printer;
+  doc.Print(&printer);
+  return printer.CStr();
+}
+
+/// Whether a <visual> or <collision> element's geometry is a mesh (a file
+/// that MuJoCo would read: `package://` paths and meshes beside the robot's
+/// description are not part of a test set's URDF, and MuJoCo 2.2 reads STL
+/// only).
+bool isMesh(const tinyxml2::XMLElement* e) {
+  const tinyxml2::XMLElement* g = e->FirstChildElement("geometry");
+  return g && g->FirstChildElement("mesh");
+}
+
+/// The model as MuJoCo saves it (MJCF) after the last load: URDF has no
+/// words for a free root or a joint equality, MJCF has.
+std::string savedMjcf(const mjModel* m, const std::string& path) {
+  char name[] = "/tmp/lieflow-urdf-peer-XXXXXX";
+  const int fd = mkstemp(name);
+  if (fd < 0) throw InvalidInput(path + ": --with-mujoco", "cannot make a temporary file for MuJoCo's MJCF");
+  close(fd);
+  char error[1024] = "";
+  const int saved = mj_saveLastXML(name, m, error, sizeof error);
+  std::ifstream in(name);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::remove(name);
+  if (!saved) throw InvalidInput(path + ": --with-mujoco", std::string("MuJoCo cannot save the model: ") + error);
+  return text.str();
+}
+
+}  // namespace
+
+MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options) {
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS || !doc.RootElement())
+    throw InvalidInput(path, "cannot read it as XML for MuJoCo");
+  tinyxml2::XMLElement* robot = doc.RootElement();
+  std::vector<Mimic> mimics;
+  for (tinyxml2::XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const tinyxml2::XMLElement* mimic = j->FirstChildElement("mimic");
+    if (!mimic) continue;
+    Mimic c;
+    c.follower = j->Attribute("name") ? j->Attribute("name") : "";
+    c.leader = mimic->Attribute("joint") ? mimic->Attribute("joint") : "";
+    mimic->QueryDoubleAttribute("multiplier", &c.multiplier);
+    mimic->QueryDoubleAttribute("offset", &c.offset);
+    mimics.push_back(c);
+  }
+  // The geometry MuJoCo would look for on disk is left out (the visuals
+  // all: they never act), and welded links stay bodies of their own, so
+  // that every link lieflow keeps is a MuJoCo body of its name.
+  for (tinyxml2::XMLElement* link = robot->FirstChildElement("link"); link;
+       link = link->NextSiblingElement("link")) {
+    while (tinyxml2::XMLElement* v = link->FirstChildElement("visual")) link->DeleteChild(v);
+    for (tinyxml2::XMLElement* c = link->FirstChildElement("collision"); c;) {
+      tinyxml2::XMLElement* next = c->NextSiblingElement("collision");
+      if (isMesh(c)) link->DeleteChild(c);
+      c = next;
+    }
+  }
+  while (tinyxml2::XMLElement* own = robot->FirstChildElement("mujoco")) robot->DeleteChild(own);
+  tinyxml2::XMLElement* mujoco = doc.NewElement("mujoco");
+  tinyxml2::XMLElement* compiler = doc.NewElement("compiler");
+  compiler->SetAttribute("fusestatic", "false");
+  compiler->SetAttribute("discardvisual", "true");
+  mujoco->InsertEndChild(compiler);
+  robot->InsertFirstChild(mujoco);
+  MjcfModel m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
+  if (mimics.empty() && !options.floating_base) return m;
+
+  tinyxml2::XMLDocument mjcf;
+  const std::string saved = savedMjcf(m.get(), path);
+  if (mjcf.Parse(saved.c_str()) != tinyxml2::XML_SUCCESS || !mjcf.RootElement())
+    throw InvalidInput(path + ": --with-mujoco", "MuJoCo's saved MJCF of the model does not parse");
+  tinyxml2::XMLElement* root = mjcf.RootElement();
+  if (options.floating_base) {
+    // --floating-base: a free joint on the root link, the first body of the
+    // world (as the import puts one between the world and the root).
+    tinyxml2::XMLElement* world = root->FirstChildElement("worldbody");
+    tinyxml2::XMLElement* base = world ? world->FirstChildElement("body") : nullptr;
+    if (!base) throw InvalidInput(path + ": --with-mujoco", "MuJoCo's model of it has no body to free");
+    base->InsertFirstChild(mjcf.NewElement("freejoint"));
+  }
+  if (!mimics.empty()) {
+    // <mimic> as MuJoCo's joint equality: q1 = c0 + c1 q2 (polycoef); MuJoCo's
+    // own URDF reader leaves mimics out.
+    tinyxml2::XMLElement* equality = mjcf.NewElement("equality");
+    for (const Mimic& c : mimics) {
+      tinyxml2::XMLElement* e = mjcf.NewElement("joint");
+      e->SetAttribute("joint1", c.follower.c_str());
+      e->SetAttribute("joint2", c.leader.c_str());
+      e->SetAttribute("polycoef",
+                      (formatNumber(c.offset, 17) + " " + formatNumber(c.multiplier, 17) + " 0 0 0").c_str());
+      // As stiff as MuJoCo makes a constraint (impedance mjMAXIMP = 0.9999
+      // throughout; its default 0.9-0.95 lets a mimic slip 150 times more):
+      // a URDF mimic is exact, MuJoCo's equality yields by 1e-4 of its force.
+      e->SetAttribute("solimp", "0.9999 0.9999 0.001");
+      equality->InsertEndChild(e);
+    }
+    root->InsertEndChild(equality);
+  }
+  return loadFromMemory("lieflow-peer.xml", printed(mjcf), path);
+}
+
+}  // namespace model_import
+}  // namespace lieflow
+
+#endif
