@@ -247,6 +247,7 @@ void studyMujoco(const MujocoPeer* peer_or_null, double t_end, const std::vector
   else
     s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " differs from it by "
       << formatNumber(orientationError(peerStates(check), ref)) << " rad";
+  for (const std::string& note : peer.notes()) s << " (" << note << ")";
   result->reference += s.str();
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -79,13 +80,17 @@ MjcfModel compileMjcf(const std::string& path);
 
 /// MuJoCo's own URDF reader on the URDF `path`, for the MuJoCo peer: mesh
 /// geometry and visuals left out in memory (MuJoCo would look for their
-/// files; they never act with contacts ignored), welded links kept as bodies
-/// of their own (fusestatic off: every body lieflow keeps is a MuJoCo body of
-/// its link's name), and, through MuJoCo's MJCF of the model, what URDF has
-/// no words for in MuJoCo: a free joint on the root link
-/// (options.floating_base) and each <mimic> as a joint equality. Throws
-/// InvalidInput naming the file and MuJoCo's reason.
-MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options);
+/// files; they never act with contacts ignored), welded links fused into
+/// their parents as lieflow merges them (every body lieflow keeps is a
+/// MuJoCo body of its link's name), the root link on a URDF floating joint
+/// with options.floating_base, and, through MuJoCo's MJCF of the model, each
+/// <mimic> as a joint equality (MuJoCo's URDF reader leaves mimics out).
+/// An inertia MuJoCo refuses (A + B < C: a camera's in ANYmal C, which
+/// lieflow merges into a physical whole) is balanced by MuJoCo's compiler
+/// (balanceinertia), said in `notes`. Throws InvalidInput naming the file and
+/// MuJoCo's reason.
+MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options,
+                               std::vector<std::string>* notes);
 
 /// The keyframe `wanted` names (its name, else its index), or −1 when
 /// `wanted` is empty. Throws InvalidInput (field "PATH: --keyframe") listing

@@ -43,6 +43,11 @@ MujocoPeer::MujocoPeer(const std::string&, const ModelImportOptions&, const Scen
   throw InvalidInput("--with-mujoco", why);
 }
 
+const std::vector<std::string>& MujocoPeer::notes() const {
+  static const std::vector<std::string> kNone;
+  return kNone;
+}
+
 MujocoPeerRun MujocoPeer::run(const std::string&, double, double, bool, long, const std::function<void()>&) const {
   return {};
 }
@@ -116,6 +121,7 @@ std::string mujocoPeerVersion() { return mj_versionString(); }
 
 struct MujocoPeer::Impl {
   std::string path;
+  std::vector<std::string> notes;
   model_import::MjcfModel model;
   int key = -1;
   std::vector<int> bodies;  ///< MuJoCo body of each scene body
@@ -125,7 +131,8 @@ MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& option
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
-  impl_->model = urdf ? model_import::compileUrdfForMujoco(path, options) : model_import::compileMjcf(path);
+  impl_->model =
+      urdf ? model_import::compileUrdfForMujoco(path, options, &impl_->notes) : model_import::compileMjcf(path);
   mjModel* m = impl_->model.get();
   model_import::switchOffIgnored(m, options);
   impl_->key = model_import::keyframeIndex(m, path, options.keyframe);
@@ -143,6 +150,8 @@ MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& option
     impl_->bodies.push_back(id);
   }
 }
+
+const std::vector<std::string>& MujocoPeer::notes() const { return impl_->notes; }
 
 MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_end, bool observe, long every,
                               const std::function<void()>& heartbeat) const {

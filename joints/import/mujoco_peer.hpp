@@ -86,6 +86,10 @@ class MujocoPeer {
   MujocoPeerRun run(const std::string& integrator, double h, double t_end, bool observe, long every,
                     const std::function<void()>& heartbeat = {}) const;
 
+  /// Where MuJoCo's model differs from the file as lieflow reads it (a URDF
+  /// inertia MuJoCo's compiler had to balance), for the comparison's record.
+  const std::vector<std::string>& notes() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

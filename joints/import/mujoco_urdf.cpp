@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,7 +94,8 @@ std::string savedMjcf(const mjModel* m, const std::string& path) {
 
 }  // namespace
 
-MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options) {
+MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions& options,
+                               std::vector<std::string>* notes) {
   tinyxml2::XMLDocument doc;
   if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS || !doc.RootElement())
     throw InvalidInput(path, "cannot read it as XML for MuJoCo");
@@ -101,7 +103,9 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   std::vector<Mimic> mimics;
   for (tinyxml2::XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     const tinyxml2::XMLElement* mimic = j->FirstChildElement("mimic");
-    if (!mimic) continue;
+    // A fixed joint's <mimic> has nothing to couple (the import leaves it
+    // out too); MuJoCo fuses the joint's child away.
+    if (!mimic || (j->Attribute("type") && std::string(j->Attribute("type")) == "fixed")) continue;
     Mimic c;
     c.follower = j->Attribute("name") ? j->Attribute("name") : "";
     c.leader = mimic->Attribute("joint") ? mimic->Attribute("joint") : "";
@@ -110,8 +114,10 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
     mimics.push_back(c);
   }
   // The geometry MuJoCo would look for on disk is left out (the visuals
-  // all: they never act), and welded links stay bodies of their own, so
-  // that every link lieflow keeps is a MuJoCo body of its name.
+  // all: they never act). Welded links are fused into their parents, as
+  // lieflow merges them (a massless welded link, a camera frame, would stop
+  // MuJoCo's compiler as a body of its own), so every body lieflow keeps is
+  // a MuJoCo body of its link's name.
   for (tinyxml2::XMLElement* link = robot->FirstChildElement("link"); link;
        link = link->NextSiblingElement("link")) {
     while (tinyxml2::XMLElement* v = link->FirstChildElement("visual")) link->DeleteChild(v);
@@ -124,27 +130,58 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   while (tinyxml2::XMLElement* own = robot->FirstChildElement("mujoco")) robot->DeleteChild(own);
   tinyxml2::XMLElement* mujoco = doc.NewElement("mujoco");
   tinyxml2::XMLElement* compiler = doc.NewElement("compiler");
-  compiler->SetAttribute("fusestatic", "false");
+  compiler->SetAttribute("fusestatic", "true");
   compiler->SetAttribute("discardvisual", "true");
   mujoco->InsertEndChild(compiler);
   robot->InsertFirstChild(mujoco);
-  MjcfModel m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
-  if (mimics.empty() && !options.floating_base) return m;
+  if (options.floating_base) {
+    // --floating-base: the root link (no joint's child) on a URDF floating
+    // joint from a link of no mass, which MuJoCo fuses into its world: a
+    // free joint, as the import puts one between the world and the root.
+    std::set<std::string> children;
+    for (const tinyxml2::XMLElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint"))
+      if (const tinyxml2::XMLElement* c = j->FirstChildElement("child"))
+        if (c->Attribute("link")) children.insert(c->Attribute("link"));
+    const char* root_link = nullptr;
+    for (const tinyxml2::XMLElement* l = robot->FirstChildElement("link"); l && !root_link;
+         l = l->NextSiblingElement("link"))
+      if (l->Attribute("name") && !children.count(l->Attribute("name"))) root_link = l->Attribute("name");
+    if (!root_link) throw InvalidInput(path + ": --with-mujoco", "has no root link to free");
+    const std::string world = "lieflow_world_for_" + std::string(root_link);
+    tinyxml2::XMLElement* link = doc.NewElement("link");
+    link->SetAttribute("name", world.c_str());
+    tinyxml2::XMLElement* joint = doc.NewElement("joint");
+    joint->SetAttribute("name", ("lieflow_floating_" + std::string(root_link)).c_str());
+    joint->SetAttribute("type", "floating");
+    tinyxml2::XMLElement* parent = doc.NewElement("parent");
+    parent->SetAttribute("link", world.c_str());
+    tinyxml2::XMLElement* child = doc.NewElement("child");
+    child->SetAttribute("link", root_link);
+    joint->InsertEndChild(parent);
+    joint->InsertEndChild(child);
+    robot->InsertAfterChild(mujoco, link);
+    robot->InsertAfterChild(link, joint);
+  }
+  MjcfModel m;
+  try {
+    m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
+  } catch (const InvalidInput& e) {
+    // MuJoCo checks each link's inertia before it fuses welded links; an
+    // unphysical one (A + B < C) it can only balance, which changes it.
+    if (e.reason().find("inertia must satisfy A + B >= C") == std::string::npos) throw;
+    compiler->SetAttribute("balanceinertia", "true");
+    m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
+    notes->push_back("MuJoCo's compiler balanced an inertia of the file that breaks A + B >= C (" +
+                     e.reason().substr(e.reason().rfind("Object name")) + "), so its model differs there");
+  }
+  if (mimics.empty()) return m;
 
   tinyxml2::XMLDocument mjcf;
   const std::string saved = savedMjcf(m.get(), path);
   if (mjcf.Parse(saved.c_str()) != tinyxml2::XML_SUCCESS || !mjcf.RootElement())
     throw InvalidInput(path + ": --with-mujoco", "MuJoCo's saved MJCF of the model does not parse");
   tinyxml2::XMLElement* root = mjcf.RootElement();
-  if (options.floating_base) {
-    // --floating-base: a free joint on the root link, the first body of the
-    // world (as the import puts one between the world and the root).
-    tinyxml2::XMLElement* world = root->FirstChildElement("worldbody");
-    tinyxml2::XMLElement* base = world ? world->FirstChildElement("body") : nullptr;
-    if (!base) throw InvalidInput(path + ": --with-mujoco", "MuJoCo's model of it has no body to free");
-    base->InsertFirstChild(mjcf.NewElement("freejoint"));
-  }
-  if (!mimics.empty()) {
+  {
     // <mimic> as MuJoCo's joint equality: q1 = c0 + c1 q2 (polycoef); MuJoCo's
     // own URDF reader leaves mimics out.
     tinyxml2::XMLElement* equality = mjcf.NewElement("equality");
