@@ -56,7 +56,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
   const int nb = static_cast<int>(scene.bodies.size());
   const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
-  std::vector<int> driven, plain, gear_cuts;
+  std::vector<int> sliding, driven, plain, gear_cuts;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
     if (j.isGear()) {
@@ -70,12 +70,13 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
                                "formulation has universal joints about one point";
       return false;
     }
-    if (j.type == "prismatic" || j.type == "fixed" || j.type == "gimbal") {
+    if (j.type == "fixed" || j.type == "gimbal") {
       *why = label(scene, k) + " is a " + j.type +
-             " joint: the joint-coordinate formulation has revolute, universal and spherical joints only";
+             " joint: the joint-coordinate formulation has revolute, universal, prismatic and spherical joints only";
       return false;
     }
-    (driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
+    // A slide is always a tree edge (a loop is closed by a joint that turns).
+    (j.type == "prismatic" ? sliding : driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
   }
   // Kruskal: union–find over the bodies and the ground (node nb).
   std::vector<int> component(nb + 1);
@@ -86,13 +87,18 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
   };
   cuts->clear();
   std::vector<std::vector<int>> at(nb + 1);  // the tree's joints at each body (and at the ground)
-  for (const std::vector<int>* list : {&driven, &plain})
+  for (const std::vector<int>* list : {&sliding, &driven, &plain})
     for (int k : *list) {
       const JointDescription& j = scene.joints[k];
       const int a = body(j.main), b = body(j.secondary);
       const int ra = find(a < 0 ? nb : a), rb = find(b < 0 ? nb : b);
       if (ra == rb) {
         // A loop: this joint is imposed with multipliers on the tree's poses.
+        if (list == &sliding) {
+          *why = label(scene, k) + " closes a loop of prismatic joints: in joint coordinates a loop is closed by a "
+                                   "revolute, universal or spherical joint";
+          return false;
+        }
         if (list == &driven) {
           *why = label(scene, k) + " closes a loop whose every joint carries a force element or prescribed "
                                    "motion (this one " + driveOf(scene, j) +
@@ -198,7 +204,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   for (int c : order) {
     const std::string& type = joint_of[c] < 0 ? std::string("spherical") : scene.joints[joint_of[c]].type;
     if (type == "spherical") ++ns;
-    else nq += type == "universal" ? 2 : 1;
+    else nq += type == "universal" ? 2 : 1;  // revolute, prismatic: 1
   }
   articulated::ArticulatedState y0;
   y0.q.setZero(nq);
@@ -248,13 +254,23 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
                                           "' is spherical: a moment acts on the coordinate of a revolute or "
                                           "universal joint");
     } else {
-      b.kind = j.type == "universal" ? JointKind::kUniversal : JointKind::kRevolute;
+      const bool slides = j.type == "prismatic";
+      b.kind = slides ? JointKind::kPrismatic : j.type == "universal" ? JointKind::kUniversal : JointKind::kRevolute;
       b.q_begin = b.u_begin = q_next;
       q_next += b.coordinates();
       b.axis1 = j.axis_main.normalized();
       b.axis2 = j.axis_secondary.normalized();
-      b.R_ref = rotationAbout(b.axis1, -j.initial_angles[0]) * M0;
+      b.R_ref = slides ? M0 : Eigen::Matrix3d(rotationAbout(b.axis1, -j.initial_angles[0]) * M0);
       if (b.kind == JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
+      // A slide's x at t = 0, as the maximal formulation reads it from the
+      // poses: x = (R_main a)·(anchor_secondary − anchor_main), world.
+      double x0 = 0.0;
+      if (slides) {
+        const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
+          return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
+        };
+        x0 = (orientation(main) * b.axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
+      }
       for (int i = 0; i < b.coordinates(); ++i) {
         const CoordinateDescription& cd = j.coordinates[i];
         multibody::CoordinateDrive& d = drives[i];
@@ -267,7 +283,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
           const UserLoads::JointMoment f = user_moment->second;
           d.user_moment = [f, i](double time, double phi, double phidot) { return f(time, i, phi, phidot); };
         }
-        y0.q[b.q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : j.initial_angles[i];
+        y0.q[b.q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : slides ? x0 : j.initial_angles[i];
         b.has_force[i] = d.hasForce();
         b.is_prescribed[i] = d.prescribed.has_value();
       }

@@ -15,7 +15,7 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
   rotation_basis_.resize(model_.bodies.size());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    if (b.kind == JointKind::kSpherical) continue;
+    if (b.kind == JointKind::kSpherical || b.kind == JointKind::kPrismatic) continue;
     const Eigen::Matrix3d aa = b.axis1 * b.axis1.transpose();
     rotation_basis_[i].A = (Eigen::Matrix3d::Identity() - aa) * b.R_ref;
     rotation_basis_[i].B = hat(b.axis1) * b.R_ref;
@@ -86,9 +86,12 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
           d.phiddot[k] = 0.0;
         }
       }
+      // A slide holds the relative rotation R_ref; a hinge turns it.
+      const bool slides = b.kind == JointKind::kPrismatic;
       std::array<double, 2> cos_phi{{1.0, 1.0}}, sin_phi{{0.0, 0.0}};
-      for (int k = 0; k < nc; ++k) sinCos(d.phi[k], &cos_phi[k], &sin_phi[k]);
-      const Eigen::Matrix3d M = jointRotation(i, cos_phi, sin_phi);
+      if (!slides)
+        for (int k = 0; k < nc; ++k) sinCos(d.phi[k], &cos_phi[k], &sin_phi[k]);
+      const Eigen::Matrix3d& M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
       const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;
@@ -96,7 +99,8 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       if (nc == 2) d.axis[1] = R_sec * b.axis2;
       std::array<Vector6, 2> s;
       for (int k = 0; k < nc; ++k) {
-        s[k] = lineTwist(d.axis[k], line);
+        // A slide's column is a translation along A: (0, A) whatever the point.
+        s[k] = slides ? (Vector6() << Eigen::Vector3d::Zero(), d.axis[k]).finished() : lineTwist(d.axis[k], line);
         // Projection (velocity_terms off): the prescribed rates stand in the
         // place of accelerations, the free ones are unknown.
         if (velocity_terms) {
@@ -135,6 +139,9 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     } else {
       d.V = Vp + Su;
       d.c = d.x - d.R * b.anchor_child;
+      // A slide moves the child's anchor along A from the parent's: by x from
+      // the main's anchor (σ = −1 when the child is the main body).
+      if (b.kind == JointKind::kPrismatic) d.c += (sigma * d.phi[0]) * d.axis[0];
     }
     if (!dynamics) continue;
     // Rigid-body inertia about the origin: [J_w + m [c]×[c]×ᵀ, m [c]×; m [c]×ᵀ, m I].

@@ -7,7 +7,9 @@
 /// earlier in the body order), so the joints' coordinates are the whole
 /// configuration of the tree: a revolute joint is
 /// one angle φ (ℝ, unwrapped), a universal joint two angles (φ₁, φ₂), a
-/// spherical joint a rotation N ∈ SO(3) of the child relative to its parent.
+/// spherical joint a rotation N ∈ SO(3) of the child relative to its parent,
+/// a prismatic joint one slide x ∈ ℝ along its axis (the relative rotation
+/// R_ref held; the secondary anchor at the main one + x R_main a).
 ///
 /// Relative rotation of the secondary body to the main one (R_b = R_a M), the
 /// same coordinates as the maximal formulation's joint angles
@@ -37,7 +39,7 @@
 namespace lieflow {
 namespace articulated {
 
-enum class JointKind { kRevolute, kUniversal, kSpherical };
+enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic };
 
 /// The parent of a body attached to the ground.
 constexpr int kGround = -1;
@@ -67,7 +69,7 @@ struct ArticulatedBody {
   /// coordinates of the anchor for the ground), and from the child's.
   Eigen::Vector3d anchor_parent = Eigen::Vector3d::Zero();
   Eigen::Vector3d anchor_child = Eigen::Vector3d::Zero();
-  /// Revolute: axis a (main frame). Universal: a₁ (main frame), a₂ (secondary frame).
+  /// Revolute, prismatic: axis a (main frame). Universal: a₁ (main frame), a₂ (secondary frame).
   Eigen::Vector3d axis1 = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d axis2 = Eigen::Vector3d::UnitZ();
   /// Relative rotation main → secondary at zero angles.
@@ -84,7 +86,7 @@ struct ArticulatedBody {
   int u_begin = 0;
 
   int coordinates() const {
-    return kind == JointKind::kRevolute ? 1 : kind == JointKind::kUniversal ? 2 : 0;
+    return kind == JointKind::kRevolute || kind == JointKind::kPrismatic ? 1 : kind == JointKind::kUniversal ? 2 : 0;
   }
   int dofs() const { return kind == JointKind::kSpherical ? 3 : coordinates(); }
   bool prescribed(int i) const { return is_prescribed[i]; }

@@ -111,10 +111,13 @@ void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<Artic
     const Eigen::Vector3d moment_on_child = f.head<3>() - point.cross(f.tail<3>());
     // On the main body: −(that) when the child is the secondary.
     const Eigen::Vector3d on_main = b.parent_is_main ? Eigen::Vector3d(-moment_on_child) : moment_on_child;
+    // A slide's force along its axis on the main body, as the maximal
+    // formulation's J.force.
+    const Eigen::Vector3d force_on_main = b.parent_is_main ? Eigen::Vector3d(-f.tail<3>()) : Eigen::Vector3d(f.tail<3>());
     for (int k = 0; k < o.coordinates; ++k) {
       o.phi[k] = d.phi[k];
       o.phidot[k] = d.phidot[k];
-      o.moment[k] = on_main.dot(d.axis[k]);
+      o.moment[k] = (b.kind == JointKind::kPrismatic ? force_on_main : on_main).dot(d.axis[k]);
     }
   }
   if (hasClosures()) closureOutputs(t, out);

@@ -15,10 +15,13 @@
 ///   revolute   s = σ (A, x × A),         A = R_main a,  x the anchor;
 ///   universal  s₁ = σ (A₁, x × A₁), s₂ = σ (A₂, x × A₂), A₁ = R_main a₁, A₂ = R_sec a₂;
 ///   spherical  S = (R_c, [x]× R_c)       (u = ω_rel in the child's axes),
+///   prismatic  s = σ (0, A),             A = R_main a (a translation along A),
 /// σ = +1 when the parent is the joint's main body, −1 otherwise. Then
 ///   V_c = V_p + S u,    a_c = a_p + S u̇ + Ṡ u,
-/// with Ṡ u = V_p ×ₘ (S u) for revolute and spherical joints (their columns
-/// are fixed in the child and turn with it: ṡ = V_c ×ₘ s, and (Su) ×ₘ (Su) = 0)
+/// with Ṡ u = V_p ×ₘ (S u) for revolute, prismatic and spherical joints (their
+/// columns are fixed in the child and turn with it: ṡ = V_c ×ₘ s, and
+/// (Su) ×ₘ (Su) = 0; a prismatic column is fixed in the main body, which is
+/// the parent or the child, and (0, A) ×ₘ (0, A) = 0 either way)
 /// and Ṡ u = σ (V_main ×ₘ s₁ φ̇₁ + V_sec ×ₘ s₂ φ̇₂) for a universal joint
 /// (s₁ is fixed in the main body, s₂ in the secondary). Gravity is a force
 /// (c × m g, m g) on each body that translates.

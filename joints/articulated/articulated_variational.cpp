@@ -17,6 +17,7 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
     if (b.kind == JointKind::kSpherical)
       reason = b.scene_joint < 0 ? "is a rotation-only root, which turns on SO(3) about its centre of mass"
                                  : "hangs on a spherical joint, whose configuration is a rotation (SO(3))";
+    if (b.kind == JointKind::kPrismatic) reason = "slides on a prismatic joint";
     for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
       if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
     if (reason.empty()) continue;

@@ -8,6 +8,8 @@
 // velocities, joint angles, rates and moments, energy, momentum).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 #include <utility>
@@ -203,6 +205,59 @@ std::string refusal(const Simulation& sim, const std::string& formulation, const
     return e.reason();
   }
   return "";
+}
+
+/// Prismatic joints in joint coordinates: a cart sliding on a tilted rail
+/// (spring, dashpot, initial speed), a pendulum hinged on it, a bead sliding
+/// along the pendulum on a joint whose main body is the child (spring, sine
+/// force), and a shuttle on the cart with a prescribed slide.
+constexpr const char* kSlidingTree = R"({
+  "name": "sliding-tree", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "cart", "mass": 2.0, "inertia": [0.02, 0.03, 0.04], "velocity": [0.49029033784546, 0, 0.09805806756909]},
+    {"name": "arm", "mass": 0.6, "inertia": [0.01, 0.012, 0.002], "position": [0, 0, -0.3],
+     "angular_velocity": [0, 2.0, 0]},
+    {"name": "bead", "mass": 0.2, "inertia": [0.0004, 0.0004, 0.0002], "position": [0, 0, -0.4]},
+    {"name": "shuttle", "mass": 0.3, "inertia": [0.001, 0.002, 0.002], "position": [0.1, 0.2, 0]}
+  ],
+  "joints": [
+    {"name": "rail", "type": "prismatic", "main": "ground", "secondary": "cart",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0], "axis_main": [0.9805806756909202, 0, 0.19611613513818404],
+     "spring": {"stiffness": 20.0, "rest_position": 0.05}, "damper": {"damping": 0.5}},
+    {"name": "pivot", "type": "revolute", "main": "cart", "secondary": "arm",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.3], "axis_main": [0, 1, 0]},
+    {"name": "slide", "type": "prismatic", "main": "bead", "secondary": "arm",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, -0.1], "axis_main": [0, 0, 1],
+     "spring": {"stiffness": 50.0, "rest_position": 0.02},
+     "force": {"type": "sine", "amplitude": 0.5, "frequency": 2.0}},
+    {"name": "shuttle_guide", "type": "prismatic", "main": "cart", "secondary": "shuttle",
+     "anchor_main": [0.1, 0.2, 0], "anchor_secondary": [0, 0, 0], "axis_main": [0, 1, 0],
+     "prescribed": {"type": "sine", "amplitude": 0.05, "frequency": 1.0}}
+  ]
+})";
+
+TEST(Articulated, PrismaticJointsFollowTheMaximalFormulation) {
+  const Simulation sim(parseScene(kSlidingTree, "sliding-tree.json"));
+  std::string why;
+  ASSERT_TRUE(sim.hasJointFormulation(&why)) << why;
+  expectSameMotion(sim, 1.0, 1e-7);
+  // The slides' columns: x, xdot and the force along the axis agree too
+  // (expectSameMotion compares every column); and the bead really slides.
+  const RunEnds joint = runEnds(sim, "joint", "rkmk4", 1e-3, 1.0);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(joint.columns.begin(), joint.columns.end(), name);
+    return static_cast<std::size_t>(it - joint.columns.begin());
+  };
+  EXPECT_GT(std::abs(joint.last[column("slide.x")]), 1e-3);
+  EXPECT_NEAR(joint.last[column("shuttle_guide.x")], 0.05 * std::sin(2.0 * 3.141592653589793 * 1.0), 1e-12);
+  // genalpha in joint coordinates on the same tree converges to the same motion.
+  const RunEnds ga = runEnds(sim, "joint", "genalpha", 1e-4, 1.0);
+  ASSERT_FALSE(ga.result.failed) << ga.result.failure;
+  std::string where;
+  EXPECT_LT(rowDifference(joint.columns, joint.last, ga.last, &where), 1e-4) << where;
+  // lgvi in joint coordinates is written for angles: it says so.
+  std::string field;
+  EXPECT_NE(refusal(sim, "joint", "lgvi", &field).find("slides on a prismatic joint"), std::string::npos);
 }
 
 TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {

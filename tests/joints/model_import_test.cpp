@@ -381,10 +381,7 @@ TEST(ModelImport, PrismaticFingersMimicEachOtherOnAMovingHand) {
     b.orientation = turn * b.orientation;
     b.position = turn * b.position;
   }
-  // Maximal coordinates: the joint-coordinate formulation has no prismatic
-  // joints yet (Simulation::hasJointFormulation says so; the default is then
-  // maximal).
-  for (const std::string formulation : {"maximal", ""}) {
+  for (const std::string formulation : {"maximal", "joint"}) {
     SCOPED_TRACE(formulation);
     const Trajectory tr = simulate(s, "rkmk4", 1e-4, 1.0, 100, formulation);
     double pair = 0.0, thumb = 0.0, travel = 0.0;
