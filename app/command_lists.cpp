@@ -44,7 +44,8 @@ int runIntegrators(int argc, char** argv) {
   std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
             << "Scenes with joints run in joint coordinates wherever they represent the scene and the\n"
                "integrator runs there (trees of revolute, universal, prismatic and spherical joints from the\n"
-               "ground or from rotation-only bodies; joints closing loops and gear rows on multipliers,\n"
+               "ground, from rotation-only bodies or from free roots (those with rkmk*, cg3 and cf4);\n"
+               "joints closing loops and gear rows on multipliers,\n"
                "with the explicit integrators), else in maximal coordinates (bodies' poses with\n"
                "multipliers); --formulation maximal|joint chooses, and --stats prints the one used.\n";
   return kSuccess;

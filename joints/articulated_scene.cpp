@@ -119,17 +119,27 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
   std::vector<bool> placed(nb, false), used(scene.joints.size(), false);
   std::deque<int> queue{-1};
   // A rotation-only body no joint reaches from the ground is a root of its
-  // own (an implicit spherical joint at its held centre of mass).
+  // own (an implicit spherical joint at its held centre of mass); once the
+  // ground's and those trees are placed, a body still unplaced is a root on
+  // a free joint (a floating robot's trunk, a free body): in each floating
+  // group the first body in scene order that no joint names as its
+  // secondary (the model's root link), else the group's first body.
+  std::vector<bool> secondary(nb, false);
+  for (const JointDescription& j : scene.joints)
+    if (!j.isGear() && j.secondary != "ground") secondary[index.at(j.secondary)] = true;
   int next_root = 0;
+  auto place_root = [&](int r) {
+    placed[r] = true;
+    order->push_back(r);
+    queue.push_back(r);
+    return true;
+  };
   auto nextRoot = [&]() {
     for (; next_root < nb; ++next_root)
-      if (!placed[next_root] && scene.bodies[next_root].rotation_only) {
-        const int r = next_root++;
-        placed[r] = true;
-        order->push_back(r);
-        queue.push_back(r);
-        return true;
-      }
+      if (!placed[next_root] && scene.bodies[next_root].rotation_only) return place_root(next_root++);
+    for (int pass = 0; pass < 2; ++pass)
+      for (int r = 0; r < nb; ++r)
+        if (!placed[r] && (pass == 1 || !secondary[r])) return place_root(r);
     return false;
   };
   while (!queue.empty() || nextRoot()) {
@@ -162,13 +172,17 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
     }
   }
   cuts->insert(cuts->end(), gear_cuts.begin(), gear_cuts.end());
-  for (int i = 0; i < nb; ++i)
-    if (!placed[i]) {
-      *why = scene.source + ": bodies[" + std::to_string(i) + "] (" + scene.bodies[i].name +
-             ") is not connected to the ground by joints and not rotation-only: a free-floating body has no joint "
-             "to carry it";
-      return false;
-    }
+  // A free root's six degrees of freedom are solved as one 6 × 6 block of
+  // the articulated-body algorithm; the loops' sweep (articulated_closures)
+  // is written for joints with columns.
+  if (!cuts->empty())
+    for (int i = 0; i < nb; ++i)
+      if ((*joint_of)[i] < 0 && !scene.bodies[i].rotation_only) {
+        *why = scene.source + ": bodies[" + std::to_string(i) + "] (" + scene.bodies[i].name +
+               ") is free-floating (a root on a free joint) and the scene closes loops or couples joints (" +
+               label(scene, (*cuts)[0]) + "): joint coordinates take a free root without loops";
+        return false;
+      }
   return true;
 }
 
@@ -202,9 +216,16 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   // Angles first, then spherical rotations in u (articulated_state.hpp).
   int nq = 0, ns = 0;
   for (int c : order) {
-    const std::string& type = joint_of[c] < 0 ? std::string("spherical") : scene.joints[joint_of[c]].type;
-    if (type == "spherical") ++ns;
-    else nq += type == "universal" ? 2 : 1;  // revolute, prismatic: 1
+    const std::string& type = joint_of[c] >= 0 ? scene.joints[joint_of[c]].type
+                              : scene.bodies[c].rotation_only ? std::string("spherical") : std::string("free");
+    if (type == "spherical") {
+      ++ns;
+    } else if (type == "free") {
+      ++ns;     // its orientation
+      nq += 3;  // its centre of mass
+    } else {
+      nq += type == "universal" ? 2 : 1;  // revolute, prismatic: 1
+    }
   }
   articulated::ArticulatedState y0;
   y0.q.setZero(nq);
@@ -221,6 +242,21 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     b.rotation_only = bd.rotation_only;
     b.initial_orientation = bd.orientation.normalized();
     b.fixed_position = bd.position;
+    if (k < 0 && !bd.rotation_only) {
+      // A floating root: (R, c) on SO(3) × ℝ³; its velocities come from the
+      // scene's by the projection below (its own are free: (ω, v_c) as given).
+      b.kind = JointKind::kFree;
+      b.rotation = r_next++;
+      b.q_begin = b.u_begin = q_next;
+      q_next += 3;
+      b.u_rotation = nq + 3 * b.rotation;
+      y0.q.segment<3>(b.q_begin) = bd.position;
+      y0.N.push_back(SO3d(Eigen::Quaterniond(orientation(c)).normalized()));
+      model.bodies.push_back(b);
+      model.names.push_back(bd.name);
+      model.drives.emplace_back();
+      continue;
+    }
     if (k < 0) {
       // A root rotation-only body: spherical about its centre of mass.
       b.kind = JointKind::kSpherical;

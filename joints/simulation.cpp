@@ -300,6 +300,12 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
       if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
       return false;
     }
+    if (integrator == "genalpha" && model_->articulated->system->hasFreeRoot()) {
+      if (why)
+        *why = "'genalpha' cannot run this scene in joint coordinates: a body floats on a free joint, which its "
+               "mass matrix does not hold (run it with --formulation maximal)";
+      return false;
+    }
     if (runsInJointCoordinates(integrator)) return true;
     if (why)
       *why = "'" + integrator +

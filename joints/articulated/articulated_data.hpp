@@ -40,6 +40,10 @@ struct ArticulatedData {
   };
 
   std::vector<Body> bodies;
+  /// A floating root's spatial momentum h in I_A a + p_A = h: zero for the
+  /// dynamics, the given velocities' momentum while projecting them.
+  std::vector<Vector6, Eigen::aligned_allocator<Vector6>> root_momentum;
+  bool projecting = false;
   /// Composite inertias of the mass matrix (sized at its first use).
   std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> composite;
   Eigen::VectorXd udot;

@@ -11,11 +11,12 @@ namespace articulated {
 ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     : model_(std::move(model)) {
   data_.bodies.resize(model_.bodies.size());
+  data_.root_momentum.assign(model_.bodies.size(), Vector6::Zero());
   data_.udot.resize(model_.dofs());
   rotation_basis_.resize(model_.bodies.size());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    if (b.kind == JointKind::kSpherical || b.kind == JointKind::kPrismatic) continue;
+    if (b.kind == JointKind::kSpherical || b.kind == JointKind::kPrismatic || b.kind == JointKind::kFree) continue;
     const Eigen::Matrix3d aa = b.axis1 * b.axis1.transpose();
     rotation_basis_[i].A = (Eigen::Matrix3d::Identity() - aa) * b.R_ref;
     rotation_basis_[i].B = hat(b.axis1) * b.R_ref;
@@ -61,7 +62,19 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     d.free = 0;
     d.bias.setZero();
     Vector6 Su = Vector6::Zero();  // S u, the joint's relative twist
-    if (b.kind == JointKind::kSpherical) {
+    if (b.kind == JointKind::kFree) {
+      // A floating root: V = (ω, v_c + c × ω) from (R, c) and (ω body, v_c);
+      // its columns, fixed in the body (the rotations, lines through c) and
+      // in the world (the translations), give Ṡ u = (0, v_c × ω). Its six
+      // degrees of freedom are solved as one block in solve(), not as columns.
+      d.R = y.N[b.rotation].matrix();
+      d.x = y.q.segment<3>(b.q_begin);
+      const Eigen::Vector3d w = d.R * y.u.segment<3>(b.u_rotation);
+      const Eigen::Vector3d vc = y.u.segment<3>(b.u_begin);
+      Su << w, vc + cross3(d.x, w);
+      if (velocity_terms) d.bias.tail<3>() = cross3(vc, w);
+      d.tau.setZero();
+    } else if (b.kind == JointKind::kSpherical) {
       d.R = Rp * y.N[b.rotation].matrix();
       d.S.topRows<3>() = d.R;
       d.S.bottomRows<3>() = hat(line) * d.R;
@@ -237,6 +250,18 @@ void ArticulatedSystem::solve(const Vector6& a0, Eigen::VectorXd* udot) const {
     BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     const int p = b.parent;
+    if (b.kind == JointKind::kFree) {
+      // I_A a + p_A = h: no joint force (h = 0), or the given momentum when
+      // projecting velocities (projectVelocities); then from a = (α, a_O):
+      // ω̇ = Rᵀα, v̇_c = a_O + α × c + ω × v_c (without the last term, velocities).
+      d.a = d.IA.ldlt().solve(data_.root_momentum[i] - d.pA);
+      const Eigen::Vector3d alpha = d.a.head<3>();
+      Eigen::Vector3d ac = d.a.tail<3>() + cross3(alpha, d.c);
+      if (!data_.projecting) ac += cross3(d.V.head<3>(), velocityOfCentre(i));
+      udot->segment<3>(b.u_rotation) = d.R.transpose() * alpha;
+      udot->segment<3>(b.u_begin) = ac;
+      continue;
+    }
     if (p == kGround) {
       d.a = a0 + d.bias;
     } else if (b.rotation_only) {
@@ -313,9 +338,14 @@ void ArticulatedSystem::projectVelocities(double t, const std::vector<Eigen::Vec
   for (int i = 0; i < bodyCount(); ++i) {
     BodyData& d = data_.bodies[i];
     d.tau.head(d.free) = d.S.leftCols(d.free).transpose() * H[i];
+    // A floating root takes its subtree's whole momentum.
+    if (model_.bodies[i].kind == JointKind::kFree) data_.root_momentum[i] = H[i];
   }
   data_.udot.setZero(dofs());
+  data_.projecting = true;
   solve(Vector6::Zero(), &data_.udot);
+  data_.projecting = false;
+  for (Vector6& h : data_.root_momentum) h.setZero();
   y->u = data_.udot;
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];

@@ -9,7 +9,12 @@
 /// one angle φ (ℝ, unwrapped), a universal joint two angles (φ₁, φ₂), a
 /// spherical joint a rotation N ∈ SO(3) of the child relative to its parent,
 /// a prismatic joint one slide x ∈ ℝ along its axis (the relative rotation
-/// R_ref held; the secondary anchor at the main one + x R_main a).
+/// R_ref held; the secondary anchor at the main one + x R_main a). A body
+/// no joint reaches from the ground and that is not rotation-only is a root
+/// on a free joint, on SO(3) × ℝ³ as the maximal formulation's bodies are:
+/// (R, c) with (ω body axes, v_c world) — the translation stays linear
+/// (gravity moves it exactly, the momentum about the centre of mass is kept
+/// as in maximal coordinates) where SE(3) would couple it to the rotation.
 ///
 /// Relative rotation of the secondary body to the main one (R_b = R_a M), the
 /// same coordinates as the maximal formulation's joint angles
@@ -39,7 +44,7 @@
 namespace lieflow {
 namespace articulated {
 
-enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic };
+enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree };
 
 /// The parent of a body attached to the ground.
 constexpr int kGround = -1;
@@ -80,15 +85,19 @@ struct ArticulatedBody {
   std::array<bool, 2> is_prescribed{{false, false}};
 
   /// Offsets into the state: scalar angles (revolute, universal), the
-  /// spherical joints' rotations, and the velocity vector u.
+  /// spherical joints' rotations, and the velocity vector u. A free root
+  /// keeps its centre of mass c in q at q_begin, v_c (world) in u at
+  /// u_begin, its orientation among the rotations and ω (body axes) in u
+  /// at u_rotation.
   int q_begin = 0;
   int rotation = -1;
   int u_begin = 0;
+  int u_rotation = -1;
 
   int coordinates() const {
     return kind == JointKind::kRevolute || kind == JointKind::kPrismatic ? 1 : kind == JointKind::kUniversal ? 2 : 0;
   }
-  int dofs() const { return kind == JointKind::kSpherical ? 3 : coordinates(); }
+  int dofs() const { return kind == JointKind::kSpherical ? 3 : kind == JointKind::kFree ? 6 : coordinates(); }
   bool prescribed(int i) const { return is_prescribed[i]; }
 };
 

@@ -82,6 +82,12 @@ class ArticulatedSystem {
   explicit ArticulatedSystem(ArticulatedModel model);
 
   const ArticulatedModel& model() const { return model_; }
+  /// Whether a body floats on a free joint (a root no joint holds).
+  bool hasFreeRoot() const {
+    for (const ArticulatedBody& b : model_.bodies)
+      if (b.kind == JointKind::kFree) return true;
+    return false;
+  }
   int dofs() const { return model_.dofs(); }
   int bodyCount() const { return model_.bodyCount(); }
 

@@ -18,6 +18,7 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
       reason = b.scene_joint < 0 ? "is a rotation-only root, which turns on SO(3) about its centre of mass"
                                  : "hangs on a spherical joint, whose configuration is a rotation (SO(3))";
     if (b.kind == JointKind::kPrismatic) reason = "slides on a prismatic joint";
+    if (b.kind == JointKind::kFree) reason = "floats on a free joint (SO(3) × ℝ³)";
     for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
       if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
     if (reason.empty()) continue;

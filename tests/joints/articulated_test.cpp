@@ -11,6 +11,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <iostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -258,6 +259,56 @@ TEST(Articulated, PrismaticJointsFollowTheMaximalFormulation) {
   // lgvi in joint coordinates is written for angles: it says so.
   std::string field;
   EXPECT_NE(refusal(sim, "joint", "lgvi", &field).find("slides on a prismatic joint"), std::string::npos);
+}
+
+/// A floating mechanism: a trunk no joint holds (a root on a free joint in
+/// joint coordinates), a sprung, damped limb on a hinge and a second limb on
+/// a universal joint whose main body is the child, thrown turning and moving
+/// under gravity; and a second free body of its own (two floating roots).
+constexpr const char* kFloatingTree = R"({
+  "name": "floating-tree", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "trunk", "mass": 3.0, "inertia": [0.05, 0.08, 0.06], "position": [0, 0, 1.0],
+     "angular_velocity": [1.5, -2.0, 3.0], "velocity": [0.5, 0.2, 2.0]},
+    {"name": "limb", "mass": 0.8, "inertia": [0.01, 0.012, 0.003], "position": [0.3, 0, 1.0],
+     "angular_velocity": [0, 0, 1.0]},
+    {"name": "foot", "mass": 0.4, "inertia": [0.002, 0.003, 0.004], "position": [-0.3, 0, 0.9]},
+    {"name": "stone", "mass": 0.5, "inertia": [0.001, 0.002, 0.003], "position": [2, 0, 0],
+     "angular_velocity": [3, 1, 0.5], "velocity": [0, 1, 0]}
+  ],
+  "joints": [
+    {"name": "hip", "type": "revolute", "main": "trunk", "secondary": "limb",
+     "anchor_main": [0.15, 0, 0], "anchor_secondary": [-0.15, 0, 0], "axis_main": [0, 1, 0],
+     "spring": {"stiffness": 5.0, "rest_angle": 0.2}, "damper": {"damping": 0.02}},
+    {"name": "ankle", "type": "universal", "main": "foot", "secondary": "trunk",
+     "anchor_main": [0.15, 0, 0.05], "anchor_secondary": [-0.15, 0, -0.05],
+     "axis1_main": [0, 0, 1], "axis2_secondary": [1, 0, 0], "spring1": {"stiffness": 2.0, "rest_angle": 0}}
+  ]
+})";
+
+TEST(Articulated, FloatingRootsFollowTheMaximalFormulation) {
+  const Simulation sim(parseScene(kFloatingTree, "floating-tree.json"));
+  std::string why;
+  ASSERT_TRUE(sim.hasJointFormulation(&why)) << why;
+  expectSameMotion(sim, 1.0, 1e-7);
+  // Without gravity its angular momentum about the centre of mass is kept
+  // (L_com): to the integrator's error with dashpots taking energy.
+  SceneDescription weightless = parseScene(kFloatingTree, "floating-tree.json");
+  weightless.gravity.setZero();
+  const Simulation free(weightless);
+  const RunEnds joint = runEnds(free, "joint", "rkmk4", 1e-3, 2.0);
+  ASSERT_FALSE(joint.result.failed) << joint.result.failure;
+  double l_com = -1.0;
+  for (const auto& [name, drift] : joint.result.invariants)
+    if (name == "L_com") l_com = drift;
+  std::cout << "[ measured ] floating tree in joint coordinates, no gravity, rkmk4 h = 1e-3 over 2 s: L_com drift "
+            << l_com << "\n";
+  EXPECT_GE(l_com, 0.0);
+  EXPECT_LT(l_com, 5e-9);
+  // lgvi and genalpha in joint coordinates do not take a free root yet: they say so.
+  std::string field;
+  EXPECT_NE(refusal(sim, "joint", "lgvi", &field).find("floats on a free joint"), std::string::npos);
+  EXPECT_NE(refusal(sim, "joint", "genalpha", &field).find("floats on a free joint"), std::string::npos);
 }
 
 TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {
