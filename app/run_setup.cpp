@@ -9,8 +9,8 @@
 
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
-#include "app/stability.hpp"
 #include "integrators/registry.hpp"
+#include "joints/scene_time_scale.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/number_text.hpp"
 

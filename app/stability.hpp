@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "joints/scene_time_scale.hpp"
 #include "joints/simulation.hpp"
 
 namespace lieflow {
@@ -53,9 +54,6 @@ struct StabilityRow {
   /// The integrator options in force ("rho_inf=0.5, tolerance=1e-12, ...").
   std::string options;
 };
-
-/// ω_c of a scene (see the file comment).
-double characteristicFrequency(const SceneDescription& scene);
 
 std::vector<StabilityRow> runStability(const Simulation& simulation, const StabilityOptions& options);
 
