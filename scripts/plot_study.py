@@ -21,6 +21,7 @@ Usage: plot_study.py DIR
 import csv
 import math
 import sys
+import textwrap
 from collections import defaultdict
 
 import matplotlib
@@ -52,6 +53,15 @@ def human(v):
 
 PEER_PREFIX = "mujoco-"
 PEER_COLORS = ["black", "dimgray", "darkgray"]
+# lieflow's integrators, one colour each: matplotlib's ten-colour cycle
+# repeats after ten series (rkmk-euler and splitting shared blue), so the
+# tab10 colours are followed by Dark2's eight; none is black or grey (the
+# peers').
+OUR_COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf",
+              "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#0b3d91", "#8b0000"]
+# Characters per line of the work-precision title at its font size in a
+# 10-inch figure (the reference is wrapped there, never cut).
+TITLE_WIDTH = 120
 
 
 def style_of(names):
@@ -62,7 +72,7 @@ def style_of(names):
                              markerfacecolor="none")
             peers += 1
         else:
-            styles[n] = dict(marker=MARKERS[ours % len(MARKERS)],
+            styles[n] = dict(marker=MARKERS[ours % len(MARKERS)], color=OUR_COLORS[ours % len(OUR_COLORS)],
                              linestyle=STYLES[(ours // len(MARKERS) + ours) % len(STYLES)])
             ours += 1
     return styles
@@ -76,7 +86,14 @@ def peer_absent(study):
     return None
 
 
-def work_precision(directory, study, styles, scene):
+def title_of(scene, reference):
+    """The work-precision title: the scene, then the reference wrapped whole."""
+    lines = textwrap.wrap("errors against: " + reference, TITLE_WIDTH) if reference else ["errors against: ?"]
+    return "\n".join([f"work-precision: {scene}"] + lines)
+
+
+def work_precision(directory, study, styles, scene, keep=False):
+    """Draws work_precision.png; with keep, returns the figure open (tests)."""
     fig, ax = plt.subplots(figsize=(10, 5.5))
     failed = []
     any_saturated = False
@@ -120,8 +137,7 @@ def work_precision(directory, study, styles, scene):
                 label=f"hollow: saturated (>= {human(SATURATED)} rad, no correct digit)")
     ax.set_xlabel("run time [s] (median of repeated runs)")
     ax.set_ylabel("orientation error at t_end [rad]")
-    short = reference if len(reference) <= 90 else reference[:87] + "..."
-    ax.set_title(f"work-precision: {scene}\nerrors against: {short}", fontsize=9)
+    ax.set_title(title_of(scene, reference), fontsize=8)
     if absent:
         ax.text(0.99, 0.01, absent, transform=ax.transAxes, ha="right", va="bottom", fontsize=8, color="darkred",
                 wrap=True)
@@ -132,6 +148,8 @@ def work_precision(directory, study, styles, scene):
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     fig.savefig(f"{directory}/work_precision.png", dpi=120)
+    if keep:
+        return fig
     plt.close(fig)
     curves = len([n for n in styles if any(r["integrator"] == n and r["failed"] != "true" for r in study)])
     saturated = sum(1 for r in study if r["failed"] != "true" and number(r["orientation_error"]) >= SATURATED)
@@ -139,18 +157,22 @@ def work_precision(directory, study, styles, scene):
           + (f"; {absent}" if absent else ""))
 
 
-def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, empty_note):
-    """Draws one drift figure; returns the names of the quantities drawn."""
+def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, empty_note, keep=False):
+    """Draws one drift figure and prints the quantities drawn; with keep,
+    returns the figure open (tests). With several quantities, each has its
+    own line style and each integrator keeps its colour and marker."""
     fig, ax = plt.subplots(figsize=(10, 5.5))
     plotted = False
     drawn = []
-    for column, column_label in columns:
+    for ci, (column, column_label) in enumerate(columns):
         for name in styles:
             pts = [(number(r["t"]), abs(number(r.get(column)))) for r in drift if r["integrator"] == name]
             pts = [p for p in pts if math.isfinite(p[1]) and p[1] > 0]
             if not pts:
                 continue
-            st = styles[name]
+            st = dict(styles[name])
+            if len(columns) > 1:
+                st["linestyle"] = STYLES[ci % len(STYLES)]
             label = name if len(columns) == 1 else f"{name}: {column_label}"
             ax.semilogy([p[0] for p in pts], [p[1] for p in pts], label=label, markevery=max(1, len(pts) // 12),
                         markersize=4, alpha=0.85, **st)
@@ -168,8 +190,10 @@ def drift_figure(directory, drift, styles, scene, columns, ylabel, filename, emp
         ax.text(0.5, 0.5, empty_note, transform=ax.transAxes, ha="center", va="center")
     fig.tight_layout()
     fig.savefig(f"{directory}/{filename}", dpi=120)
-    plt.close(fig)
     print(f"{filename}: " + (", ".join(drawn) if drawn else "nothing conserved (said so in the figure)"))
+    if keep:
+        return fig
+    plt.close(fig)
 
 
 def main(directory):

@@ -80,6 +80,43 @@ def main():
             expected = ("momentum_drift.png: L_z, spin" if invariants else
                         "momentum_drift.png: nothing conserved (said so in the figure)")
             check(expected in err, f"expected '{expected}' in:\n{err}")
+    # At the sizes the study draws them: every integrator of `lieflow
+    # integrators` and MuJoCo's three get colours of their own, and the
+    # work-precision title holds the whole reference of the main job (a long
+    # one), inside the figure.
+    sys.path.insert(0, HERE)
+    import plot_study
+    names = ["rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi", "genalpha", "splitting",
+             "exact", "mujoco-euler", "mujoco-rk4", "mujoco-implicit"]
+    styles = plot_study.style_of(names)
+    colours = [styles[n]["color"] for n in names]
+    check(len(set(colours)) == len(colours), f"colours repeat: {list(zip(names, colours))}")
+    reference = ("projected rkmk4 at h = 6.25e-05; its orientation error is estimated at 1.82356e-13 rad by "
+                 "Richardson from a run at h = 0.000125; MuJoCo RK4 at h = 6.25e-05 differs from it by 3.79136e-14 "
+                 "rad (MuJoCo's compiler balanced an inertia of the file that breaks A + B >= C)")
+    with tempfile.TemporaryDirectory() as d:
+        study_files(d, ["L_z", "spin"], 1e-12)
+        study = plot_study.read_rows(os.path.join(d, "study.csv"))
+        for r in study:
+            r["reference"] = reference
+        fig = plot_study.work_precision(d, study, plot_study.style_of(["rkmk4", "lgvi", "cf4", "rkmk-euler"]), "s",
+                                        keep=True)
+        fig.canvas.draw()
+        title = fig.axes[0].title
+        box, frame = title.get_window_extent(), fig.bbox
+        text = title.get_text().replace("\n", " ")
+        check("..." not in text and "breaks A + B >= C)" in text, f"the title cuts the reference: {text!r}")
+        check(box.x0 >= frame.x0 and box.x1 <= frame.x1 and box.y1 <= frame.y1,
+              f"the title leaves the figure: {box} outside {frame}")
+        drift = plot_study.read_rows(os.path.join(d, "drift.csv"))
+        fig = plot_study.drift_figure(d, drift, plot_study.style_of(["rkmk4", "lgvi", "cf4"]), "s",
+                                      [("L_z_error", "L_z"), ("spin_error", "spin")], "errors", "m.png", "none",
+                                      keep=True)
+        seen = {}
+        for line in fig.axes[0].get_lines():
+            key = (line.get_color(), line.get_linestyle(), line.get_marker())
+            check(key not in seen, f"series {line.get_label()!r} and {seen.get(key)!r} look the same")
+            seen[key] = line.get_label()
     with tempfile.TemporaryDirectory() as d:
         stability_file(d)
         code, err = run("plot_stability.py", d)
