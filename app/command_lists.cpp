@@ -43,7 +43,7 @@ int runIntegrators(int argc, char** argv) {
   }
   std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
             << "Scenes with joints run in joint coordinates wherever they represent the scene and the\n"
-               "integrator runs there (trees of revolute, universal, prismatic and spherical joints from the\n"
+               "integrator runs there (trees of revolute, universal (offset too), gimbal, prismatic and spherical joints from the\n"
                "ground, from rotation-only bodies or from free roots (those with rkmk*, cg3 and cf4);\n"
                "joints closing loops and gear rows on multipliers,\n"
                "with the explicit integrators), else in maximal coordinates (bodies' poses with\n"

@@ -65,18 +65,15 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       gear_cuts.push_back(static_cast<int>(k));
       continue;
     }
-    if (j.offset) {
-      *why = label(scene, k) + " is a universal joint whose axes do not meet (offset): the joint-coordinate "
-                               "formulation has universal joints about one point";
+    if (j.type == "fixed") {
+      *why = label(scene, k) + " is a fixed joint: the joint-coordinate formulation has revolute, universal, "
+                               "gimbal, prismatic and spherical joints only";
       return false;
     }
-    if (j.type == "fixed" || j.type == "gimbal") {
-      *why = label(scene, k) + " is a " + j.type +
-             " joint: the joint-coordinate formulation has revolute, universal, prismatic and spherical joints only";
-      return false;
-    }
-    // A slide is always a tree edge (a loop is closed by a joint that turns).
-    (j.type == "prismatic" ? sliding : driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
+    // A slide, a gimbal and an offset universal joint are always tree edges
+    // (a loop is closed by a revolute, universal or spherical joint).
+    const bool tree_only = j.type == "prismatic" || j.type == "gimbal" || j.offset;
+    (tree_only ? sliding : driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
   }
   // Kruskal: union–find over the bodies and the ground (node nb).
   std::vector<int> component(nb + 1);
@@ -95,8 +92,8 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       if (ra == rb) {
         // A loop: this joint is imposed with multipliers on the tree's poses.
         if (list == &sliding) {
-          *why = label(scene, k) + " closes a loop of prismatic joints: in joint coordinates a loop is closed by a "
-                                   "revolute, universal or spherical joint";
+          *why = label(scene, k) + " closes a loop of prismatic, gimbal or offset universal joints: in joint "
+                                   "coordinates a loop is closed by a revolute, universal or spherical joint";
           return false;
         }
         if (list == &driven) {
@@ -164,6 +161,13 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
           return false;
         }
       }
+      // Gimbals and offset universal joints hang from their main body.
+      if ((j.type == "gimbal" || j.offset) && c == a) {
+        *why = label(scene, k) + " (" + (j.offset ? "an offset universal joint" : "a gimbal") +
+               ") would hang its main body '" + j.main + "' from its secondary '" + j.secondary +
+               "': joint coordinates take these joints from their main body";
+        return false;
+      }
       placed[c] = true;
       (*joint_of)[c] = k;
       (*parent_of)[c] = p;
@@ -224,7 +228,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       ++ns;     // its orientation
       nq += 3;  // its centre of mass
     } else {
-      nq += type == "universal" ? 2 : 1;  // revolute, prismatic: 1
+      nq += type == "universal" ? 2 : type == "gimbal" ? 3 : 1;  // revolute, prismatic: 1
     }
   }
   articulated::ArticulatedState y0;
@@ -270,7 +274,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       continue;
     }
     const JointDescription& j = scene.joints[k];
-    std::array<multibody::CoordinateDrive, 2> drives;
+    std::array<multibody::CoordinateDrive, 3> drives;
     b.parent = parent_of[c] < 0 ? articulated::kGround : model.tree_index[parent_of[c]];
     const std::string& parent_name = parent_of[c] < 0 ? std::string("ground") : scene.bodies[parent_of[c]].name;
     b.parent_is_main = j.main == parent_name;
@@ -290,21 +294,39 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
                                           "' is spherical: a moment acts on the coordinate of a revolute or "
                                           "universal joint");
     } else {
+      // An anchor in the world at t = 0 (`local` in the frame of `body`, or
+      // of the world).
+      const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
+        return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
+      };
       const bool slides = j.type == "prismatic";
-      b.kind = slides ? JointKind::kPrismatic : j.type == "universal" ? JointKind::kUniversal : JointKind::kRevolute;
+      b.kind = slides                    ? JointKind::kPrismatic
+               : j.type == "universal" ? JointKind::kUniversal
+               : j.type == "gimbal"    ? JointKind::kGimbal
+                                       : JointKind::kRevolute;
       b.q_begin = b.u_begin = q_next;
       q_next += b.coordinates();
       b.axis1 = j.axis_main.normalized();
       b.axis2 = j.axis_secondary.normalized();
       b.R_ref = slides ? M0 : Eigen::Matrix3d(rotationAbout(b.axis1, -j.initial_angles[0]) * M0);
       if (b.kind == JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
+      if (b.kind == JointKind::kGimbal) {
+        // M0 = exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref at the initial angles.
+        b.axis2 = j.axis2_main.normalized();
+        b.axis3 = j.axis3_main.normalized();
+        b.R_ref = rotationAbout(b.axis3, -j.initial_angles[2]) * rotationAbout(b.axis2, -j.initial_angles[1]) *
+                  rotationAbout(b.axis1, -j.initial_angles[0]) * M0;
+      }
+      if (j.offset) {
+        // δ: the secondary anchor from the main one, main frame, at φ₁ = 0.
+        b.offset = true;
+        b.offset_ref = rotationAbout(b.axis1, -j.initial_angles[0]) * orientation(main).transpose() *
+                       (anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
+      }
       // A slide's x at t = 0, as the maximal formulation reads it from the
       // poses: x = (R_main a)·(anchor_secondary − anchor_main), world.
       double x0 = 0.0;
       if (slides) {
-        const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
-          return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
-        };
         x0 = (orientation(main) * b.axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
       }
       for (int i = 0; i < b.coordinates(); ++i) {

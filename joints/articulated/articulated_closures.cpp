@@ -365,7 +365,7 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
     } else {
       continue;  // spherical: no coordinate, no columns
     }
-    data_.closure_phi[c] = o.phi;
+    data_.closure_phi[c] = {{o.phi[0], o.phi[1]}};
     const bool use_main = closure.bodies[0] != kGround;
     const int side = use_main ? 0 : 1;
     const BodyData& d = data_.bodies[bodies[side]];

@@ -27,8 +27,9 @@ struct ArticulatedData {
   struct Body {
     Eigen::Matrix3d R;            ///< world orientation
     Eigen::Vector3d c, x;         ///< centre of mass, joint anchor (world)
-    std::array<double, 2> phi{{0.0, 0.0}}, phidot{{0.0, 0.0}}, phiddot{{0.0, 0.0}};
-    std::array<Eigen::Vector3d, 2> axis;  ///< world joint axes (revolute, universal)
+    Eigen::Vector3d x2;           ///< an offset universal joint's second anchor (world)
+    std::array<double, 3> phi{{0.0, 0.0, 0.0}}, phidot{{0.0, 0.0, 0.0}}, phiddot{{0.0, 0.0, 0.0}};
+    std::array<Eigen::Vector3d, 3> axis;  ///< world joint axes (revolute, universal, gimbal)
     Vector6 V, bias, a, pA;
     Matrix6 IA;
     Eigen::Matrix<double, 6, 3> S;  ///< free columns (first `free` of them)

@@ -61,6 +61,9 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
     const Eigen::Vector3d& line = b.rotation_only ? b.fixed_position : d.x;
     d.free = 0;
     d.bias.setZero();
+    // Where the child's anchor_child sits: the joint's anchor, moved by a
+    // slide or an offset universal joint's first hinge.
+    Eigen::Vector3d child_anchor = d.x;
     Vector6 Su = Vector6::Zero();  // S u, the joint's relative twist
     if (b.kind == JointKind::kFree) {
       // A floating root: V = (ω, v_c + c × ω) from (R, c) and (ω body, v_c);
@@ -72,6 +75,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       const Eigen::Vector3d w = d.R * y.u.segment<3>(b.u_rotation);
       const Eigen::Vector3d vc = y.u.segment<3>(b.u_begin);
       Su << w, vc + cross3(d.x, w);
+      child_anchor = d.x;
       if (velocity_terms) d.bias.tail<3>() = cross3(vc, w);
       d.tau.setZero();
     } else if (b.kind == JointKind::kSpherical) {
@@ -101,7 +105,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       }
       // A slide holds the relative rotation R_ref; a hinge turns it.
       const bool slides = b.kind == JointKind::kPrismatic;
-      std::array<double, 2> cos_phi{{1.0, 1.0}}, sin_phi{{0.0, 0.0}};
+      std::array<double, 3> cos_phi{{1.0, 1.0, 1.0}}, sin_phi{{0.0, 0.0, 0.0}};
       if (!slides)
         for (int k = 0; k < nc; ++k) sinCos(d.phi[k], &cos_phi[k], &sin_phi[k]);
       const Eigen::Matrix3d& M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
@@ -109,11 +113,29 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
       const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;
       d.axis[0] = R_main * b.axis1;
-      if (nc == 2) d.axis[1] = R_sec * b.axis2;
-      std::array<Vector6, 2> s;
+      // The line of each column: the anchor, except an offset universal
+      // joint's second, through the secondary anchor x₂ = x₁ + R_main exp(φ₁a₁) δ
+      // (δ = offset_ref), which also carries the child.
+      std::array<Eigen::Vector3d, 3> lines{{line, line, line}};
+      if (b.kind == JointKind::kGimbal) {
+        // A_k = R_main exp(φ₁e₁)…exp(φ_{k−1}e_{k−1}) e_k: each hinge turns with the ones before it.
+        const Eigen::Matrix3d G1 = R_main * rotationAbout(b.axis1, cos_phi[0], sin_phi[0]);
+        d.axis[1] = G1 * b.axis2;
+        d.axis[2] = G1 * (rotationAbout(b.axis2, cos_phi[1], sin_phi[1]) * b.axis3);
+      } else if (nc == 2) {
+        d.axis[1] = R_sec * b.axis2;
+        if (b.offset) {
+          lines[1] = d.x + R_main * (rotationAbout(b.axis1, cos_phi[0], sin_phi[0]) * b.offset_ref);
+          child_anchor = d.x2 = lines[1];
+        }
+      }
+      // A slide moves the child's anchor along A by x from the main's (σ = −1
+      // when the child is the main body).
+      if (slides) child_anchor = d.x + (sigma * d.phi[0]) * d.axis[0];
+      std::array<Vector6, 3> s;
       for (int k = 0; k < nc; ++k) {
         // A slide's column is a translation along A: (0, A) whatever the point.
-        s[k] = slides ? (Vector6() << Eigen::Vector3d::Zero(), d.axis[k]).finished() : lineTwist(d.axis[k], line);
+        s[k] = slides ? (Vector6() << Eigen::Vector3d::Zero(), d.axis[k]).finished() : lineTwist(d.axis[k], lines[k]);
         // Projection (velocity_terms off): the prescribed rates stand in the
         // place of accelerations, the free ones are unknown.
         if (velocity_terms) {
@@ -132,7 +154,12 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
           ++d.free;
         }
       }
-      if (velocity_terms && nc == 2) {
+      if (velocity_terms && b.kind == JointKind::kGimbal) {
+        // Ṡ u of a gimbal (parent main): s₁ turns with the parent, s₂ with the
+        // parent turned by φ₁, s₃ by φ₁ and φ₂: ṡ_k = (V_p + Σ_{j<k} s_j φ̇_j) ×ₘ s_k.
+        const Vector6 w1 = s[0] * d.phidot[0], w2 = s[1] * d.phidot[1], w3 = s[2] * d.phidot[2];
+        d.bias += crossMotion(Vp, Su) + crossMotion(w1, w2 + w3) + crossMotion(w2, w3);
+      } else if (velocity_terms && nc == 2) {
         // Ṡ u of a universal joint: s₁ turns with the main body, s₂ with the
         // secondary (both velocities known: the child's is V_p + S u).
         const Vector6 Vc = Vp + Su;
@@ -151,10 +178,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       d.bias.tail<3>() = cross3(d.c, d.bias.head<3>());
     } else {
       d.V = Vp + Su;
-      d.c = d.x - d.R * b.anchor_child;
-      // A slide moves the child's anchor along A from the parent's: by x from
-      // the main's anchor (σ = −1 when the child is the main body).
-      if (b.kind == JointKind::kPrismatic) d.c += (sigma * d.phi[0]) * d.axis[0];
+      d.c = child_anchor - d.R * b.anchor_child;
     }
     if (!dynamics) continue;
     // Rigid-body inertia about the origin: [J_w + m [c]×[c]×ᵀ, m [c]×; m [c]×ᵀ, m I].

@@ -15,6 +15,12 @@
 /// (R, c) with (ω body axes, v_c world) — the translation stays linear
 /// (gravity moves it exactly, the momentum about the centre of mass is kept
 /// as in maximal coordinates) where SE(3) would couple it to the rotation.
+/// A gimbal is three angles, M = exp(φ₁ e₁) exp(φ₂ e₂) exp(φ₃ e₃) R_ref
+/// (e_k in the main frame at zero angles), its hinges through one point; an
+/// offset universal joint turns about A₁ through the main anchor and about
+/// A₂ through the secondary anchor, which the first hinge carries around
+/// (MuJoCo's two hinges of one body at two points). Both hang from their
+/// main body (the parent).
 ///
 /// Relative rotation of the secondary body to the main one (R_b = R_a M), the
 /// same coordinates as the maximal formulation's joint angles
@@ -44,7 +50,7 @@
 namespace lieflow {
 namespace articulated {
 
-enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree };
+enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree, kGimbal };
 
 /// The parent of a body attached to the ground.
 constexpr int kGround = -1;
@@ -75,14 +81,21 @@ struct ArticulatedBody {
   Eigen::Vector3d anchor_parent = Eigen::Vector3d::Zero();
   Eigen::Vector3d anchor_child = Eigen::Vector3d::Zero();
   /// Revolute, prismatic: axis a (main frame). Universal: a₁ (main frame), a₂ (secondary frame).
+  /// Gimbal: e₁, e₂, e₃ (main frame at zero angles).
   Eigen::Vector3d axis1 = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d axis2 = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d axis3 = Eigen::Vector3d::UnitZ();
+  /// An offset universal joint (the second axis through the secondary
+  /// anchor, apart from the first): the secondary anchor from the main one in
+  /// the main frame at φ₁ = 0; the joint's main body is the parent.
+  bool offset = false;
+  Eigen::Vector3d offset_ref = Eigen::Vector3d::Zero();
   /// Relative rotation main → secondary at zero angles.
   Eigen::Matrix3d R_ref = Eigen::Matrix3d::Identity();
   /// Whether each coordinate has force elements (ArticulatedModel::drives)
   /// and whether its motion is prescribed.
-  std::array<bool, 2> has_force{{false, false}};
-  std::array<bool, 2> is_prescribed{{false, false}};
+  std::array<bool, 3> has_force{{false, false, false}};
+  std::array<bool, 3> is_prescribed{{false, false, false}};
 
   /// Offsets into the state: scalar angles (revolute, universal), the
   /// spherical joints' rotations, and the velocity vector u. A free root
@@ -95,7 +108,8 @@ struct ArticulatedBody {
   int u_rotation = -1;
 
   int coordinates() const {
-    return kind == JointKind::kRevolute || kind == JointKind::kPrismatic ? 1 : kind == JointKind::kUniversal ? 2 : 0;
+    if (kind == JointKind::kRevolute || kind == JointKind::kPrismatic) return 1;
+    return kind == JointKind::kUniversal ? 2 : kind == JointKind::kGimbal ? 3 : 0;
   }
   int dofs() const { return kind == JointKind::kSpherical ? 3 : kind == JointKind::kFree ? 6 : coordinates(); }
   bool prescribed(int i) const { return is_prescribed[i]; }
@@ -136,7 +150,7 @@ struct ArticulatedModel {
   /// By tree index: the body's name, and the force elements and prescribed
   /// motion of its joint's coordinates.
   std::vector<std::string> names;
-  std::vector<std::array<multibody::CoordinateDrive, 2>> drives;
+  std::vector<std::array<multibody::CoordinateDrive, 3>> drives;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   int scalar_coordinates = 0;  ///< nq: angles of revolute and universal joints
   int rotations = 0;           ///< ns: spherical joints

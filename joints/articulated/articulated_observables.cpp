@@ -119,6 +119,12 @@ void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<Artic
       o.phidot[k] = d.phidot[k];
       o.moment[k] = (b.kind == JointKind::kPrismatic ? force_on_main : on_main).dot(d.axis[k]);
     }
+    if (b.offset) {
+      // The second hinge passes through the secondary anchor: its moment is
+      // about that line.
+      const Eigen::Vector3d about_x2 = f.head<3>() - d.x2.cross(f.tail<3>());
+      o.moment[1] = -about_x2.dot(d.axis[1]);  // on the main body (the parent)
+    }
   }
   if (hasClosures()) closureOutputs(t, out);
 }

@@ -66,7 +66,7 @@ namespace articulated {
 /// definition as the maximal formulation's multibody::JointOutput).
 struct ArticulatedJointOutput {
   int coordinates = 0;
-  std::array<double, 2> phi{{0.0, 0.0}}, phidot{{0.0, 0.0}}, moment{{0.0, 0.0}};
+  std::array<double, 3> phi{{0.0, 0.0, 0.0}}, phidot{{0.0, 0.0, 0.0}}, moment{{0.0, 0.0, 0.0}};
 };
 
 class ArticulatedSystem {
@@ -204,7 +204,7 @@ class ArticulatedSystem {
     Eigen::Matrix3d R, Dinv;
     Eigen::Vector3d c;
     Eigen::Matrix<double, 6, 3> S, U;
-    std::array<double, 2> phi{{0.0, 0.0}}, cos_phi{{1.0, 1.0}}, sin_phi{{0.0, 0.0}};
+    std::array<double, 3> phi{{0.0, 0.0, 0.0}}, cos_phi{{1.0, 1.0, 1.0}}, sin_phi{{0.0, 0.0, 0.0}};
     int free = 0;
     std::array<int, 3> free_u{{0, 0, 0}};
   };
@@ -308,10 +308,14 @@ class ArticulatedSystem {
   /// The relative rotation M (main → secondary) of body i's revolute or
   /// universal joint from the cosines and sines of its angles φ
   /// (articulated_model.hpp): exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
-  Eigen::Matrix3d jointRotation(int i, const std::array<double, 2>& c, const std::array<double, 2>& s) const {
+  Eigen::Matrix3d jointRotation(int i, const std::array<double, 3>& c, const std::array<double, 3>& s) const {
+    const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kGimbal)  // exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref
+      return rotationAbout(b.axis1, c[0], s[0]) * rotationAbout(b.axis2, c[1], s[1]) *
+             rotationAbout(b.axis3, c[2], s[2]) * b.R_ref;
     const RotationBasis& r = rotation_basis_[i];
     Eigen::Matrix3d M = c[0] * r.A + s[0] * r.B + r.C;
-    if (model_.bodies[i].kind == JointKind::kUniversal) M = M * rotationAbout(model_.bodies[i].axis2, c[1], s[1]);
+    if (b.kind == JointKind::kUniversal) M = M * rotationAbout(b.axis2, c[1], s[1]);
     return M;
   }
   /// The variational passes' steps: body i's pose at q from its parent's in

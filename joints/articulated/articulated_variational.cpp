@@ -19,6 +19,8 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
                                  : "hangs on a spherical joint, whose configuration is a rotation (SO(3))";
     if (b.kind == JointKind::kPrismatic) reason = "slides on a prismatic joint";
     if (b.kind == JointKind::kFree) reason = "floats on a free joint (SO(3) × ℝ³)";
+    if (b.kind == JointKind::kGimbal) reason = "hangs on a gimbal";
+    if (b.offset) reason = "hangs on an offset universal joint";
     for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
       if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
     if (reason.empty()) continue;

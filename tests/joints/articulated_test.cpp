@@ -311,6 +311,57 @@ TEST(Articulated, FloatingRootsFollowTheMaximalFormulation) {
   EXPECT_NE(refusal(sim, "joint", "genalpha", &field).find("floats on a free joint"), std::string::npos);
 }
 
+/// MuJoCo's humanoid's joints in joint coordinates: a floating pelvis with
+/// a sprung gimbal hip (three hinges through one point, as the humanoid's
+/// hips) and below it an offset universal ankle (two hinges at two points, as
+/// its ankles), thrown turning.
+constexpr const char* kGimbalLeg = R"({
+  "name": "gimbal-leg", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "pelvis", "mass": 4.0, "inertia": [0.04, 0.05, 0.06], "angular_velocity": [1.0, -0.5, 2.0],
+     "velocity": [0.3, 0, 1.0]},
+    {"name": "thigh", "mass": 1.5, "inertia": [0.02, 0.02, 0.004], "position": [0, 0, -0.3],
+     "angular_velocity": [0.5, 2.0, -1.0]},
+    {"name": "foot", "mass": 0.5, "inertia": [0.001, 0.003, 0.003], "position": [0.02, 0, -0.6]}
+  ],
+  "joints": [
+    {"name": "hip", "type": "gimbal", "main": "pelvis", "secondary": "thigh",
+     "anchor_main": [0, 0, -0.1], "anchor_secondary": [0, 0, 0.2],
+     "axis1_main": [1, 0, 0], "axis2_main": [0, 0, 1], "axis3_main": [0, 1, 0],
+     "spring1": {"stiffness": 3.0, "rest_angle": 0.3}, "spring2": {"stiffness": 2.0, "rest_angle": -0.2},
+     "damper3": {"damping": 0.05}},
+    {"name": "ankle", "type": "universal", "offset": true, "main": "thigh", "secondary": "foot",
+     "anchor_main": [0, 0, -0.2], "anchor_secondary": [0.05, 0, 0.04],
+     "axis1_main": [0, 1, 0], "axis2_secondary": [1, 0, 0],
+     "spring1": {"stiffness": 1.5, "rest_angle": 0.2}, "spring2": {"stiffness": 1.0, "rest_angle": 0}}
+  ]
+})";
+
+TEST(Articulated, GimbalsAndOffsetUniversalJointsFollowTheMaximalFormulation) {
+  const Simulation sim(parseScene(kGimbalLeg, "gimbal-leg.json"));
+  std::string why;
+  ASSERT_TRUE(sim.hasJointFormulation(&why)) << why;
+  // Every column: the poses, the three hip angles, rates and moments, the
+  // ankle's (its second moment about the line through the foot's anchor).
+  expectSameMotion(sim, 1.0, 1e-7);
+  std::string field;
+  EXPECT_NE(refusal(sim, "joint", "lgvi", &field).find("floats on a free joint"), std::string::npos);
+  // A gimbal whose main body hangs from its secondary (b from a, a from the
+  // ground) is not taken: maximal coordinates run it.
+  const Simulation upside(parseScene(R"({"name": "upside", "gravity": [0, 0, -9.81],
+    "bodies": [{"name": "a", "mass": 1, "inertia": [0.01, 0.01, 0.01], "position": [0, 0, -0.2]},
+               {"name": "b", "mass": 1, "inertia": [0.01, 0.01, 0.01], "position": [0, 0, -0.6]}],
+    "joints": [{"name": "top", "type": "revolute", "main": "ground", "secondary": "a", "anchor_main": [0, 0, 0],
+                "anchor_secondary": [0, 0, 0.2], "axis_main": [0, 1, 0]},
+               {"name": "g", "type": "gimbal", "main": "b", "secondary": "a", "anchor_main": [0, 0, 0.2],
+                "anchor_secondary": [0, 0, -0.2], "axis1_main": [1, 0, 0], "axis2_main": [0, 1, 0],
+                "axis3_main": [0, 0, 1]}]})",
+                                     "upside.json"));
+  EXPECT_FALSE(upside.hasJointFormulation(&why));
+  EXPECT_NE(why.find("from their main body"), std::string::npos) << why;
+  EXPECT_EQ(upside.defaultFormulation("rkmk4"), "maximal");
+}
+
 TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {
   std::string field;
   // A closed loop runs (articulated_loops_test.cpp), but not with the
