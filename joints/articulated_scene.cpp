@@ -176,17 +176,6 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
     }
   }
   cuts->insert(cuts->end(), gear_cuts.begin(), gear_cuts.end());
-  // A free root's six degrees of freedom are solved as one 6 × 6 block of
-  // the articulated-body algorithm; the loops' sweep (articulated_closures)
-  // is written for joints with columns.
-  if (!cuts->empty())
-    for (int i = 0; i < nb; ++i)
-      if ((*joint_of)[i] < 0 && !scene.bodies[i].rotation_only) {
-        *why = scene.source + ": bodies[" + std::to_string(i) + "] (" + scene.bodies[i].name +
-               ") is free-floating (a root on a free joint) and the scene closes loops or couples joints (" +
-               label(scene, (*cuts)[0]) + "): joint coordinates take a free root without loops";
-        return false;
-      }
   return true;
 }
 

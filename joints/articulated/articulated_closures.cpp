@@ -116,6 +116,13 @@ void ArticulatedSystem::closureTerms(ClosureLevel level) const {
       for (int k = i; k != kGround; k = model_.bodies[k].parent) {
         const BodyData& dk = data_.bodies[k];
         for (int f = 0; f < dk.free; ++f) data_.closure_G.block<R, 1>(r0, dk.free_u[f]).noalias() += W * dk.S.col(f);
+        const ArticulatedBody& bk = model_.bodies[k];
+        if (bk.kind == JointKind::kFree) {
+          // A floating root's six columns (freeColumns: ω body, then v_c).
+          const Matrix6 S = freeColumns(dk.R, dk.c);
+          data_.closure_G.block<R, 3>(r0, bk.u_rotation).noalias() += W * S.leftCols<3>();
+          data_.closure_G.block<R, 3>(r0, bk.u_begin).noalias() += W * S.rightCols<3>();
+        }
         if (model_.bodies[k].rotation_only) {
           // Past a held body: W P (the columns above move it through P).
           W.template leftCols<3>() += W.template rightCols<3>() * hat(dk.c);
@@ -167,6 +174,22 @@ void ArticulatedSystem::closureInverseMass() const {
     const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     Eigen::Matrix<double, 6, Eigen::Dynamic>& a = data_.closure_pA[i];  // p_A is spent: the accelerations
+    if (b.kind == JointKind::kFree) {
+      // A floating root: I_A a = S⁻ᵀ τ − p_A with τ = Gᵀ's rows of its u
+      // (S⁻ᵀ τ = (R τ_ω + c × τ_v, τ_v)), then its u̇ = S⁻¹ a
+      // (ω̇ = Rᵀ α, v̇_c = a_O + α × c).
+      const int m = static_cast<int>(a.cols());
+      Eigen::Matrix<double, 6, Eigen::Dynamic>& f = data_.closure_root_force;  // sized at construction
+      f.topRows<3>().noalias() = d.R * data_.closure_G.middleCols<3>(b.u_rotation).transpose();
+      f.bottomRows<3>() = data_.closure_G.middleCols<3>(b.u_begin).transpose();
+      for (int k = 0; k < m; ++k) f.col(k).head<3>() += cross3(d.c, f.col(k).tail<3>());
+      f -= a;
+      const Eigen::LDLT<Matrix6> IA(d.IA);
+      a = IA.solve(f);
+      Y.middleRows<3>(b.u_rotation).noalias() = d.R.transpose() * a.topRows<3>();
+      for (int k = 0; k < m; ++k) Y.middleRows<3>(b.u_begin).col(k) = a.col(k).tail<3>() + cross3(a.col(k).head<3>(), d.c);
+      continue;
+    }
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
@@ -278,6 +301,11 @@ void ArticulatedSystem::closureAccelerations(Eigen::VectorXd* udot) const {
          : b.rotation_only   ? heldMotion(d.c, data_.twist[b.parent])
                              : data_.twist[b.parent];
     for (int f = 0; f < d.free; ++f) da += data_.closure_x[d.free_u[f]] * d.S.col(f);
+    if (b.kind == JointKind::kFree) {
+      Vector6 x;
+      x << data_.closure_x.segment<3>(b.u_rotation), data_.closure_x.segment<3>(b.u_begin);
+      da += freeColumns(d.R, d.c) * x;
+    }
     data_.bodies[i].a += da;
   }
 }

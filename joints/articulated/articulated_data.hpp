@@ -61,6 +61,8 @@ struct ArticulatedData {
   /// and its 3 × m scratch rows.
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> closure_pA;
   Eigen::Matrix<double, 3, Eigen::Dynamic> closure_rows3;
+  /// A floating root's generalized forces as a spatial force, 6 × m.
+  Eigen::Matrix<double, 6, Eigen::Dynamic> closure_root_force;
   std::vector<int> closure_perm;  ///< the pivoted Cholesky's row order
   /// The closing joints' last output angles (unwrapping; reset at t = 0).
   std::vector<std::array<double, 2>> closure_phi;

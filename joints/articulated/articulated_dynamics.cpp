@@ -32,6 +32,7 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     data_.closure_s.setZero(m);
     data_.closure_pA.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
     data_.closure_rows3.setZero(3, m);
+    data_.closure_root_force.setZero(6, m);
     data_.closure_x.setZero(n);
     data_.closure_perm.assign(m, 0);
     for (const ArticulatedClosure& c : model_.closures) data_.closure_phi.push_back(c.initial_angles);

@@ -107,6 +107,14 @@ inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
 }
 
 /// P V without the matrix: (ω, c × ω).
+/// A free root's columns S = [R 0; [c]× R I] (u = (ω body, v_c world) to
+/// its motion (ω, v_O) about the origin, v_O = v_c + c × ω).
+inline Matrix6 freeColumns(const Eigen::Matrix3d& R, const Eigen::Vector3d& c) {
+  Matrix6 S;
+  S << R, Eigen::Matrix3d::Zero(), hat(c) * R, Eigen::Matrix3d::Identity();
+  return S;
+}
+
 EIGEN_ALWAYS_INLINE Vector6 heldMotion(const Eigen::Vector3d& c, const Vector6& V) {
   Vector6 r;
   r.head<3>() = V.head<3>();

@@ -99,7 +99,7 @@ TEST(HostileRuns, RefusedRunsLeaveNothingBehind) {
     expectReadableMessage(s.err);
   }
   const std::string dir = testFile("_study/sub");
-  for (const char* bad : {"pendulum --integrators bogus", "rack-pinion --formulation joint", "pendulum --max-steps 5",
+  for (const char* bad : {"pendulum --integrators bogus", "slider-crank --formulation joint", "pendulum --max-steps 5",
                           "pendulum --options bogus=1"}) {
     const Outcome o = runLieflow(std::string("study ") + bad + " --t-end 0.05 --no-plots --out " + dir);
     EXPECT_EQ(o.status, 2) << bad << o.err;
@@ -111,7 +111,9 @@ TEST(HostileRuns, RefusedRunsLeaveNothingBehind) {
 }
 
 TEST(HostileRuns, AStudyNoIntegratorCanRunIsRefusedBeforeItsReference) {
-  for (const char* s : {"rack-pinion", "slider-crank"}) {
+  // (slider-crank's weld: a fixed joint is not a joint-coordinate tree joint;
+  // rack-pinion, whose rack floats held by gear rows, now is represented.)
+  for (const char* s : {"slider-crank"}) {
     const Outcome o = runLieflow(std::string("study ") + s + " --formulation joint --t-end 0.05 --no-plots --out " +
                                  testFile("_out"));
     EXPECT_EQ(o.status, 2) << s << o.err;
