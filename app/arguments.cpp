@@ -1,8 +1,6 @@
 #include "app/arguments.hpp"
 
 #include <algorithm>
-#include <map>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -141,7 +139,7 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
   if (!import.keyframe.empty() && !isModelFile(scene))
     throw UsageError("--keyframe: '" + scene + "' is not an MJCF model (.xml); only MJCF models have keyframes");
   import.floating_base = args.has("--floating-base");
-  if (import.floating_base && (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".urdf") != 0))
+  if (import.floating_base && !isUrdfFile(scene))
     throw UsageError("--floating-base: '" + scene + "' is not a URDF (.urdf); a scene or an MJCF model says "
                      "which bodies are free itself");
   return import;

@@ -124,17 +124,18 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
   o.max_steps = resourceLimitsFrom(args).max_steps;
   o.formulation = args.value("--formulation", "");
   o.dt = args.positiveNumber("--dt", scene.has_integrator ? scene.integrator.dt : 0.0);
-  if (!(o.dt > 0.0)) {
+  const bool default_step = !(o.dt > 0.0);
+  if (default_step) {
     o.dt = defaultStep(scene);
     o.dt_source = "the default step";
   } else if (!args.has("--dt")) {
     o.dt_source = scene.source + ": integrator.dt";
   }
-  if (default_integrator || o.dt_source == "the default step") {
+  if (default_integrator || default_step) {
     std::ostringstream note;
     note << "lieflow: " << scene.source << " names no " << (default_integrator ? "integrator" : "step") << ": running "
          << o.integrator << " at dt = " << formatNumber(o.dt) << " s (the default";
-    if (o.dt_source == "the default step")
+    if (default_step)
       note << ": MuJoCo's step, or " << kDefaultStepTimesFrequency << "/omega for a faster spin or spring";
     note << "; " << (default_integrator ? "--integrator and " : "") << "--dt choose)\n";
     std::cerr << note.str();

@@ -187,17 +187,12 @@ class InvariantSet {
 
   /// Whether observe(t, MultibodyValues) needs L_com and the energy (else
   /// only L).
-  bool needsMultibodyValues() const {
-    return std::find(kinds_.begin(), kinds_.end(), Kind::kComMomentum) != kinds_.end() ||
-           std::find(kinds_.begin(), kinds_.end(), Kind::kEnergyBalance) != kinds_.end();
-  }
+  bool needsMultibodyValues() const { return has(Kind::kComMomentum) || has(Kind::kEnergyBalance); }
 
   /// Whether the dissipated work integrates the dashpots' power: then
   /// addPower takes it at every step (the quadrature of a power sampled only
   /// at the output rows would be the error of the figure).
-  bool integratesPower() const {
-    return std::find(kinds_.begin(), kinds_.end(), Kind::kEnergyBalance) != kinds_.end();
-  }
+  bool integratesPower() const { return has(Kind::kEnergyBalance); }
 
   /// Adds the dashpots' power P at time t (t increasing) to the dissipated
   /// work (DissipatedWork).
@@ -227,6 +222,8 @@ class InvariantSet {
 
  private:
   enum class Kind { kMomentum, kVerticalMomentum, kSpin, kComMomentum, kEnergyBalance };
+
+  bool has(Kind kind) const { return std::find(kinds_.begin(), kinds_.end(), kind) != kinds_.end(); }
 
   void add(const std::string& name, Kind kind) {
     names_.push_back(name);

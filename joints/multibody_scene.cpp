@@ -1,9 +1,8 @@
 #include "joints/multibody_scene.hpp"
 
-#include <tuple>
-
 #include <cmath>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 #include "liegroup/invalid_input.hpp"

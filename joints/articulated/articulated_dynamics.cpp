@@ -16,7 +16,8 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
   rotation_basis_.resize(model_.bodies.size());
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    if (b.kind == JointKind::kSpherical || b.kind == JointKind::kPrismatic || b.kind == JointKind::kFree) continue;
+    // The Rodrigues basis of jointRotation: revolute and universal joints.
+    if (b.kind != JointKind::kRevolute && b.kind != JointKind::kUniversal) continue;
     const Eigen::Matrix3d aa = b.axis1 * b.axis1.transpose();
     rotation_basis_[i].A = (Eigen::Matrix3d::Identity() - aa) * b.R_ref;
     rotation_basis_[i].B = hat(b.axis1) * b.R_ref;
@@ -109,34 +110,42 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       std::array<double, 3> cos_phi{{1.0, 1.0, 1.0}}, sin_phi{{0.0, 0.0, 0.0}};
       if (!slides)
         for (int k = 0; k < nc; ++k) sinCos(d.phi[k], &cos_phi[k], &sin_phi[k]);
-      const Eigen::Matrix3d& M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
+      // A gimbal: M = E₁E₂E₃ R_ref with E_k = exp(φ_k e_k), and its axes
+      // A_k = R_main E₁…E_{k−1} e_k (each hinge turns with the ones before it).
+      const bool gimbal = b.kind == JointKind::kGimbal;
+      Eigen::Matrix3d M;
+      Eigen::Vector3d gimbal_a2 = Eigen::Vector3d::Zero(), gimbal_a3 = Eigen::Vector3d::Zero();  // E₁e₂, E₁E₂e₃
+      if (gimbal) {
+        const Eigen::Matrix3d E1 = rotationAbout(b.axis1, cos_phi[0], sin_phi[0]);
+        const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, cos_phi[1], sin_phi[1]);
+        M = E12 * rotationAbout(b.axis3, cos_phi[2], sin_phi[2]) * b.R_ref;
+        gimbal_a2 = E1 * b.axis2;
+        gimbal_a3 = E12 * b.axis3;
+      } else {
+        M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
+      }
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;
       const Eigen::Matrix3d& R_sec = b.parent_is_main ? d.R : Rp;
       d.axis[0] = R_main * b.axis1;
-      // The line of each column: the anchor, except an offset universal
-      // joint's second, through the secondary anchor x₂ = x₁ + R_main exp(φ₁a₁) δ
-      // (δ = offset_ref), which also carries the child.
-      std::array<Eigen::Vector3d, 3> lines{{line, line, line}};
-      if (b.kind == JointKind::kGimbal) {
-        // A_k = R_main exp(φ₁e₁)…exp(φ_{k−1}e_{k−1}) e_k: each hinge turns with the ones before it.
-        const Eigen::Matrix3d G1 = R_main * rotationAbout(b.axis1, cos_phi[0], sin_phi[0]);
-        d.axis[1] = G1 * b.axis2;
-        d.axis[2] = G1 * (rotationAbout(b.axis2, cos_phi[1], sin_phi[1]) * b.axis3);
+      if (gimbal) {
+        d.axis[1] = R_main * gimbal_a2;
+        d.axis[2] = R_main * gimbal_a3;
       } else if (nc == 2) {
         d.axis[1] = R_sec * b.axis2;
-        if (b.offset) {
-          lines[1] = d.x + R_main * (rotationAbout(b.axis1, cos_phi[0], sin_phi[0]) * b.offset_ref);
-          child_anchor = d.x2 = lines[1];
-        }
       }
+      // An offset universal joint's second column is the line through the
+      // secondary anchor x₂ = x₁ + R_main exp(φ₁a₁) δ (δ = offset_ref), which
+      // also carries the child; every other column's line is the anchor.
+      if (b.offset) child_anchor = d.x2 = d.x + R_main * (rotationAbout(b.axis1, cos_phi[0], sin_phi[0]) * b.offset_ref);
       // A slide moves the child's anchor along A by x from the main's (σ = −1
       // when the child is the main body).
       if (slides) child_anchor = d.x + (sigma * d.phi[0]) * d.axis[0];
       std::array<Vector6, 3> s;
       for (int k = 0; k < nc; ++k) {
         // A slide's column is a translation along A: (0, A) whatever the point.
-        s[k] = slides ? (Vector6() << Eigen::Vector3d::Zero(), d.axis[k]).finished() : lineTwist(d.axis[k], lines[k]);
+        s[k] = slides ? (Vector6() << Eigen::Vector3d::Zero(), d.axis[k]).finished()
+                      : lineTwist(d.axis[k], k == 1 && b.offset ? d.x2 : line);
         // Projection (velocity_terms off): the prescribed rates stand in the
         // place of accelerations, the free ones are unknown.
         if (velocity_terms) {

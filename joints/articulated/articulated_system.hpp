@@ -310,9 +310,6 @@ class ArticulatedSystem {
   /// (articulated_model.hpp): exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
   Eigen::Matrix3d jointRotation(int i, const std::array<double, 3>& c, const std::array<double, 3>& s) const {
     const ArticulatedBody& b = model_.bodies[i];
-    if (b.kind == JointKind::kGimbal)  // exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref
-      return rotationAbout(b.axis1, c[0], s[0]) * rotationAbout(b.axis2, c[1], s[1]) *
-             rotationAbout(b.axis3, c[2], s[2]) * b.R_ref;
     const RotationBasis& r = rotation_basis_[i];
     Eigen::Matrix3d M = c[0] * r.A + s[0] * r.B + r.C;
     if (b.kind == JointKind::kUniversal) M = M * rotationAbout(b.axis2, c[1], s[1]);

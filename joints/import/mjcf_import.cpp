@@ -222,7 +222,12 @@ MjcfData makeMjcfData(const mjModel_* m, const std::string& path) {
   }
 }
 
-MjcfModel compileMjcf(const std::string& path) {
+namespace {
+
+/// MuJoCo's compiler on `file` (looked up in `vfs` first when given), its
+/// errors as InvalidInput naming `field`.
+MjcfModel compileFile(const char* file, const mjVFS* vfs, const std::string& field) {
+  const std::string& path = field;
   char error[1024] = "";
   MjcfModel m;
   std::string warnings, printed;
@@ -232,7 +237,7 @@ MjcfModel compileMjcf(const std::string& path) {
     // mesh's convex hull): kept, and given with the error if it fails.
     const CapturedStderr capture;
     try {
-      m.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+      m.reset(mj_loadXML(file, vfs, error, sizeof(error)));
     } catch (...) {
       printed = capture.text();
       throw;
@@ -248,6 +253,25 @@ MjcfModel compileMjcf(const std::string& path) {
   if (!m)
     throw InvalidInput(path, "MuJoCo's compiler refuses it: " + compilerMessage(*error ? error : warnings, printed));
   return m;
+}
+
+}  // namespace
+
+MjcfModel compileMjcf(const std::string& path) { return compileFile(path.c_str(), nullptr, path); }
+
+MjcfModel compileModelText(const std::string& name, const std::string& text, const std::string& field) {
+  // mj_loadXML reads files only: the text is one in a virtual file system.
+  // mjVFS holds 2000 file names of 1000 bytes: on the heap, not the stack.
+  struct Vfs {
+    mjVFS vfs;
+    Vfs() { mj_defaultVFS(&vfs); }
+    ~Vfs() { mj_deleteVFS(&vfs); }
+  };
+  const auto vfs = std::make_unique<Vfs>();
+  if (mj_makeEmptyFileVFS(&vfs->vfs, name.c_str(), static_cast<int>(text.size())) != 0)
+    throw InvalidInput(field, "MuJoCo cannot hold the model in memory");
+  std::memcpy(vfs->vfs.filedata[mj_findFileVFS(&vfs->vfs, name.c_str())], text.data(), text.size());
+  return compileFile(name.c_str(), &vfs->vfs, field);
 }
 
 int keyframeIndex(const mjModel* m, const std::string& path, const std::string& wanted) {

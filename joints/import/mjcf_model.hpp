@@ -78,6 +78,10 @@ std::string mjcfBodyName(const mjModel_* m, int b);
 /// InvalidInput naming the file and MuJoCo's reason.
 MjcfModel compileMjcf(const std::string& path);
 
+/// MuJoCo's compiler on `text` as the file `name` (MJCF or URDF by MuJoCo's
+/// reading of it), from memory. Throws InvalidInput naming `field`.
+MjcfModel compileModelText(const std::string& name, const std::string& text, const std::string& field);
+
 /// MuJoCo's own URDF reader on the URDF `path`, for the MuJoCo peer: mesh
 /// geometry and visuals left out in memory (MuJoCo would look for their
 /// files; they never act with contacts ignored), welded links fused into

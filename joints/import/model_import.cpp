@@ -116,14 +116,16 @@ ModelImportOptions parseIgnoreList(const std::string& list) {
   return o;
 }
 
-bool isModelFile(const std::string& path) { return endsWith(path, ".xml") || endsWith(path, ".urdf"); }
+bool isModelFile(const std::string& path) { return endsWith(path, ".xml") || isUrdfFile(path); }
+
+bool isUrdfFile(const std::string& path) { return endsWith(path, ".urdf"); }
 
 SceneDescription importModel(const std::string& path, const ModelImportOptions& options,
                              const ResourceLimits& limits) {
   std::string text;
   if (!readInputFile(path, limits.max_input_bytes, &text))
     throw InvalidInput(path, "cannot open the model file");
-  const bool urdf = endsWith(path, ".urdf");
+  const bool urdf = isUrdfFile(path);
   if (urdf && !options.keyframe.empty())
     throw InvalidInput(path + ": --keyframe", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
   if (!urdf && options.floating_base)

@@ -31,6 +31,8 @@ ModelImportOptions parseIgnoreList(const std::string& list);
 
 /// Whether `path` names a model file (ends in .xml or .urdf, any case).
 bool isModelFile(const std::string& path);
+/// Whether `path` names a URDF (ends in .urdf).
+bool isUrdfFile(const std::string& path);
 
 /// Whether this build reads MJCF (MuJoCo found) and URDF (urdfdom found).
 bool canReadMjcf();

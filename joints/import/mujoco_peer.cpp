@@ -15,6 +15,7 @@
 
 #include "integrators/integrate.hpp"
 #include "joints/import/mjcf_model.hpp"
+#include "joints/import/model_import.hpp"
 #include "joints/invariants.hpp"
 #include "joints/progress_pacer.hpp"
 #endif
@@ -130,9 +131,8 @@ struct MujocoPeer::Impl {
 MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& options, const SceneDescription& scene)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
-  impl_->model =
-      urdf ? model_import::compileUrdfForMujoco(path, options, &impl_->notes) : model_import::compileMjcf(path);
+  impl_->model = isUrdfFile(path) ? model_import::compileUrdfForMujoco(path, options, &impl_->notes)
+                                  : model_import::compileMjcf(path);
   mjModel* m = impl_->model.get();
   model_import::switchOffIgnored(m, options);
   impl_->key = model_import::keyframeIndex(m, path, options.keyframe);

@@ -9,9 +9,7 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
-#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -29,36 +27,6 @@ struct Mimic {
   std::string follower, leader;
   double multiplier = 1.0, offset = 0.0;
 };
-
-/// MuJoCo's compiler on `text` as the file `name`, read from memory (an
-/// mjVFS: mj_loadXML reads files only).
-MjcfModel loadFromMemory(const std::string& name, const std::string& text, const std::string& path) {
-  // mjVFS holds 2000 file names of 1000 bytes: on the heap, not the stack.
-  std::unique_ptr<mjVFS> vfs(new mjVFS);
-  mj_defaultVFS(vfs.get());
-  const auto cleanup = [&] { mj_deleteVFS(vfs.get()); };
-  if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(text.size())) != 0) {
-    cleanup();
-    throw InvalidInput(path + ": --with-mujoco", "MuJoCo cannot hold the model in memory");
-  }
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name.c_str())], text.data(), text.size());
-  char error[1024] = "";
-  MjcfModel m;
-  std::string warnings;
-  try {
-    const MujocoMessageGuard guard;
-    m.reset(mj_loadXML(name.c_str(), vfs.get(), error, sizeof error));
-    warnings = guard.warnings();
-  } catch (const MujocoError& e) {
-    cleanup();
-    throw InvalidInput(path + ": --with-mujoco", std::string("MuJoCo's URDF reader refuses it: ") + e.what());
-  }
-  cleanup();
-  if (!m)
-    throw InvalidInput(path + ": --with-mujoco",
-                       std::string("MuJoCo's URDF reader refuses it: ") + (*error ? error : warnings.c_str()));
-  return m;
-}
 
 std::string printed(tinyxml2::XMLDocument& doc) {
   tinyxml2::XMLPrinter printer;
@@ -164,15 +132,15 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   }
   MjcfModel m;
   try {
-    m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
+    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": --with-mujoco");
   } catch (const InvalidInput& e) {
     // MuJoCo checks each link's inertia before it fuses welded links; an
     // unphysical one (A + B < C) it can only balance, which changes it.
     if (e.reason().find("inertia must satisfy A + B >= C") == std::string::npos) throw;
     compiler->SetAttribute("balanceinertia", "true");
-    m = loadFromMemory("lieflow-peer.urdf", printed(doc), path);
-    notes->push_back("MuJoCo's compiler balanced an inertia of the file that breaks A + B >= C (" +
-                     e.reason().substr(e.reason().rfind("Object name")) + "), so its model differs there");
+    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": --with-mujoco");
+    notes->push_back("MuJoCo's compiler balanced an inertia of the file that breaks A + B >= C (" + e.reason() +
+                     "), so its model differs there");
   }
   if (mimics.empty()) return m;
 
@@ -199,7 +167,7 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
     }
     root->InsertEndChild(equality);
   }
-  return loadFromMemory("lieflow-peer.xml", printed(mjcf), path);
+  return compileModelText("lieflow-peer.xml", printed(mjcf), path + ": --with-mujoco");
 }
 
 }  // namespace model_import
