@@ -1,7 +1,8 @@
 /// \file
 /// A variational integrator for a mechanical system in generalized
-/// coordinates q on a vector space (the joint angles of a tree of rigid
-/// bodies: `lgvi` with --formulation joint), L(q, q̇) = ½ q̇ᵀ M(q) q̇ − V(q),
+/// coordinates q (the joint coordinates of a tree of rigid bodies, `lgvi`
+/// with --formulation joint: angles and slides on vector spaces, spherical
+/// joints and free roots on SO(3) in a chart per step, below), L(q, q̇) = ½ q̇ᵀ M(q) q̇ − V(q),
 /// with the non-conservative forces by the discrete Lagrange–d'Alembert
 /// principle.
 ///
@@ -25,6 +26,20 @@
 /// it) keeps its momentum p to round-off (discrete Noether theorem). Why not
 /// the trapezoidal kinetic energy as well: its (1) holds M(q₁) too, and M at
 /// the unknown midpoint costs one pass per iteration, M at q₁ another.
+///
+/// ## Rotations
+/// A spherical joint's relative rotation and a free root's orientation live
+/// on SO(3), not on a vector space. On each of them the discrete Lagrangian
+/// takes the midpoint on the group, N_m = N₀ exp(ξ/2), ξ = log(N₀ᵀ N₁) = h v,
+/// with the body rates v there (L_d is then a function on the group: a
+/// variational integrator on SO(3) as Lee, Leok & McClamroch's, Comput.
+/// Methods Appl. Mech. Engrg. 196 (2007), with the midpoint and the joints
+/// of Johnson & Murphey 2009). Its derivatives in the body's terms
+/// (System::toStepChart, fromStepChart: the Jacobians of exp) take the
+/// places of M v and ∂T/∂q in (1) and of p₁ in (2); at ξ = 0 they are the
+/// vector-space midpoint rule's. L_d is invariant under a turn of the whole
+/// system (N₀, N₁ → G N₀, G N₁ leaves ξ), so a free system keeps its
+/// angular momentum to round-off (discrete Noether).
 ///
 /// ## The iteration
 /// (1) is solved for v by the quasi-Newton iteration
@@ -75,6 +90,10 @@
 ///                                                     near: frames at a nearby configuration)
 ///   void generalizedForces(t, const Frames&, u, Q*);
 ///   bool hasVelocityDependentForces();
+///   void advance(y, v, s, State* out);              (out's configuration y ⊕ s v)
+///   static bool sameConfiguration(a, b);
+///   void toStepChart(v, h, Mv*, dTdq*, chart*);     (the rotations' −D₁L_d terms; StepChart keeps the body's)
+///   void fromStepChart(h, chart, b, p*);            (the rotations' D₂L_d in the body's terms)
 #pragma once
 
 #include <algorithm>
@@ -181,7 +200,7 @@ class JointSpaceVariationalStepper {
     rep = StepReport{};
     Work& w = work_;
     // M(q₀) factored: reuse the end of the last step when this one starts there.
-    const bool continues = w.end_valid && w.end_system == &system && w.end_q.size() == y.q.size() && w.end_q == y.q;
+    const bool continues = w.end_valid && w.end_system == &system && System::sameConfiguration(w.end_config, y);
     if (!continues) system.frames(t, y, true, &w.end);
     std::swap(w.start, w.end);
     w.end_valid = false;
@@ -223,9 +242,10 @@ class JointSpaceVariationalStepper {
     // (2): q₁, p₁* = p₀ + (h/2) Q₀ + h ∂T/∂q(q_m, v), q̇₁.
     State& y1 = result_;
     y1 = y;
-    y1.q = y.q + h * w.v;
+    system.advance(y, w.v, h, &y1);
     system.frames(t + h, y1, true, &w.end);
     w.p1 = w.b + h * w.dT;
+    system.fromStepChart(h, w.chart, w.b, &w.p1);  // the rotations' D₂L_d
     y1.u = w.v;  // the start of the dashpot fixed point
     const bool implicit_forces = system.hasVelocityDependentForces();
     double change = std::numeric_limits<double>::infinity(), previous = change;
@@ -253,11 +273,11 @@ class JointSpaceVariationalStepper {
         return false;
       }
     }
-    if (!y1.q.allFinite() || !y1.u.allFinite()) {
+    if (!isFinite(y1)) {
       rep.fail("lgvi (joint coordinates): the state became non-finite", std::numeric_limits<double>::infinity());
       return false;
     }
-    w.end_q = y1.q;
+    w.end_config = y1;
     w.end_system = &system;
     w.end_valid = true;
     w.h_last = h;
@@ -278,8 +298,9 @@ class JointSpaceVariationalStepper {
   void residual(const System& system, double t, const State& y, double h, const Eigen::VectorXd& v,
                 Eigen::VectorXd* Mv, Eigen::VectorXd* dT, Eigen::VectorXd* r) const {
     Work& w = work_;
-    w.mid.q = y.q + (0.5 * h) * v;
+    system.advance(y, v, 0.5 * h, &w.mid);
     system.kineticAt(t + 0.5 * h, w.mid, v, w.start, &w.midframes, Mv, dT);
+    system.toStepChart(v, h, Mv, dT, &w.chart);
     *r = w.b + (0.5 * h) * *dT - *Mv;
   }
 
@@ -331,7 +352,9 @@ class JointSpaceVariationalStepper {
   /// The step's vectors and frames, kept from step to step.
   struct Work {
     Frames start, end, midframes;
-    Eigen::VectorXd p_end, Q_end, Q, b, v, Mv, dT, r, dv, p1, end_q;
+    Eigen::VectorXd p_end, Q_end, Q, b, v, Mv, dT, r, dv, p1;
+    State end_config;  ///< where the last step ended (its configuration is compared)
+    typename System::StepChart chart;  ///< the rotations' body terms at the last midpoint
     Eigen::VectorXd v_best;
     State substep;  ///< the start of the next substep (see step())
     State mid;

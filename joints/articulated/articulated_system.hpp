@@ -210,17 +210,47 @@ class ArticulatedSystem {
   };
   struct Frames {
     std::vector<Frame> bodies;
+    /// A free root's six rates are one block, not columns: the inverse of its
+    /// articulated inertia (about the origin), by the root's rotation index.
+    std::vector<Matrix6> root_inverse;
     bool factored = false;
   };
 
-  /// Whether the variational integrator covers this tree: its configuration
-  /// space must be a vector space of angles (revolute and universal joints;
-  /// no spherical joint, explicit or the implicit one of a rotation-only
-  /// root) and time-independent (no prescribed coordinate). If not, `why`
-  /// names the body and the reason.
+  /// Whether the variational integrator covers this tree: revolute,
+  /// universal, prismatic and spherical joints and free roots (the
+  /// rotations each in the step's chart, joint_space_variational.hpp), no
+  /// gimbal or offset universal joint, no prescribed coordinate (a
+  /// time-dependent constraint) and no loop. If not, `why` names the body
+  /// and the reason.
   bool variationalCovers(std::string* why) const;
-  /// The frames at the angles y.q (factored when `factor`).
+  /// The frames at the configuration of y (factored when `factor`).
   void frames(double t, const State& y, bool factor, Frames* f) const;
+  /// out's configuration = y's ⊕ s v: the scalar coordinates plus s v, each
+  /// rotation N exp(s v_k) (out->u is left as it is).
+  void advance(const State& y, const Eigen::VectorXd& v, double s, State* out) const;
+  /// Whether a and b are the same configuration, bit for bit.
+  static bool sameConfiguration(const State& a, const State& b);
+  /// The rotations' terms of the discrete Lagrangian on the group
+  /// (joint_space_variational.hpp): with ξ = h v_k = log(N₀ᵀ N₁), the
+  /// midpoint N_m = N₀ exp(ξ/2) and the body rates v_k there, from the body's
+  /// π = ∂T/∂ω and δ = ∂T/∂(N_m exp(·)) at the midpoint,
+  ///   −D₁L_d = Jl⁻¹(ξ)ᵀ π − h Bᵀ δ,   D₂L_d = Jr⁻¹(ξ)ᵀ π + h Aᵀ δ,
+  /// where N₀ exp(η) moves N_m by B η, B = exp(−ξ/2) − ½ Jr(ξ/2) Jl⁻¹(ξ), and
+  /// N₁ exp(η) by A η, A = ½ Jr(ξ/2) Jr⁻¹(ξ) (both ½ I at ξ = 0: the
+  /// vector-space midpoint rule).
+  struct StepChart {
+    std::vector<Eigen::Vector3d> xi, pi, delta;  ///< ξ, π, δ per rotation, for fromStepChart
+  };
+  /// Mv ← Jl⁻¹(ξ)ᵀ π and dT ← 2 Bᵀ δ on each rotation, so that (1) keeps its
+  /// form Mv − (h/2) dT = p₀ + (h/2) Q₀; π, δ kept in *chart. Nothing to do
+  /// without rotations.
+  void toStepChart(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
+                   StepChart* chart) const;
+  /// p ← D₂L_d on each rotation as b + (D₂L_d + D₁L_d), b = −D₁L_d the
+  /// right side of (1), the sum from ξ, π, δ of the last toStepChart: as the
+  /// vector-space p₁ = b + h ∂T/∂q, whose error from the iteration's last
+  /// change is O(h) times that change, not the change itself.
+  void fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b, Eigen::VectorXd* p) const;
   /// x = M(q)⁻¹ rhs with the factorization in f (f.factored).
   void solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
   /// For the rates v at the configuration of f: the momenta M(q) v, and
@@ -230,7 +260,12 @@ class ArticulatedSystem {
   /// the column), and with the turn of b's inertia the terms in V_b cancel:
   ///   ∂T/∂φ_k = (V_k⁻ ×ₘ S_k)ᵀ H_k,   M(q) v|_k = S_kᵀ H_k,
   /// H_k the spatial momentum of the subtree (through Pᵀ past a rotation-only
-  /// body): one pass out and one back, O(n).
+  /// body): one pass out and one back, O(n). A spherical joint's N exp(δ)
+  /// turns the subtree about its anchor by the columns S e_k at once:
+  /// ∂T/∂δ_k = (V_p ×ₘ S e_k)ᵀ H, its relative twist turning with it. A
+  /// free root's R exp(δ) turns the tree about c too, but its v_c (world)
+  /// does not turn: T(G·q, v_c) = T(q, Gᵀ v_c), so ∂T/∂δ = Rᵀ(P × v_c), P the
+  /// tree's linear momentum, and ∂T/∂c = 0 (a translation changes nothing).
   void kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
   /// The frames at y.q (not factored) into *f and kinetic() there, in one
   /// pass; `near`, frames at angles close to y.q, lends the sines and cosines
@@ -318,7 +353,7 @@ class ArticulatedSystem {
   /// The variational passes' steps: body i's pose at q from its parent's in
   /// *f; its twist, momentum and the twist before its columns at rates v
   /// (data_.twist, data_.accumulated, data_.before); the backward pass over all bodies.
-  void poseInto(int i, const Eigen::VectorXd& q, const Frames* near, Frames* f) const;
+  void poseInto(int i, const State& y, const Frames* near, Frames* f) const;
   void momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };

@@ -6,6 +6,7 @@
 
 #include "joints/articulated/articulated_system.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace articulated {
@@ -14,11 +15,6 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     std::string reason;
-    if (b.kind == JointKind::kSpherical)
-      reason = b.scene_joint < 0 ? "is a rotation-only root, which turns on SO(3) about its centre of mass"
-                                 : "hangs on a spherical joint, whose configuration is a rotation (SO(3))";
-    if (b.kind == JointKind::kPrismatic) reason = "slides on a prismatic joint";
-    if (b.kind == JointKind::kFree) reason = "floats on a free joint (SO(3) × ℝ³)";
     if (b.kind == JointKind::kGimbal) reason = "hangs on a gimbal";
     if (b.offset) reason = "hangs on an offset universal joint";
     for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
@@ -27,8 +23,8 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
     if (why) {
       std::ostringstream s;
       s << "body '" << model_.names[i] << "' " << reason
-        << "; in joint coordinates lgvi is the variational integrator on the joint angles (a vector space), "
-           "written for revolute and universal joints without prescribed motion";
+        << "; in joint coordinates lgvi is written for revolute, universal, prismatic and spherical joints and free "
+           "roots without prescribed motion";
       *why = s.str();
     }
     return false;
@@ -52,21 +48,57 @@ bool ArticulatedSystem::hasVelocityDependentForces() const {
   return false;
 }
 
-void ArticulatedSystem::poseInto(int i, const Eigen::VectorXd& q, const Frames* near, Frames* f) const {
-  // The ABA's pass 1 kinematics for a revolute or universal joint without
-  // prescribed motion (variationalCovers()): pose, free columns, angles.
+void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Frames* f) const {
+  // The ABA's pass 1 kinematics for the joints variationalCovers() takes:
+  // pose, free columns, angles.
   const ArticulatedBody& b = model_.bodies[i];
-  LIEFLOW_ASSERT(b.kind != JointKind::kSpherical, "ArticulatedSystem: a spherical joint (see variationalCovers)");
   Frame& fr = f->bodies[i];
+  if (b.kind == JointKind::kFree) {
+    // A free root: R from the state; its six rates are one block
+    // (solveMass, momentumBack), not columns. Its tree is placed with the
+    // root's centre at the origin: what these passes compute (M v, ∂T/∂q, Q,
+    // M⁻¹) does not depend on where the tree is (P, v_c and the torques
+    // about c are the same anywhere), and spatial inertias about a far
+    // origin would carry m |c|² beside the bodies' own inertias: a tree
+    // fallen 90 m lost six digits of its rates to that rounding.
+    fr.R = y.N[b.rotation].matrix();
+    fr.c.setZero();
+    fr.free = 0;
+    return;
+  }
   const bool grounded = b.parent == kGround;
   static const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d& Rp = grounded ? kIdentity : f->bodies[b.parent].R;
   const double sigma = b.parent_is_main ? 1.0 : -1.0;
   const Eigen::Vector3d x = grounded ? b.anchor_parent : Eigen::Vector3d(f->bodies[b.parent].c + Rp * b.anchor_parent);
   const Eigen::Vector3d& line = b.rotation_only ? b.fixed_position : x;
+  if (b.kind == JointKind::kSpherical) {
+    // S = (R, [x]× R), u = ω_rel in the child's axes (also the implicit
+    // joint of a rotation-only root, about its held centre).
+    fr.R = Rp * y.N[b.rotation].matrix();
+    fr.S.topRows<3>() = fr.R;
+    fr.S.bottomRows<3>().noalias() = hat(line) * fr.R;
+    fr.free = 3;
+    for (int k = 0; k < 3; ++k) fr.free_u[k] = b.u_begin + k;
+    fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
+    return;
+  }
+  if (b.kind == JointKind::kPrismatic) {
+    // The relative rotation R_ref held; the child's anchor at x + σ φ A, the
+    // column σ (0, A), A = R_main a.
+    fr.phi[0] = y.q[b.q_begin];
+    fr.free_u[0] = b.u_begin;
+    fr.free = 1;
+    fr.R = b.parent_is_main ? Eigen::Matrix3d(Rp * b.R_ref) : Eigen::Matrix3d(Rp * b.R_ref.transpose());
+    const Eigen::Vector3d A = (b.parent_is_main ? Rp : fr.R) * b.axis1;
+    fr.S.col(0).head<3>().setZero();
+    fr.S.col(0).tail<3>() = sigma * A;
+    fr.c = x + (sigma * fr.phi[0]) * A - fr.R * b.anchor_child;
+    return;
+  }
   const int nc = b.coordinates();
   for (int k = 0; k < nc; ++k) {
-    fr.phi[k] = q[b.q_begin + k];
+    fr.phi[k] = y.q[b.q_begin + k];
     fr.free_u[k] = b.u_begin + k;
     if (near) {
       const Frame& n = near->bodies[i];
@@ -95,7 +127,7 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
   const int n = bodyCount();
   f->bodies.resize(n);
   f->factored = factor;
-  for (int i = 0; i < n; ++i) poseInto(i, y.q, nullptr, f);
+  for (int i = 0; i < n; ++i) poseInto(i, y, nullptr, f);
   if (!factor) return;
   // The ABA's pass 2 without bias forces, leaves to root: from the rigid
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
@@ -114,12 +146,24 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
     I.bottomLeftCorner<3, 3>() = -b.mass * cx;
     I.bottomRightCorner<3, 3>() = b.mass * Eigen::Matrix3d::Identity();
   }
+  f->root_inverse.resize(model_.rotations);
   for (int i = n - 1; i >= 0; --i) {
     const ArticulatedBody& b = model_.bodies[i];
     Frame& fr = f->bodies[i];
     const Matrix6& I = data_.articulated[i];
+    if (b.kind == JointKind::kFree) {
+      // A free root (no parent): its whole articulated inertia, inverted.
+      f->root_inverse[b.rotation] = I.llt().solve(Matrix6::Identity());
+      continue;
+    }
     Matrix6 Ia;
-    if (fr.free == 1) {
+    if (fr.free == 3) {
+      fr.U.noalias() = I * fr.S;
+      fr.Dinv = (fr.S.transpose() * fr.U).inverse();
+      if (b.parent == kGround) continue;
+      Ia = I;
+      Ia.noalias() -= fr.U * fr.Dinv * fr.U.transpose();
+    } else if (fr.free == 1) {
       fr.U.col(0).noalias() = I * fr.S.col(0);
       fr.Dinv(0, 0) = 1.0 / fr.S.col(0).dot(fr.U.col(0));
       if (b.parent == kGround) continue;
@@ -155,11 +199,17 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
   for (int i = n - 1; i >= 0; --i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kFree) continue;  // solved whole in pass 3
     const Vector6& pA = data_.accumulated[i];
     // u = τ − Sᵀ p_A, kept in x for pass 3; p_a = p_A + U D⁻¹ u to the parent
     // (formed in the sum: storing it first stalled store-to-load forwarding).
     Vector6 Ug;
-    if (fr.free == 1) {
+    if (fr.free == 3) {
+      Eigen::Vector3d u = rhs.segment<3>(fr.free_u[0]);
+      u.noalias() -= fr.S.transpose() * pA;
+      x->segment<3>(fr.free_u[0]) = u;
+      Ug.noalias() = fr.U * (fr.Dinv * u);
+    } else if (fr.free == 1) {
       const double u = rhs[fr.free_u[0]] - fr.S.col(0).dot(pA);
       out[fr.free_u[0]] = u;
       Ug = (fr.Dinv(0, 0) * u) * fr.U.col(0);
@@ -182,6 +232,19 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     Vector6& a = data_.twist[i];
+    if (b.kind == JointKind::kFree) {
+      // S_r (x_v, x_ω) = (R x_ω, x_v + c × R x_ω) from the ground: I_A a =
+      // S_r⁻ᵀ τ_r − p_A, S_r⁻ᵀ (τ_v, τ_ω) = (R τ_ω + c × τ_v, τ_v).
+      const Eigen::Vector3d tv = rhs.segment<3>(b.u_begin);
+      Vector6 force;
+      force.head<3>() = fr.R * rhs.segment<3>(b.u_rotation) + cross3(fr.c, tv);
+      force.tail<3>() = tv;
+      force -= data_.accumulated[i];
+      a.noalias() = f.root_inverse[b.rotation] * force;
+      x->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * a.head<3>();
+      x->segment<3>(b.u_begin) = a.tail<3>() - cross3(fr.c, a.head<3>());
+      continue;
+    }
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
@@ -190,7 +253,13 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
     } else {
       a = data_.twist[b.parent];
     }
-    if (fr.free == 1) {
+    if (fr.free == 3) {
+      Eigen::Vector3d r = x->segment<3>(fr.free_u[0]);
+      r.noalias() -= fr.U.transpose() * a;
+      const Eigen::Vector3d qdd = fr.Dinv * r;
+      a.noalias() += fr.S * qdd;
+      x->segment<3>(fr.free_u[0]) = qdd;
+    } else if (fr.free == 1) {
       const double qdd = fr.Dinv(0, 0) * (out[fr.free_u[0]] - fr.U.col(0).dot(a));
       a.noalias() += qdd * fr.S.col(0);
       out[fr.free_u[0]] = qdd;
@@ -214,6 +283,11 @@ void ArticulatedSystem::momentumOut(int i, const Frame& fr, const Eigen::VectorX
   else
     data_.before[i] = b.rotation_only ? heldMotion(fr.c, data_.twist[b.parent]) : data_.twist[b.parent];
   V = data_.before[i];
+  if (b.kind == JointKind::kFree) {
+    // V = (R ω, v_c + c × R ω).
+    V.head<3>().noalias() = fr.R * v.segment<3>(b.u_rotation);
+    V.tail<3>() = v.segment<3>(b.u_begin) + cross3(fr.c, V.head<3>());
+  }
   for (int k = 0; k < fr.free; ++k) V += v[fr.free_u[k]] * fr.S.col(k);
   const Eigen::Vector3d w = V.head<3>();
   const Eigen::Vector3d mvc = b.mass * (V.tail<3>() + cross3(w, fr.c));
@@ -233,9 +307,24 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     const Vector6& H = data_.accumulated[i];
+    if (b.kind == JointKind::kFree) {
+      // S_rᵀ H = (P, Rᵀ(n − c × P)); ∂T/∂δ = Rᵀ(P × v_c), ∂T/∂c = 0 (the
+      // kinetic() comment).
+      const Eigen::Vector3d P = H.tail<3>();
+      Mv->segment<3>(b.u_begin) = P;
+      Mv->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * (H.head<3>() - cross3(fr.c, P));
+      if (dTdq) {
+        dTdq->segment<3>(b.u_begin).setZero();
+        dTdq->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * cross3(P, v.segment<3>(b.u_begin));
+      }
+      continue;  // a root
+    }
     for (int k = 0; k < fr.free; ++k) (*Mv)[fr.free_u[k]] = fr.S.col(k).dot(H);
     if (dTdq) {
-      if (fr.free == 1) {
+      if (fr.free == 3) {
+        // A spherical joint: all three columns turn the subtree from V_p.
+        for (int k = 0; k < 3; ++k) (*dTdq)[fr.free_u[k]] = crossMotion(data_.before[i], fr.S.col(k)).dot(H);
+      } else if (fr.free == 1) {
         (*dTdq)[fr.free_u[0]] = crossMotion(data_.before[i], fr.S.col(0)).dot(H);
       } else if (fr.free == 2) {
         const int first = b.parent_is_main ? 0 : 1, second = 1 - first;
@@ -267,7 +356,7 @@ void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd&
   data_.before.resize(n);
   data_.accumulated.resize(n);
   for (int i = 0; i < n; ++i) {
-    poseInto(i, y.q, &near, f);
+    poseInto(i, y, &near, f);
     momentumOut(i, f->bodies[i], v);
   }
   momentumBack(*f, v, Mv, dTdq);
@@ -307,6 +396,13 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
   for (int i = n - 1; i >= 0; --i) {
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kFree) {
+      // S_rᵀ F = (f, Rᵀ(n − c × f)) of the tree's wrench about the origin.
+      const Vector6& F = data_.accumulated[i];
+      Q->segment<3>(b.u_begin) = F.tail<3>();
+      Q->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * (F.head<3>() - cross3(fr.c, F.tail<3>()));
+      continue;
+    }
     for (int k = 0; k < fr.free; ++k) {
       const int j = fr.free_u[k];
       double q = fr.S.col(k).dot(data_.accumulated[i]);
@@ -315,6 +411,53 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     }
     if (b.parent != kGround)
       data_.accumulated[b.parent] += b.rotation_only ? heldForce(fr.c, data_.accumulated[i]) : data_.accumulated[i];
+  }
+}
+
+void ArticulatedSystem::advance(const State& y, const Eigen::VectorXd& v, double s, State* out) const {
+  const int nq = y.scalarCount();
+  out->q = y.q + s * v.head(nq);
+  out->N.resize(y.N.size());
+  for (std::size_t k = 0; k < y.N.size(); ++k)
+    out->N[k] = y.N[k] * SO3d::exp(s * v.segment<3>(nq + 3 * static_cast<int>(k)));
+}
+
+bool ArticulatedSystem::sameConfiguration(const State& a, const State& b) {
+  if (a.q.size() != b.q.size() || a.N.size() != b.N.size() || a.q != b.q) return false;
+  for (std::size_t k = 0; k < a.N.size(); ++k)
+    if (a.N[k].quaternion().coeffs() != b.N[k].quaternion().coeffs()) return false;
+  return true;
+}
+
+void ArticulatedSystem::toStepChart(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
+                                    StepChart* chart) const {
+  const int nq = model_.scalar_coordinates;
+  chart->xi.resize(model_.rotations);
+  chart->pi.resize(model_.rotations);
+  chart->delta.resize(model_.rotations);
+  for (int k = 0; k < model_.rotations; ++k) {
+    const int o = nq + 3 * k;
+    const Eigen::Vector3d xi = h * v.segment<3>(o);
+    const Eigen::Matrix3d JlInv = SO3d::JlInv(xi);
+    const Eigen::Matrix3d B = SO3d::exp(-0.5 * xi).matrix() - 0.5 * SO3d::Jr(0.5 * xi) * JlInv;
+    chart->xi[k] = xi;
+    chart->pi[k] = Mv->segment<3>(o);
+    chart->delta[k] = dT->segment<3>(o);
+    Mv->segment<3>(o).noalias() = JlInv.transpose() * chart->pi[k];
+    dT->segment<3>(o).noalias() = 2.0 * (B.transpose() * chart->delta[k]);
+  }
+}
+
+void ArticulatedSystem::fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b,
+                                      Eigen::VectorXd* p) const {
+  const int nq = model_.scalar_coordinates;
+  for (int k = 0; k < model_.rotations; ++k) {
+    const int o = nq + 3 * k;
+    // D₂L_d + D₁L_d = (Jr⁻¹ − Jl⁻¹)(ξ)ᵀ π + h (A + B)ᵀ δ, Jr⁻¹ − Jl⁻¹ = [ξ]×,
+    // A + B = exp(−ξ/2) + ½ Jr(ξ/2) [ξ]×.
+    const Eigen::Vector3d& xi = chart.xi[k];
+    const Eigen::Matrix3d AB = SO3d::exp(-0.5 * xi).matrix() + 0.5 * SO3d::Jr(0.5 * xi) * hat(xi);
+    p->segment<3>(o) = b.segment<3>(o) + cross3(chart.pi[k], xi) + h * (AB.transpose() * chart.delta[k]);
   }
 }
 

@@ -45,7 +45,7 @@ TEST_P(StepAllocations, NoneInJointCoordinates) {
   if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
   for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi"}) {
     SCOPED_TRACE(integrator);
-    // lgvi needs a tree of angles (no spherical joint, no prescribed motion).
+    // lgvi needs a tree without gimbals, offset universals, prescribed motion or loops.
     if (!sim.supports(integrator, &why, "joint")) continue;
     const bench::StepAllocations a = bench::countStepAllocations(sim, integrator, "joint");
     ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";

@@ -403,13 +403,15 @@ def test_study_in_joint_coordinates(tmp_path):
     joint, maximal = runs["joint"]["rows"], runs["maximal"]["rows"]
     ratio = np.asarray(joint["orientation_error"][:2]) / np.asarray(maximal["orientation_error"][:2])
     assert np.all((ratio > 0.2) & (ratio < 5.0)), ratio
-    # lgvi runs in joint coordinates on trees of revolute and universal
-    # joints, and is refused naming why where a joint turns on SO(3).
-    lgvi = lieflow.study("double-pendulum", integrators=["lgvi"], dt=[0.004], t_end=0.1, min_time=0.001,
-                         formulation="joint")
-    assert not any(lgvi["rows"]["failed"])
-    with pytest.raises(lieflow.InputError, match="rotation-only root"):
-        lieflow.study("hinge-pair", integrators=["lgvi"], dt=[0.004], t_end=0.1, formulation="joint")
+    # lgvi runs in joint coordinates on trees of hinges and on a
+    # rotation-only root turning on SO(3), and is refused naming why where
+    # a joint's angle is prescribed.
+    for scene in ("double-pendulum", "hinge-pair"):
+        lgvi = lieflow.study(scene, integrators=["lgvi"], dt=[0.004], t_end=0.1, min_time=0.001,
+                             formulation="joint")
+        assert not any(lgvi["rows"]["failed"]), scene
+    with pytest.raises(lieflow.InputError, match="prescribed joint angle"):
+        lieflow.study("driven-arm", integrators=["lgvi"], dt=[0.004], t_end=0.1, formulation="joint")
 
 
 def test_loops_in_joint_coordinates():
