@@ -90,6 +90,9 @@
 ///                                                     near: frames at a nearby configuration)
 ///   void generalizedForces(t, const Frames&, u, Q*);
 ///   bool hasVelocityDependentForces();
+///   void momenta(const Frames&, u, p*);              (the momenta of the state's rates u, step's coordinates)
+///   void rates(const Frames&, p, u*);                (the state's rates of the momenta p)
+///   void placeFreeRoots(start, end, y0, v, h, y1*);  (what advance leaves to the end's frames)
 ///   void advance(y, v, s, State* out);              (out's configuration y ⊕ s v)
 ///   static bool sameConfiguration(a, b);
 ///   void toStepChart(v, h, Mv*, dTdq*, chart*);     (the rotations' −D₁L_d terms; StepChart keeps the body's)
@@ -207,7 +210,7 @@ class JointSpaceVariationalStepper {
     // p₀ = M(q₀) q̇₀ and Q₀: the last step's p₁ and Q₁ when this one continues
     // it (the same quantities, p₁ exactly the momentum q̇₀ was solved from).
     if (!(continues && sameInstant(t, w.t_end, h))) {
-      system.kinetic(w.start, y.u, &w.p_end, nullptr);
+      system.momenta(w.start, y.u, &w.p_end);
       system.generalizedForces(t, w.start, y.u, &w.Q_end);
     }
     w.b = w.p_end + (0.5 * h) * w.Q_end;  // p₀ + (h/2) Q₀
@@ -217,6 +220,7 @@ class JointSpaceVariationalStepper {
     // there are (quartic: error O(h⁵)); after one step 2 q̇₀ − v₋₁ (O(h²));
     // else q̇₀ (O(h)). The start only sets how many passes the iteration takes.
     if (!(continues && sameInstant(h, w.h_last, h))) w.history = 0;
+    if (w.history < 3) system.solveMass(w.start, w.p_end, &w.u_step);  // q̇₀ in the step's coordinates
     if (w.history >= 5)
       w.v = 5.0 * (w.v1 - w.v4) + 10.0 * (w.v3 - w.v2) + w.v5;
     else if (w.history >= 4)
@@ -224,9 +228,9 @@ class JointSpaceVariationalStepper {
     else if (w.history >= 3)
       w.v = 3.0 * (w.v1 - w.v2) + w.v3;
     else if (w.history >= 1)
-      w.v = 2.0 * y.u - w.v1;
+      w.v = 2.0 * w.u_step - w.v1;
     else
-      w.v = y.u;
+      w.v = w.u_step;
     w.mid = y;
     if (!quasiNewton(system, t, y, h, &rep)) {
       rep.fail("lgvi (joint coordinates): the iteration for the mid-step rates did not converge", rep.residual);
@@ -244,6 +248,7 @@ class JointSpaceVariationalStepper {
     y1 = y;
     system.advance(y, w.v, h, &y1);
     system.frames(t + h, y1, true, &w.end);
+    system.placeFreeRoots(w.start, w.end, y, w.v, h, &y1);
     w.p1 = w.b + h * w.dT;
     system.fromStepChart(h, w.chart, w.b, &w.p1);  // the rotations' D₂L_d
     y1.u = w.v;  // the start of the dashpot fixed point
@@ -252,7 +257,7 @@ class JointSpaceVariationalStepper {
     for (int pass = 1;; ++pass) {
       system.generalizedForces(t + h, w.end, y1.u, &w.Q);
       w.r = w.p1 + (0.5 * h) * w.Q;
-      system.solveMass(w.end, w.r, &w.dv);
+      system.rates(w.end, w.r, &w.dv);
       if (!implicit_forces) {
         y1.u = w.dv;
         break;
@@ -353,6 +358,7 @@ class JointSpaceVariationalStepper {
   struct Work {
     Frames start, end, midframes;
     Eigen::VectorXd p_end, Q_end, Q, b, v, Mv, dT, r, dv, p1;
+    Eigen::VectorXd u_step;  ///< q̇ at the step's start in its coordinates (the iteration's start)
     State end_config;  ///< where the last step ended (its configuration is compared)
     typename System::StepChart chart;  ///< the rotations' body terms at the last midpoint
     Eigen::VectorXd v_best;

@@ -277,14 +277,6 @@ bool Simulation::hasJointFormulation(std::string* why) const {
 
 std::string Simulation::defaultFormulation(const std::string& integrator) const {
   if (!model_->multibody) return "joint";
-  // lgvi on a free root: joint coordinates keep the angular momentum about
-  // the origin to round-off but, the root's translation being its own centre
-  // of mass and not the tree's, the momentum about the centre of mass only
-  // to O(h²), and under gravity the fall's growing speed enters the step's
-  // error (measured on a tumbling pair, 40 s at h = 1e-3: L_com 8e-5, energy
-  // 2.7e-6 against 5e-11 and 3e-8 in maximal coordinates), so maximal
-  // coordinates, which keep L_com exactly, stay its default there.
-  if (integrator == "lgvi" && model_->articulated && model_->articulated->system->hasFreeRoot()) return "maximal";
   return supports(integrator, nullptr, "joint") ? "joint" : "maximal";
 }
 

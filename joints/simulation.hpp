@@ -144,10 +144,8 @@ class Simulation {
   /// represents it, "joint" wherever joint coordinates represent the scene
   /// and the integrator runs there (a tree, or loops and gear rows with the
   /// explicit steppers: 2 to 3 times fewer operations per step than bodies'
-  /// poses with multipliers, bench/multibody), else "maximal"; lgvi on a
-  /// tree with a free root stays in maximal coordinates, which keep its
-  /// momentum about the centre of mass exactly (simulation.cpp says why). A
-  /// scene without joints has one formulation, "joint".
+  /// poses with multipliers, bench/multibody), else "maximal". A scene
+  /// without joints has one formulation, "joint".
   std::string defaultFormulation(const std::string& integrator) const;
 
   /// Whether the scene is a mechanism, whose maximal formulation imposes

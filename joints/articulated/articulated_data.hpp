@@ -50,6 +50,9 @@ struct ArticulatedData {
   Eigen::VectorXd udot;
   /// Scratch of the variational passes (kinetic, solveMass, forces, frames).
   std::vector<Vector6> twist, accumulated, before;
+  /// The variational passes' free trees (by root rotation index): the
+  /// centre-of-mass velocity v_z and the uniform motion that stops the tree.
+  std::vector<Eigen::Vector3d> tree_vz, tree_shift;
   std::vector<Matrix6> articulated;
 
   /// Loop workspace, sized at construction (m closure rows, n dofs): G (m × n),

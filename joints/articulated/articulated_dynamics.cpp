@@ -14,6 +14,19 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
   data_.root_momentum.assign(model_.bodies.size(), Vector6::Zero());
   data_.udot.resize(model_.dofs());
   rotation_basis_.resize(model_.bodies.size());
+  // The free trees (each free root and the bodies below it) and their masses.
+  free_tree_.assign(model_.bodies.size(), -1);
+  free_tree_mass_.assign(model_.rotations, 0.0);
+  for (int i = 0; i < bodyCount(); ++i) {
+    const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kFree) {
+      free_tree_[i] = b.rotation;
+      free_root_body_.push_back(i);
+    } else if (b.parent != kGround) {
+      free_tree_[i] = free_tree_[b.parent];
+    }
+    if (free_tree_[i] >= 0) free_tree_mass_[free_tree_[i]] += b.mass;
+  }
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     // The Rodrigues basis of jointRotation: revolute and universal joints.

@@ -213,6 +213,8 @@ class ArticulatedSystem {
     /// A free root's six rates are one block, not columns: the inverse of its
     /// articulated inertia (about the origin), by the root's rotation index.
     std::vector<Matrix6> root_inverse;
+    /// Each free tree's centre of mass from its root, by the root's rotation index.
+    std::vector<Eigen::Vector3d> root_offset;
     bool factored = false;
   };
 
@@ -251,8 +253,28 @@ class ArticulatedSystem {
   /// vector-space p₁ = b + h ∂T/∂q, whose error from the iteration's last
   /// change is O(h) times that change, not the change itself.
   void fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b, Eigen::VectorXd* p) const;
-  /// x = M(q)⁻¹ rhs with the factorization in f (f.factored).
+  /// The step's coordinates: the state's, except that a free root's
+  /// translation rate is its tree's centre-of-mass velocity v_z (and its
+  /// translation that centre z): by König's theorem T = ½ M_tree |v_z|² +
+  /// T_rel(q_rel, rates_rel), so the discrete Lagrangian moves each centre
+  /// exactly as a point mass under uniform gravity and keeps the momentum
+  /// about it as a rotation-invariant T_rel does (the maximal formulation
+  /// keeps both that way too). Uniform gravity has no generalized force on
+  /// the other coordinates there, and M is block-diagonal, (M_tree I, M_rel),
+  /// M_rel⁻¹ being the rest's block of the state's M⁻¹. Without free roots
+  /// the step's coordinates are the state's.
+  /// x = M(q)⁻¹ rhs in the step's coordinates with the factorization in f
+  /// (f.factored).
   void solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
+  /// The state's rates u whose momenta in the step's coordinates are p.
+  void rates(const Frames& f, const Eigen::VectorXd& p, Eigen::VectorXd* u) const;
+  /// The momenta, in the step's coordinates, of the state's rates u.
+  void momenta(const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* p) const;
+  /// Each free root's translation at the end of a step from start to end
+  /// with rates v (step's coordinates): z₁ = z₀ + h v_z, the root at z₁ less
+  /// its tree's centre's offset at the end.
+  void placeFreeRoots(const Frames& start, const Frames& end, const State& y0, const Eigen::VectorXd& v, double h,
+                      State* y1) const;
   /// For the rates v at the configuration of f: the momenta M(q) v, and
   /// ∂T/∂q (q, v) of the kinetic energy T = ½ vᵀ M(q) v at fixed v. Each
   /// coordinate's column S_k turns everything beyond it, so ∂V_b/∂φ_k =
@@ -355,6 +377,17 @@ class ArticulatedSystem {
   /// (data_.twist, data_.accumulated, data_.before); the backward pass over all bodies.
   void poseInto(int i, const State& y, const Frames* near, Frames* f) const;
   void momentumOut(int i, const Frame& fr, const Eigen::VectorXd& v) const;
+  /// After momentumOut over all bodies: each free tree's v_z (from v's root
+  /// slot, which holds v_z, or the state's v_c when `state_rates`), and the
+  /// tree moved to its centre's rest frame (its momentum zero).
+  void centreFreeTrees(const Frames& f, const Eigen::VectorXd& v, bool state_rates) const;
+  /// solveMass (step's coordinates) or, `state_rates`, rates().
+  void solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates, Eigen::VectorXd* x) const;
+  /// By body: the rotation index of the free root whose tree holds it, or
+  /// −1; by rotation index: a free tree's mass; the free roots' bodies.
+  std::vector<int> free_tree_;
+  std::vector<double> free_tree_mass_;
+  std::vector<int> free_root_body_;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };
 

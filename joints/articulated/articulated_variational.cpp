@@ -128,6 +128,13 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
   f->bodies.resize(n);
   f->factored = factor;
   for (int i = 0; i < n; ++i) poseInto(i, y, nullptr, f);
+  if (!free_root_body_.empty()) {
+    // Each free tree's centre of mass from its root (placed at the origin).
+    f->root_offset.assign(model_.rotations, Eigen::Vector3d::Zero());
+    for (int i = 0; i < n; ++i)
+      if (free_tree_[i] >= 0) f->root_offset[free_tree_[i]] += model_.bodies[i].mass * f->bodies[i].c;
+    for (int r : free_root_body_) f->root_offset[model_.bodies[r].rotation] /= free_tree_mass_[model_.bodies[r].rotation];
+  }
   if (!factor) return;
   // The ABA's pass 2 without bias forces, leaves to root: from the rigid
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
@@ -187,6 +194,15 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
 }
 
 void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
+  solveStepMass(f, rhs, false, x);
+}
+
+void ArticulatedSystem::rates(const Frames& f, const Eigen::VectorXd& p, Eigen::VectorXd* u) const {
+  solveStepMass(f, p, true, u);
+}
+
+void ArticulatedSystem::solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates,
+                                      Eigen::VectorXd* x) const {
   // The ABA's passes 2 and 3 at zero rates and without forces but τ = rhs
   // (Featherstone 2008, Table 7.1): the bias forces p_A of each subtree
   // leaves to root, then the accelerations root to leaves.
@@ -233,16 +249,18 @@ void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, E
     const ArticulatedBody& b = model_.bodies[i];
     Vector6& a = data_.twist[i];
     if (b.kind == JointKind::kFree) {
-      // S_r (x_v, x_ω) = (R x_ω, x_v + c × R x_ω) from the ground: I_A a =
-      // S_r⁻ᵀ τ_r − p_A, S_r⁻ᵀ (τ_v, τ_ω) = (R τ_ω + c × τ_v, τ_v).
-      const Eigen::Vector3d tv = rhs.segment<3>(b.u_begin);
+      // M_step is block-diagonal, (M_tree I, M_rel): v_z = τ_z / M_tree, and
+      // the rest M⁻¹ (0, τ_rest)'s (M_rel⁻¹ is that block of M⁻¹), whose v_c
+      // is the root's own with the tree's momentum zero. With S_r (x_v, x_ω)
+      // = (R x_ω, x_v) (c = 0) from the ground: I_A a = S_r⁻ᵀ (0, τ_ω) − p_A.
       Vector6 force;
-      force.head<3>() = fr.R * rhs.segment<3>(b.u_rotation) + cross3(fr.c, tv);
-      force.tail<3>() = tv;
+      force.head<3>().noalias() = fr.R * rhs.segment<3>(b.u_rotation);
+      force.tail<3>().setZero();
       force -= data_.accumulated[i];
       a.noalias() = f.root_inverse[b.rotation] * force;
       x->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * a.head<3>();
-      x->segment<3>(b.u_begin) = a.tail<3>() - cross3(fr.c, a.head<3>());
+      const Eigen::Vector3d vz = rhs.segment<3>(b.u_begin) / free_tree_mass_[b.rotation];
+      x->segment<3>(b.u_begin) = state_rates ? Eigen::Vector3d(vz + a.tail<3>()) : vz;
       continue;
     }
     if (b.parent == kGround) {
@@ -284,9 +302,10 @@ void ArticulatedSystem::momentumOut(int i, const Frame& fr, const Eigen::VectorX
     data_.before[i] = b.rotation_only ? heldMotion(fr.c, data_.twist[b.parent]) : data_.twist[b.parent];
   V = data_.before[i];
   if (b.kind == JointKind::kFree) {
-    // V = (R ω, v_c + c × R ω).
+    // V = (R ω, v_c + c × R ω) with c = 0 and v_c = 0 for now: centreFreeTrees
+    // then moves the tree to its centre-of-mass rest frame.
     V.head<3>().noalias() = fr.R * v.segment<3>(b.u_rotation);
-    V.tail<3>() = v.segment<3>(b.u_begin) + cross3(fr.c, V.head<3>());
+    V.tail<3>().setZero();
   }
   for (int k = 0; k < fr.free; ++k) V += v[fr.free_u[k]] * fr.S.col(k);
   const Eigen::Vector3d w = V.head<3>();
@@ -308,14 +327,14 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
     const ArticulatedBody& b = model_.bodies[i];
     const Vector6& H = data_.accumulated[i];
     if (b.kind == JointKind::kFree) {
-      // S_rᵀ H = (P, Rᵀ(n − c × P)); ∂T/∂δ = Rᵀ(P × v_c), ∂T/∂c = 0 (the
-      // kinetic() comment).
-      const Eigen::Vector3d P = H.tail<3>();
-      Mv->segment<3>(b.u_begin) = P;
-      Mv->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * (H.head<3>() - cross3(fr.c, P));
+      // T = ½ M_tree |v_z|² + T_rel: the momentum M_tree v_z, and Rᵀ n of the
+      // tree at rest in its centre's frame (c = 0, P = 0); T_rel does not
+      // change with the tree's turn or place: ∂T/∂δ = 0, ∂T/∂z = 0.
+      Mv->segment<3>(b.u_begin) = free_tree_mass_[b.rotation] * data_.tree_vz[b.rotation];
+      Mv->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * H.head<3>();
       if (dTdq) {
         dTdq->segment<3>(b.u_begin).setZero();
-        dTdq->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * cross3(P, v.segment<3>(b.u_begin));
+        dTdq->segment<3>(b.u_rotation).setZero();
       }
       continue;  // a root
     }
@@ -337,6 +356,45 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
   }
 }
 
+void ArticulatedSystem::centreFreeTrees(const Frames& f, const Eigen::VectorXd& v, bool state_rates) const {
+  if (free_root_body_.empty()) return;
+  // The trees' momenta with v_c = 0, P₀ = Σ m v_c; each tree's v_z (given,
+  // or v_c + P₀/M_tree from the state's v_c); then the uniform motion
+  // −P₀/M_tree added to every body of the tree, which brings its momentum
+  // to zero: the twists (0, u), the momenta (c × m u, m u).
+  data_.tree_vz.resize(model_.rotations);
+  data_.tree_shift.assign(model_.rotations, Eigen::Vector3d::Zero());
+  const int n = bodyCount();
+  for (int i = 0; i < n; ++i)
+    if (free_tree_[i] >= 0) data_.tree_shift[free_tree_[i]] += data_.accumulated[i].tail<3>();
+  for (int r : free_root_body_) {
+    const ArticulatedBody& b = model_.bodies[r];
+    const Eigen::Vector3d rest = data_.tree_shift[b.rotation] / free_tree_mass_[b.rotation];
+    data_.tree_vz[b.rotation] = state_rates ? Eigen::Vector3d(v.segment<3>(b.u_begin) + rest)
+                                            : Eigen::Vector3d(v.segment<3>(b.u_begin));
+    data_.tree_shift[b.rotation] = -rest;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (free_tree_[i] < 0) continue;
+    const Eigen::Vector3d& u = data_.tree_shift[free_tree_[i]];
+    const Eigen::Vector3d mu = model_.bodies[i].mass * u;
+    data_.accumulated[i].head<3>() += cross3(f.bodies[i].c, mu);
+    data_.accumulated[i].tail<3>() += mu;
+    data_.twist[i].tail<3>() += u;
+    if (model_.bodies[i].kind != JointKind::kFree) data_.before[i].tail<3>() += u;
+  }
+}
+
+void ArticulatedSystem::placeFreeRoots(const Frames& start, const Frames& end, const State& y0,
+                                       const Eigen::VectorXd& v, double h, State* y1) const {
+  // z₁ = z₀ + h v_z, the root at z − (its tree's centre from it).
+  for (int r : free_root_body_) {
+    const ArticulatedBody& b = model_.bodies[r];
+    y1->q.segment<3>(b.q_begin) = y0.q.segment<3>(b.q_begin) + start.root_offset[b.rotation] +
+                                  h * v.segment<3>(b.u_begin) - end.root_offset[b.rotation];
+  }
+}
+
 void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
                                 Eigen::VectorXd* dTdq) const {
   const int n = bodyCount();
@@ -344,7 +402,18 @@ void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen
   data_.before.resize(n);
   data_.accumulated.resize(n);
   for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], v);
+  centreFreeTrees(f, v, false);
   momentumBack(f, v, Mv, dTdq);
+}
+
+void ArticulatedSystem::momenta(const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* p) const {
+  const int n = bodyCount();
+  data_.twist.resize(n);
+  data_.before.resize(n);
+  data_.accumulated.resize(n);
+  for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], u);
+  centreFreeTrees(f, u, true);
+  momentumBack(f, u, p, nullptr);
 }
 
 void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd& v, const Frames& near, Frames* f,
@@ -359,6 +428,7 @@ void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd&
     poseInto(i, y, &near, f);
     momentumOut(i, f->bodies[i], v);
   }
+  centreFreeTrees(*f, v, false);
   momentumBack(*f, v, Mv, dTdq);
 }
 
@@ -374,8 +444,8 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     Vector6& F = data_.accumulated[i];
-    if (b.rotation_only) {
-      F.setZero();
+    if (b.rotation_only || free_tree_[i] >= 0) {
+      F.setZero();  // gravity on a free tree moves its centre only (Q_z below)
     } else {
       const Eigen::Vector3d mg = b.mass * model_.gravity;
       F.head<3>() = cross3(fr.c, mg);
@@ -397,10 +467,12 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     const Frame& fr = f.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
     if (b.kind == JointKind::kFree) {
-      // S_rᵀ F = (f, Rᵀ(n − c × f)) of the tree's wrench about the origin.
+      // Q_z = M_tree g; the rest of the tree's wrench about its root
+      // (c = 0): S_rᵀ F = (·, Rᵀ n). Uniform gravity has none in T_rel's
+      // coordinates: Q_grav = M_step (g, 0) = (M_tree g, 0).
       const Vector6& F = data_.accumulated[i];
-      Q->segment<3>(b.u_begin) = F.tail<3>();
-      Q->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * (F.head<3>() - cross3(fr.c, F.tail<3>()));
+      Q->segment<3>(b.u_begin) = free_tree_mass_[b.rotation] * model_.gravity;
+      Q->segment<3>(b.u_rotation).noalias() = fr.R.transpose() * F.head<3>();
       continue;
     }
     for (int k = 0; k < fr.free; ++k) {
