@@ -15,16 +15,14 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     std::string reason;
-    if (b.kind == JointKind::kGimbal) reason = "hangs on a gimbal";
-    if (b.offset) reason = "hangs on an offset universal joint";
     for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
       if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
     if (reason.empty()) continue;
     if (why) {
       std::ostringstream s;
       s << "body '" << model_.names[i] << "' " << reason
-        << "; in joint coordinates lgvi is written for revolute, universal, prismatic and spherical joints and free "
-           "roots without prescribed motion";
+        << "; lgvi in joint coordinates takes no prescribed motion (a time-dependent constraint; maximal coordinates "
+           "run it)";
       *why = s.str();
     }
     return false;
@@ -108,6 +106,20 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
     }
   }
   fr.free = nc;
+  if (b.kind == JointKind::kGimbal) {
+    // M = E₁E₂E₃ R_ref, E_k = exp(φ_k e_k); the columns the lines through the
+    // anchor along R_main e₁, R_main E₁ e₂, R_main E₁E₂ e₃ (the parent is main).
+    const Eigen::Matrix3d E1 = rotationAbout(b.axis1, fr.cos_phi[0], fr.sin_phi[0]);
+    const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, fr.cos_phi[1], fr.sin_phi[1]);
+    fr.R = Rp * (E12 * rotationAbout(b.axis3, fr.cos_phi[2], fr.sin_phi[2]) * b.R_ref);
+    const Eigen::Vector3d A[3] = {Rp * b.axis1, Rp * (E1 * b.axis2), Rp * (E12 * b.axis3)};
+    for (int k = 0; k < 3; ++k) {
+      fr.S.col(k).head<3>() = A[k];
+      fr.S.col(k).tail<3>() = cross3(line, A[k]);
+    }
+    fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
+    return;
+  }
   const Eigen::Matrix3d M = jointRotation(i, fr.cos_phi, fr.sin_phi);
   fr.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
   // Columns σ (A, x × A), written by halves (a comma initializer into a
@@ -115,12 +127,17 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
   const Eigen::Vector3d A0 = sigma * ((b.parent_is_main ? Rp : fr.R) * b.axis1);
   fr.S.col(0).head<3>() = A0;
   fr.S.col(0).tail<3>() = cross3(line, A0);
+  // An offset universal joint (the parent is main): its second line passes
+  // through the secondary anchor x₂ = x + R_p exp(φ₁a₁) δ, which the first
+  // hinge carries and the child hangs from.
+  const Eigen::Vector3d x2 =
+      b.offset ? Eigen::Vector3d(x + Rp * (rotationAbout(b.axis1, fr.cos_phi[0], fr.sin_phi[0]) * b.offset_ref)) : x;
   if (nc == 2) {
     const Eigen::Vector3d A1 = sigma * ((b.parent_is_main ? fr.R : Rp) * b.axis2);
     fr.S.col(1).head<3>() = A1;
-    fr.S.col(1).tail<3>() = cross3(line, A1);
+    fr.S.col(1).tail<3>() = cross3(b.offset ? x2 : line, A1);
   }
-  fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
+  fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x2 - fr.R * b.anchor_child);
 }
 
 void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) const {
@@ -340,7 +357,7 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
     }
     for (int k = 0; k < fr.free; ++k) (*Mv)[fr.free_u[k]] = fr.S.col(k).dot(H);
     if (dTdq) {
-      if (fr.free == 3) {
+      if (b.kind == JointKind::kSpherical) {
         // A spherical joint: all three columns turn the subtree from V_p.
         for (int k = 0; k < 3; ++k) (*dTdq)[fr.free_u[k]] = crossMotion(data_.before[i], fr.S.col(k)).dot(H);
       } else if (fr.free == 1) {
@@ -350,6 +367,13 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
         const Vector6 V_mid = data_.before[i] + v[fr.free_u[first]] * fr.S.col(first);
         (*dTdq)[fr.free_u[first]] = crossMotion(data_.before[i], fr.S.col(first)).dot(H);
         (*dTdq)[fr.free_u[second]] = crossMotion(V_mid, fr.S.col(second)).dot(H);
+      } else {
+        // A gimbal's hinges in sequence, each turned by the ones before it.
+        Vector6 V_before = data_.before[i];
+        for (int k = 0; k < 3; ++k) {
+          (*dTdq)[fr.free_u[k]] = crossMotion(V_before, fr.S.col(k)).dot(H);
+          V_before += v[fr.free_u[k]] * fr.S.col(k);
+        }
       }
     }
     if (b.parent != kGround) data_.accumulated[b.parent] += b.rotation_only ? heldForce(fr.c, H) : H;

@@ -227,11 +227,13 @@ TEST(JointLgvi, KeepsTheMomentumOfAFreeFirstAxisToRoundOff) {
   EXPECT_LT(worst, 1e-13 * std::abs(p0) * 100) << "p0 = " << p0;
 }
 
-/// A floating rig with every group lgvi takes in joint coordinates: a trunk
+/// A floating rig with every joint lgvi takes in joint coordinates: a trunk
 /// on a free root (SO(3) × ℝ³), a head on a spherical joint, a sprung,
 /// damped arm on a hinge, a sprung piston sliding in the arm, a foot on a
-/// universal joint whose main body is the child, and a rotation-only wheel
-/// root on its implicit spherical joint; thrown turning under gravity.
+/// universal joint whose main body is the child, a thigh on a sprung, damped
+/// gimbal with a sole on an offset universal joint below it (MuJoCo's
+/// humanoid's hips and ankles), and a rotation-only wheel root on its
+/// implicit spherical joint; thrown turning under gravity.
 constexpr const char* kFloatingRig = R"({
   "name": "floating-rig", "gravity": [0.2, 0.1, -9.81],
   "bodies": [
@@ -243,6 +245,9 @@ constexpr const char* kFloatingRig = R"({
      "angular_velocity": [0, 0, 1.0]},
     {"name": "piston", "mass": 0.3, "inertia": [0.0005, 0.0006, 0.0002], "position": [0.45, 0, 1.0]},
     {"name": "foot", "mass": 0.4, "inertia": [0.002, 0.003, 0.004], "position": [-0.3, 0, 0.9]},
+    {"name": "thigh", "mass": 1.5, "inertia": [0.02, 0.02, 0.004], "position": [0, 0.1, 0.6],
+     "angular_velocity": [0.5, 2.0, -1.0]},
+    {"name": "sole", "mass": 0.5, "inertia": [0.001, 0.003, 0.003], "position": [0.02, 0.1, 0.3]},
     {"name": "wheel", "mass": 1.0, "inertia": [0.01, 0.02, 0.03], "rotation_only": true, "position": [3, 0, 0],
      "angular_velocity": [0.3, 4.0, 1.0]}
   ],
@@ -257,7 +262,16 @@ constexpr const char* kFloatingRig = R"({
      "spring": {"stiffness": 40.0, "rest_position": 0.01}},
     {"name": "ankle", "type": "universal", "main": "foot", "secondary": "trunk",
      "anchor_main": [0.15, 0, 0.05], "anchor_secondary": [-0.15, 0, -0.05],
-     "axis1_main": [0, 0, 1], "axis2_secondary": [1, 0, 0], "spring1": {"stiffness": 2.0, "rest_angle": 0}}
+     "axis1_main": [0, 0, 1], "axis2_secondary": [1, 0, 0], "spring1": {"stiffness": 2.0, "rest_angle": 0}},
+    {"name": "hip3", "type": "gimbal", "main": "trunk", "secondary": "thigh",
+     "anchor_main": [0, 0.1, -0.1], "anchor_secondary": [0, 0, 0.3],
+     "axis1_main": [1, 0, 0], "axis2_main": [0, 0, 1], "axis3_main": [0, 1, 0],
+     "spring1": {"stiffness": 3.0, "rest_angle": 0.3}, "spring2": {"stiffness": 2.0, "rest_angle": -0.2},
+     "damper3": {"damping": 0.05}},
+    {"name": "ankle2", "type": "universal", "offset": true, "main": "thigh", "secondary": "sole",
+     "anchor_main": [0, 0, -0.3], "anchor_secondary": [0.05, 0, 0.04],
+     "axis1_main": [0, 1, 0], "axis2_secondary": [1, 0, 0],
+     "spring1": {"stiffness": 1.5, "rest_angle": 0.2}, "spring2": {"stiffness": 1.0, "rest_angle": 0}}
   ]
 })";
 
