@@ -91,7 +91,8 @@
 ///   void generalizedForces(t, const Frames&, u, Q*);
 ///   bool hasVelocityDependentForces();
 ///   void momenta(const Frames&, u, p*);              (the momenta of the state's rates u, step's coordinates)
-///   void rates(const Frames&, p, u*);                (the state's rates of the momenta p)
+///   void rates(const Frames&, p*, u*);               (the state's rates of the momenta p, p onto the rows)
+///   void projectIncrement(start, v, dv*, r*);        (the constraint rows' multipliers in the iteration)
 ///   void placeFreeRoots(start, end, y0, v, h, y1*);  (what advance leaves to the end's frames)
 ///   void advance(y, v, s, State* out);              (out's configuration y ⊕ s v)
 ///   static bool sameConfiguration(a, b);
@@ -257,7 +258,7 @@ class JointSpaceVariationalStepper {
     for (int pass = 1;; ++pass) {
       system.generalizedForces(t + h, w.end, y1.u, &w.Q);
       w.r = w.p1 + (0.5 * h) * w.Q;
-      system.rates(w.end, w.r, &w.dv);
+      system.rates(w.end, &w.r, &w.dv);
       if (!implicit_forces) {
         y1.u = w.dv;
         break;
@@ -329,6 +330,7 @@ class JointSpaceVariationalStepper {
     for (int it = 1;; ++it) {
       residual(system, t, y, h, w.v, &w.Mv, &w.dT, &w.r);
       system.solveMass(w.start, w.r, &w.dv);
+      system.projectIncrement(w.start, w.v, &w.dv, &w.r);
       // Sizes in the kinetic-energy norm: ‖Δv‖ = √(Δvᵀ M(q₀) Δv) = √(Δvᵀ r),
       // ‖v‖ = √(vᵀ M(q_m) v). (In the max norm the rounding of r, relative to
       // the heavy coordinates' momenta, shows through M⁻¹ in the light ones

@@ -295,11 +295,13 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
       if (why) *why = "joint coordinates cannot represent this scene: " + *why;
       return false;
     }
-    if (model_->articulated->system->hasClosures() && !runsWithLoopsInJointCoordinates(integrator, why)) return false;
     if (integrator == "lgvi" && !model_->articulated->system->variationalCovers(why)) {
       if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
       return false;
     }
+    if (integrator != "lgvi" && model_->articulated->system->hasClosures() &&
+        !runsWithLoopsInJointCoordinates(integrator, why))
+      return false;
     if (integrator == "genalpha" && model_->articulated->system->hasFreeRoot()) {
       if (why)
         *why = "'genalpha' cannot run this scene in joint coordinates: a body floats on a free joint, which its "

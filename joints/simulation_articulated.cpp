@@ -13,7 +13,7 @@ bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string*
     if (integrator == name) return true;
   if (why) {
     if (integrator == "lgvi")
-      *why = "'lgvi' in joint coordinates has no multipliers for loop-closing joints";
+      *why = "'lgvi' in joint coordinates takes coupling rows but no loop-closing joints or gear rows";
     else if (integrator == "genalpha")
       *why = "'genalpha' in joint coordinates has no multipliers for loop-closing joints";
     else
@@ -29,7 +29,7 @@ SimulationResult runArticulated(const Simulation::Model& model, const Simulation
                                 const std::function<void(const std::vector<double>&)>& row) {
   const articulated::ArticulatedSystem& system = *model.articulated->system;
   const articulated::ArticulatedState& y0 = model.articulated->y0;
-  if (system.hasClosures()) {
+  if (system.hasClosures() && o.integrator != "lgvi") {
     // Loops: the explicit steppers in index-1 form, projected onto the
     // closing joints' rows after every step (as in maximal coordinates).
     if (auto result = simulation_detail::runProjected(model, system, y0, o, columns, row)) return *result;
@@ -39,10 +39,10 @@ SimulationResult runArticulated(const Simulation::Model& model, const Simulation
   }
   if (auto result = simulation_detail::runUnconstrained(model, system, y0, o, columns, row)) return *result;
   if (o.integrator == "lgvi") {
-    // The variational integrator on the joint angles (a vector space: no
-    // rotation map to choose; Simulation::supports checks that it covers the tree).
+    // The variational integrator in joint coordinates, with coupling rows
+    // as multipliers (Simulation::supports checks that it covers the scene).
     if (simulation_detail::option(o, "cayley", 0.0) != 0.0)
-      throw InvalidInput("cayley", "has no meaning in joint coordinates (the joint angles need no rotation map)");
+      throw InvalidInput("cayley", "has no meaning in joint coordinates (lgvi there turns its rotations by exp)");
     JointSpaceVariationalOptions v;
     v.tolerance = simulation_detail::option(o, "tolerance", v.tolerance);
     v.max_iterations = static_cast<int>(simulation_detail::option(o, "max_iterations", v.max_iterations));

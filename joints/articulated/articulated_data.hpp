@@ -53,6 +53,10 @@ struct ArticulatedData {
   /// The variational passes' free trees (by root rotation index): the
   /// centre-of-mass velocity v_z and the uniform motion that stops the tree.
   std::vector<Eigen::Vector3d> tree_vz, tree_shift;
+  /// The variational passes' coupling rows: scratch of Y's columns, G Y,
+  /// G v and the multipliers.
+  Eigen::VectorXd coupling_rhs, coupling_x, coupling_g, coupling_lambda;
+  Eigen::MatrixXd coupling_GY;
   std::vector<Matrix6> articulated;
 
   /// Loop workspace, sized at construction (m closure rows, n dofs): G (m × n),

@@ -50,6 +50,19 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     data_.closure_x.setZero(n);
     data_.closure_perm.assign(m, 0);
     for (const ArticulatedClosure& c : model_.closures) data_.closure_phi.push_back(c.initial_angles);
+    if (onlyCouplings()) {
+      // The coupling rows α q̇₁ + q̇₂ in joint coordinates: constant, read
+      // off the closure Jacobian at the zero configuration (terms below
+      // 1e-12, the rounding of the ancestors' columns that cancel, dropped).
+      State zero;
+      zero.q.setZero(model_.scalar_coordinates);
+      zero.N.assign(model_.rotations, SO3d());
+      zero.u.setZero(dofs());
+      forwardPass(0.0, zero, false, false);
+      closureTerms(ClosureLevel::kJacobian);
+      coupling_G_ = data_.closure_G;
+      coupling_G_ = (coupling_G_.array().abs() < 1e-12).select(0.0, coupling_G_);
+    }
   }
 }
 

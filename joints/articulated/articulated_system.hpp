@@ -50,6 +50,7 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -215,6 +216,10 @@ class ArticulatedSystem {
     std::vector<Matrix6> root_inverse;
     /// Each free tree's centre of mass from its root, by the root's rotation index.
     std::vector<Eigen::Vector3d> root_offset;
+    /// With coupling rows G (constant in joint coordinates): Y = M⁻¹ Gᵀ and
+    /// the factorization of G Y at this configuration (when factored).
+    Eigen::MatrixXd coupling_Y;
+    Eigen::LDLT<Eigen::MatrixXd> coupling_A;
     bool factored = false;
   };
 
@@ -266,8 +271,15 @@ class ArticulatedSystem {
   /// x = M(q)⁻¹ rhs in the step's coordinates with the factorization in f
   /// (f.factored).
   void solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
-  /// The state's rates u whose momenta in the step's coordinates are p.
-  void rates(const Frames& f, const Eigen::VectorXd& p, Eigen::VectorXd* u) const;
+  /// The state's rates u whose momenta in the step's coordinates are p;
+  /// with coupling rows p is first moved to p + Gᵀμ, the momenta whose rates
+  /// keep G u = 0 (the end of a RATTLE step).
+  void rates(const Frames& f, Eigen::VectorXd* p, Eigen::VectorXd* u) const;
+  /// With coupling rows (α q̇₁ + q̇₂ = 0: linear and constant in joint
+  /// coordinates, so that G q stays constant when G v = 0): the increment dv
+  /// of the iteration at rates v, dv = M⁻¹ r, becomes M⁻¹ (r − Gᵀλ) with λ
+  /// such that G (v + dv) = 0, and r becomes r − Gᵀλ. Nothing without them.
+  void projectIncrement(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* dv, Eigen::VectorXd* r) const;
   /// The momenta, in the step's coordinates, of the state's rates u.
   void momenta(const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* p) const;
   /// Each free root's translation at the end of a step from start to end
@@ -381,13 +393,21 @@ class ArticulatedSystem {
   /// slot, which holds v_z, or the state's v_c when `state_rates`), and the
   /// tree moved to its centre's rest frame (its momentum zero).
   void centreFreeTrees(const Frames& f, const Eigen::VectorXd& v, bool state_rates) const;
-  /// solveMass (step's coordinates) or, `state_rates`, rates().
+  /// frames()' factorization: the articulated inertias, U, D⁻¹, the free
+  /// roots' blocks; with coupling rows, Y = M⁻¹ Gᵀ and G Y.
+  void factorMassAndCouplings(Frames* f) const;
+  /// solveMass (step's coordinates) or, `state_rates`, the state's rates.
   void solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates, Eigen::VectorXd* x) const;
   /// By body: the rotation index of the free root whose tree holds it, or
   /// −1; by rotation index: a free tree's mass; the free roots' bodies.
   std::vector<int> free_tree_;
   std::vector<double> free_tree_mass_;
   std::vector<int> free_root_body_;
+  /// The coupling rows G (m × dofs) when every closure is a coupling (lgvi
+  /// takes them), computed at construction; empty otherwise.
+  Eigen::MatrixXd coupling_G_;
+  /// Whether every closure is a coupling row.
+  bool onlyCouplings() const;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };
 

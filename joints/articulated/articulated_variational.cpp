@@ -12,27 +12,31 @@ namespace lieflow {
 namespace articulated {
 
 bool ArticulatedSystem::variationalCovers(std::string* why) const {
+  for (const ArticulatedClosure& c : model_.closures) {
+    if (c.gear && std::holds_alternative<constraints::CouplingJoint<double>>(*c.gear)) continue;
+    if (why)
+      *why = c.label + (c.gear ? " is a gear row" : " closes a loop") +
+             ": lgvi in joint coordinates takes coupling rows (linear in the joint coordinates) but no loop-closing "
+             "joints or gear rows";
+    return false;
+  }
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
-    std::string reason;
-    for (int k = 0; k < b.coordinates() && reason.empty(); ++k)
-      if (b.prescribed(k)) reason = "has a prescribed joint angle (a time-dependent constraint)";
-    if (reason.empty()) continue;
-    if (why) {
-      std::ostringstream s;
-      s << "body '" << model_.names[i] << "' " << reason
-        << "; lgvi in joint coordinates takes no prescribed motion (a time-dependent constraint; maximal coordinates "
-           "run it)";
-      *why = s.str();
+    for (int k = 0; k < b.coordinates(); ++k) {
+      if (!b.prescribed(k)) continue;
+      if (why)
+        *why = "body '" + model_.names[i] +
+               "' has a prescribed joint angle, a time-dependent constraint, which lgvi in joint coordinates does "
+               "not take";
+      return false;
     }
-    return false;
   }
-  if (hasClosures()) {
-    if (why)
-      *why = model_.closures.front().label +
-             " closes a loop: lgvi in joint coordinates has no multipliers for loop-closing joints";
-    return false;
-  }
+  return true;
+}
+
+bool ArticulatedSystem::onlyCouplings() const {
+  for (const ArticulatedClosure& c : model_.closures)
+    if (!c.gear || !std::holds_alternative<constraints::CouplingJoint<double>>(*c.gear)) return false;
   return true;
 }
 
@@ -153,6 +157,11 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
     for (int r : free_root_body_) f->root_offset[model_.bodies[r].rotation] /= free_tree_mass_[model_.bodies[r].rotation];
   }
   if (!factor) return;
+  factorMassAndCouplings(f);
+}
+
+void ArticulatedSystem::factorMassAndCouplings(Frames* f) const {
+  const int n = bodyCount();
   // The ABA's pass 2 without bias forces, leaves to root: from the rigid
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
   // −m [c]×, m I], the articulated inertias I_A, U = I_A S, D = Sᵀ U and
@@ -208,15 +217,46 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
       data_.articulated[b.parent] += Ia;
     }
   }
+  if (coupling_G_.size() == 0) return;
+  // Y = M⁻¹ Gᵀ column by column, and G Y factored.
+  const int m = static_cast<int>(coupling_G_.rows());
+  f->coupling_Y.resize(dofs(), m);
+  data_.coupling_rhs.resize(dofs());
+  for (int k = 0; k < m; ++k) {
+    data_.coupling_rhs = coupling_G_.row(k).transpose();
+    solveStepMass(*f, data_.coupling_rhs, false, &data_.coupling_x);
+    f->coupling_Y.col(k) = data_.coupling_x;
+  }
+  data_.coupling_GY.resize(m, m);
+  data_.coupling_GY.noalias() = coupling_G_ * f->coupling_Y;
+  f->coupling_A.compute(data_.coupling_GY);
+}
+
+void ArticulatedSystem::projectIncrement(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* dv,
+                                         Eigen::VectorXd* r) const {
+  if (coupling_G_.size() == 0) return;
+  data_.coupling_g.noalias() = coupling_G_ * v;
+  data_.coupling_g.noalias() += coupling_G_ * *dv;
+  data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
+  dv->noalias() -= f.coupling_Y * data_.coupling_lambda;
+  r->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
+}
+
+void ArticulatedSystem::rates(const Frames& f, Eigen::VectorXd* p, Eigen::VectorXd* u) const {
+  if (coupling_G_.size() != 0) {
+    // μ with G M⁻¹ (p + Gᵀμ) = 0: −(G Y)⁻¹ G M⁻¹ p.
+    solveStepMass(f, *p, false, &data_.coupling_x);
+    data_.coupling_g.noalias() = coupling_G_ * data_.coupling_x;
+    data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
+    p->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
+  }
+  solveStepMass(f, *p, true, u);
 }
 
 void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
   solveStepMass(f, rhs, false, x);
 }
 
-void ArticulatedSystem::rates(const Frames& f, const Eigen::VectorXd& p, Eigen::VectorXd* u) const {
-  solveStepMass(f, p, true, u);
-}
 
 void ArticulatedSystem::solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates,
                                       Eigen::VectorXd* x) const {
