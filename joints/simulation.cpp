@@ -299,8 +299,9 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
       if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
       return false;
     }
-    if (integrator != "lgvi" && model_->articulated->system->hasClosures() &&
-        !runsWithLoopsInJointCoordinates(integrator, why))
+    const bool only_couplings = model_->articulated->system->couplingRows().size() != 0;
+    if (integrator != "lgvi" && !(integrator == "genalpha" && only_couplings) &&
+        model_->articulated->system->hasClosures() && !runsWithLoopsInJointCoordinates(integrator, why))
       return false;
     if (integrator == "genalpha" && model_->articulated->system->hasFreeRoot()) {
       if (why)

@@ -1,5 +1,6 @@
 // Running a scene in joint coordinates (--formulation joint).
 #include "integrators/joint_space_variational.hpp"
+#include "joints/articulated/articulated_coupled_alpha.hpp"
 #include "joints/articulated/articulated_second_order.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_projected.hpp"
@@ -15,7 +16,7 @@ bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string*
     if (integrator == "lgvi")
       *why = "'lgvi' in joint coordinates takes coupling rows but no loop-closing joints or gear rows";
     else if (integrator == "genalpha")
-      *why = "'genalpha' in joint coordinates has no multipliers for loop-closing joints";
+      *why = "'genalpha' in joint coordinates takes coupling rows but no loop-closing joints or gear rows";
     else
       *why = "'" + integrator + "' is not available in joint coordinates";
     *why += "; a scene with a closed loop runs in joint coordinates with rkmk-euler, rkmk-heun, rkmk3, rkmk4, "
@@ -29,6 +30,16 @@ SimulationResult runArticulated(const Simulation::Model& model, const Simulation
                                 const std::function<void(const std::vector<double>&)>& row) {
   const articulated::ArticulatedSystem& system = *model.articulated->system;
   const articulated::ArticulatedState& y0 = model.articulated->y0;
+  if (system.hasClosures() && o.integrator == "genalpha" && system.couplingRows().size() != 0) {
+    // Coupling rows only: genalpha in their kernel's coordinates.
+    GeneralizedAlphaOptions g;
+    g.rho_inf = simulation_detail::option(o, "rho_inf", g.rho_inf);
+    g.tolerance = simulation_detail::option(o, "tolerance", g.tolerance);
+    g.max_iterations = static_cast<int>(simulation_detail::option(o, "max_iterations", g.max_iterations));
+    return simulation_detail::runFixedStep(
+        model, system, y0, o, columns, row,
+        articulated::CoupledGeneralizedAlphaStepper(system, system.couplingRows(), g));
+  }
   if (system.hasClosures() && o.integrator != "lgvi") {
     // Loops: the explicit steppers in index-1 form, projected onto the
     // closing joints' rows after every step (as in maximal coordinates).

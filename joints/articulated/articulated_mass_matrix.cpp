@@ -1,5 +1,8 @@
 // ArticulatedSystem: the joint-space mass matrix (composite-rigid-body
 // algorithm) and the terms of M v̇ + g = 0 for the generalized-α method.
+#include <vector>
+
+#include "joints/articulated/articulated_coupled_alpha.hpp"
 #include "joints/articulated/articulated_system.hpp"
 
 namespace lieflow {
@@ -73,6 +76,30 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
       if (Kt) (*Kt)(u, u) = drive.stiffness;
     }
   }
+}
+
+Eigen::MatrixXd CoupledArticulatedSystem::kernelBasis(const Eigen::MatrixXd& G) {
+  const int n = static_cast<int>(G.cols()), m = static_cast<int>(G.rows());
+  std::vector<int> touched;
+  for (int j = 0; j < n; ++j)
+    if (G.col(j).cwiseAbs().maxCoeff() > 0.0) touched.push_back(j);
+  const int k = static_cast<int>(touched.size());
+  Eigen::MatrixXd Gt(k, m);
+  for (int i = 0; i < k; ++i) Gt.row(i) = G.col(touched[i]).transpose();
+  // Gᵀ = Q R: Q's columns past the first m span ker G on the touched block.
+  const Eigen::MatrixXd Q = Eigen::HouseholderQR<Eigen::MatrixXd>(Gt).householderQ();
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, n - m);
+  int col = 0;
+  for (int j = 0, t = 0; j < n; ++j) {
+    if (t < k && touched[t] == j) {
+      ++t;
+      continue;
+    }
+    N(j, col++) = 1.0;
+  }
+  for (int c = m; c < k; ++c, ++col)
+    for (int i = 0; i < k; ++i) N(touched[i], col) = Q(i, c);
+  return N;
 }
 
 }  // namespace articulated

@@ -178,6 +178,11 @@ class ArticulatedSystem {
   /// explicit steppers run in index-1 form with ProjectedStepper
   /// (integrators/projected_stepper.hpp) keeping Φ = 0 and Φ̇ = 0.
   bool hasClosures() const { return !model_.closures.empty(); }
+  /// The coupling rows G (m × dofs; constant in joint coordinates) when
+  /// every closure is a coupling row, else empty: lgvi imposes them with
+  /// multipliers, genalpha in the coordinates of their kernel
+  /// (articulated_coupled_alpha.hpp).
+  const Eigen::MatrixXd& couplingRows() const { return coupling_G_; }
   /// max |Φ| over the closing joints' rows at (t, y) (metres, radians).
   double constraintError(double t, const State& y) const;
   /// Moves y's coordinates onto Φ = 0 by Gauss–Newton steps in the mass
@@ -230,8 +235,12 @@ class ArticulatedSystem {
   /// time-dependent constraint) and no loop. If not, `why` names the body
   /// and the reason.
   bool variationalCovers(std::string* why) const;
-  /// The frames at the configuration of y (factored when `factor`).
-  void frames(double t, const State& y, bool factor, Frames* f) const;
+  /// The frames at the configuration of y (factored when `factor`: M, or
+  /// M + damping_weight · D_c with D_c the joints' dashpot constants on
+  /// their coordinates, an armature in the articulated-body factorization —
+  /// the dashpots' forces −D_c q̇ are linear, so lgvi's end kick
+  /// (M + (h/2) D_c) q̇₁ = p₁* + (h/2) Q(q̇ = 0) is one solve).
+  void frames(double t, const State& y, bool factor, Frames* f, double damping_weight = 0.0) const;
   /// out's configuration = y's ⊕ s v: the scalar coordinates plus s v, each
   /// rotation N exp(s v_k) (out->u is left as it is).
   void advance(const State& y, const Eigen::VectorXd& v, double s, State* out) const;
@@ -395,7 +404,7 @@ class ArticulatedSystem {
   void centreFreeTrees(const Frames& f, const Eigen::VectorXd& v, bool state_rates) const;
   /// frames()' factorization: the articulated inertias, U, D⁻¹, the free
   /// roots' blocks; with coupling rows, Y = M⁻¹ Gᵀ and G Y.
-  void factorMassAndCouplings(Frames* f) const;
+  void factorMassAndCouplings(Frames* f, double damping_weight) const;
   /// solveMass (step's coordinates) or, `state_rates`, the state's rates.
   void solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates, Eigen::VectorXd* x) const;
   /// By body: the rotation index of the free root whose tree holds it, or

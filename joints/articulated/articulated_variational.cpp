@@ -144,7 +144,7 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
   fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x2 - fr.R * b.anchor_child);
 }
 
-void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) const {
+void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f, double damping_weight) const {
   const int n = bodyCount();
   f->bodies.resize(n);
   f->factored = factor;
@@ -157,10 +157,10 @@ void ArticulatedSystem::frames(double, const State& y, bool factor, Frames* f) c
     for (int r : free_root_body_) f->root_offset[model_.bodies[r].rotation] /= free_tree_mass_[model_.bodies[r].rotation];
   }
   if (!factor) return;
-  factorMassAndCouplings(f);
+  factorMassAndCouplings(f, damping_weight);
 }
 
-void ArticulatedSystem::factorMassAndCouplings(Frames* f) const {
+void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight) const {
   const int n = bodyCount();
   // The ABA's pass 2 without bias forces, leaves to root: from the rigid
   // inertias about the origin, I_O = [J_w + m (|c|² I − c cᵀ), m [c]×;
@@ -190,21 +190,28 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f) const {
       continue;
     }
     Matrix6 Ia;
+    // D = Sᵀ I_A S plus the dashpots' weight × c per coordinate (an armature:
+    // M + w D_c, the end kick's matrix; articulated_system.hpp, frames()).
+    const std::array<multibody::CoordinateDrive, 3>& drive = model_.drives[i];
     if (fr.free == 3) {
       fr.U.noalias() = I * fr.S;
-      fr.Dinv = (fr.S.transpose() * fr.U).inverse();
+      Eigen::Matrix3d D = fr.S.transpose() * fr.U;
+      for (int k = 0; k < 3; ++k) D(k, k) += damping_weight * drive[k].damping;
+      fr.Dinv = D.inverse();
       if (b.parent == kGround) continue;
       Ia = I;
       Ia.noalias() -= fr.U * fr.Dinv * fr.U.transpose();
     } else if (fr.free == 1) {
       fr.U.col(0).noalias() = I * fr.S.col(0);
-      fr.Dinv(0, 0) = 1.0 / fr.S.col(0).dot(fr.U.col(0));
+      fr.Dinv(0, 0) = 1.0 / (fr.S.col(0).dot(fr.U.col(0)) + damping_weight * drive[0].damping);
       if (b.parent == kGround) continue;
       Ia = I;
       Ia.noalias() -= (fr.Dinv(0, 0) * fr.U.col(0)) * fr.U.col(0).transpose();
     } else {
       fr.U.leftCols<2>().noalias() = I * fr.S.leftCols<2>();
-      const Eigen::Matrix2d D = fr.S.leftCols<2>().transpose() * fr.U.leftCols<2>();
+      Eigen::Matrix2d D = fr.S.leftCols<2>().transpose() * fr.U.leftCols<2>();
+      D(0, 0) += damping_weight * drive[0].damping;
+      D(1, 1) += damping_weight * drive[1].damping;
       fr.Dinv.topLeftCorner<2, 2>() = D.inverse();
       if (b.parent == kGround) continue;
       Ia = I;

@@ -1,0 +1,135 @@
+/// \file
+/// The generalized-α method in joint coordinates on a tree whose coupling
+/// rows (α q̇₁ + q̇₂ = 0, URDF <mimic>, MJCF joint equalities) are constant
+/// and linear there: G u = 0 with G fixed, so the motion lives on an affine
+/// subspace and the rows are exact in reduced coordinates. With N an
+/// orthonormal basis of ker G (identity on the coordinates no row touches,
+/// so the rotation blocks keep their geometry), u = N w and
+///   Nᵀ M N ẇ + Nᵀ g = 0
+/// (the multipliers' forces Gᵀλ drop out: Nᵀ Gᵀ = 0). The generic stepper
+/// (integrators/generalized_alpha.hpp) runs on w; the configuration moves
+/// by N dq, so G q stays where it started to rounding.
+/// CoupledGeneralizedAlphaStepper wraps it behind the full state, so the
+/// run's observers see an ArticulatedState.
+#pragma once
+
+#include <memory>
+
+#include <Eigen/Core>
+#include <Eigen/QR>
+
+#include "integrators/generalized_alpha.hpp"
+#include "joints/articulated/articulated_second_order.hpp"
+
+namespace lieflow {
+namespace articulated {
+
+/// The reduced state: the full one, its reduced velocity w (u = N w) and
+/// the basis N it is read through.
+struct CoupledArticulatedState {
+  using Scalar = double;
+  static constexpr int kTangentDim = Eigen::Dynamic;
+  ArticulatedState full;
+  Eigen::VectorXd w;
+  std::shared_ptr<const Eigen::MatrixXd> N;
+};
+
+/// The tree seen through N, with its full matrices as scratch.
+struct CoupledArticulatedSystem {
+  using Scalar = double;
+  using State = CoupledArticulatedState;
+  const ArticulatedSystem* system = nullptr;
+  std::shared_ptr<const Eigen::MatrixXd> N;
+  mutable Eigen::MatrixXd M, Ct, Kt, MN;
+  mutable Eigen::VectorXd g;
+
+  /// N for the coupling rows G (m × n, full row rank): on the coordinates
+  /// some row touches, the last columns of the QR factor of that block of Gᵀ
+  /// (an orthonormal basis of its kernel); the identity on the others.
+  static Eigen::MatrixXd kernelBasis(const Eigen::MatrixXd& G);
+};
+
+}  // namespace articulated
+
+template <>
+struct SecondOrderStateTraits<articulated::CoupledArticulatedState> {
+  using Scalar = double;
+  using State = articulated::CoupledArticulatedState;
+  using Full = SecondOrderStateTraits<articulated::ArticulatedState>;
+  static constexpr int kDof = Eigen::Dynamic;
+  using Vector = Eigen::VectorXd;
+  using Matrix = Eigen::MatrixXd;
+
+  static int dofs(const State& y) { return static_cast<int>(y.w.size()); }
+  static const Vector& velocity(const State& y) { return y.w; }
+  static void advanceInto(const State& y, const Vector& dq, const Vector& v, State* out) {
+    const Eigen::MatrixXd& N = *y.N;
+    Full::advanceInto(y.full, N * dq, N * v, &out->full);
+    out->w = v;
+    out->N = y.N;
+  }
+  /// T_r = Nᵀ T(N dq) N: exact, as T is the identity on the coordinates N mixes.
+  static void tangentOperatorInto(const State& y, const Vector& dq, Matrix* T) {
+    const Eigen::MatrixXd& N = *y.N;
+    Eigen::MatrixXd full;
+    Full::tangentOperatorInto(y.full, N * dq, &full);
+    *T = N.transpose() * full * N;
+  }
+  static bool identical(const State& a, const State& b) { return Full::identical(a.full, b.full) && a.w == b.w; }
+};
+
+template <>
+struct SecondOrderSystemTraits<articulated::CoupledArticulatedSystem> {
+  using Scalar = double;
+  using State = articulated::CoupledArticulatedState;
+  using Vector = Eigen::VectorXd;
+  using Matrix = Eigen::MatrixXd;
+  static void evaluate(const articulated::CoupledArticulatedSystem& s, double t, const State& y, Matrix* M,
+                       Vector* g, Matrix* Ct, Matrix* Kt) {
+    const Eigen::MatrixXd& N = *s.N;
+    s.system->secondOrderTerms(t, y.full, &s.M, &s.g, Ct ? &s.Ct : nullptr, Kt ? &s.Kt : nullptr);
+    s.MN.noalias() = s.M * N;
+    M->noalias() = N.transpose() * s.MN;
+    g->noalias() = N.transpose() * s.g;
+    if (Ct) *Ct = N.transpose() * s.Ct * N;
+    if (Kt) *Kt = N.transpose() * s.Kt * N;
+  }
+};
+
+namespace articulated {
+
+/// genalpha on a tree with coupling rows, stepping the full state through
+/// the reduced one (see the file comment); a stepper for integrateFixedStep.
+class CoupledGeneralizedAlphaStepper {
+ public:
+  using State = ArticulatedState;
+  CoupledGeneralizedAlphaStepper(const ArticulatedSystem& system, const Eigen::MatrixXd& G,
+                                 GeneralizedAlphaOptions options)
+      : inner_(options) {
+    reduced_system_.system = &system;
+    reduced_system_.N = std::make_shared<const Eigen::MatrixXd>(CoupledArticulatedSystem::kernelBasis(G));
+  }
+
+  const ArticulatedState& step(const ArticulatedSystem&, double t, const ArticulatedState& y, double h,
+                               StepReport* report = nullptr) {
+    // Continue from the reduced state when y is the last result (the
+    // stepper's history, v̇ and a, belongs to it); else read y through N.
+    if (!(have_last_ && SecondOrderStateTraits<ArticulatedState>::identical(y, last_.full))) {
+      last_.full = y;
+      last_.N = reduced_system_.N;
+      last_.w.noalias() = reduced_system_.N->transpose() * y.u;
+    }
+    last_ = inner_.step(reduced_system_, t, last_, h, report);
+    have_last_ = true;
+    return last_.full;
+  }
+
+ private:
+  GeneralizedAlphaStepper<CoupledArticulatedState> inner_;
+  CoupledArticulatedSystem reduced_system_;
+  CoupledArticulatedState last_;
+  bool have_last_ = false;
+};
+
+}  // namespace articulated
+}  // namespace lieflow
