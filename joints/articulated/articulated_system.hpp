@@ -228,11 +228,10 @@ class ArticulatedSystem {
     bool factored = false;
   };
 
-  /// Whether the variational integrator covers this tree: revolute,
-  /// universal, prismatic and spherical joints and free roots (the
-  /// rotations each in the step's chart, joint_space_variational.hpp), no
-  /// gimbal or offset universal joint, no prescribed coordinate (a
-  /// time-dependent constraint) and no loop. If not, `why` names the body
+  /// Whether the variational integrator covers this tree: every joint kind
+  /// (the rotations on SO(3), joint_space_variational.hpp) and coupling rows,
+  /// but no prescribed coordinate (a time-dependent constraint), no loop-
+  /// closing joint and no gear row. If not, `why` names the joint or body
   /// and the reason.
   bool variationalCovers(std::string* why) const;
   /// The frames at the configuration of y (factored when `factor`: M, or

@@ -239,27 +239,6 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
   f->coupling_A.compute(data_.coupling_GY);
 }
 
-void ArticulatedSystem::projectIncrement(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* dv,
-                                         Eigen::VectorXd* r) const {
-  if (coupling_G_.size() == 0) return;
-  data_.coupling_g.noalias() = coupling_G_ * v;
-  data_.coupling_g.noalias() += coupling_G_ * *dv;
-  data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
-  dv->noalias() -= f.coupling_Y * data_.coupling_lambda;
-  r->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
-}
-
-void ArticulatedSystem::rates(const Frames& f, Eigen::VectorXd* p, Eigen::VectorXd* u) const {
-  if (coupling_G_.size() != 0) {
-    // μ with G M⁻¹ (p + Gᵀμ) = 0: −(G Y)⁻¹ G M⁻¹ p.
-    solveStepMass(f, *p, false, &data_.coupling_x);
-    data_.coupling_g.noalias() = coupling_G_ * data_.coupling_x;
-    data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
-    p->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
-  }
-  solveStepMass(f, *p, true, u);
-}
-
 void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
   solveStepMass(f, rhs, false, x);
 }
@@ -427,45 +406,6 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
   }
 }
 
-void ArticulatedSystem::centreFreeTrees(const Frames& f, const Eigen::VectorXd& v, bool state_rates) const {
-  if (free_root_body_.empty()) return;
-  // The trees' momenta with v_c = 0, P₀ = Σ m v_c; each tree's v_z (given,
-  // or v_c + P₀/M_tree from the state's v_c); then the uniform motion
-  // −P₀/M_tree added to every body of the tree, which brings its momentum
-  // to zero: the twists (0, u), the momenta (c × m u, m u).
-  data_.tree_vz.resize(model_.rotations);
-  data_.tree_shift.assign(model_.rotations, Eigen::Vector3d::Zero());
-  const int n = bodyCount();
-  for (int i = 0; i < n; ++i)
-    if (free_tree_[i] >= 0) data_.tree_shift[free_tree_[i]] += data_.accumulated[i].tail<3>();
-  for (int r : free_root_body_) {
-    const ArticulatedBody& b = model_.bodies[r];
-    const Eigen::Vector3d rest = data_.tree_shift[b.rotation] / free_tree_mass_[b.rotation];
-    data_.tree_vz[b.rotation] = state_rates ? Eigen::Vector3d(v.segment<3>(b.u_begin) + rest)
-                                            : Eigen::Vector3d(v.segment<3>(b.u_begin));
-    data_.tree_shift[b.rotation] = -rest;
-  }
-  for (int i = 0; i < n; ++i) {
-    if (free_tree_[i] < 0) continue;
-    const Eigen::Vector3d& u = data_.tree_shift[free_tree_[i]];
-    const Eigen::Vector3d mu = model_.bodies[i].mass * u;
-    data_.accumulated[i].head<3>() += cross3(f.bodies[i].c, mu);
-    data_.accumulated[i].tail<3>() += mu;
-    data_.twist[i].tail<3>() += u;
-    if (model_.bodies[i].kind != JointKind::kFree) data_.before[i].tail<3>() += u;
-  }
-}
-
-void ArticulatedSystem::placeFreeRoots(const Frames& start, const Frames& end, const State& y0,
-                                       const Eigen::VectorXd& v, double h, State* y1) const {
-  // z₁ = z₀ + h v_z, the root at z − (its tree's centre from it).
-  for (int r : free_root_body_) {
-    const ArticulatedBody& b = model_.bodies[r];
-    y1->q.segment<3>(b.q_begin) = y0.q.segment<3>(b.q_begin) + start.root_offset[b.rotation] +
-                                  h * v.segment<3>(b.u_begin) - end.root_offset[b.rotation];
-  }
-}
-
 void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
                                 Eigen::VectorXd* dTdq) const {
   const int n = bodyCount();
@@ -554,53 +494,6 @@ void ArticulatedSystem::generalizedForces(double t, const Frames& f, const Eigen
     }
     if (b.parent != kGround)
       data_.accumulated[b.parent] += b.rotation_only ? heldForce(fr.c, data_.accumulated[i]) : data_.accumulated[i];
-  }
-}
-
-void ArticulatedSystem::advance(const State& y, const Eigen::VectorXd& v, double s, State* out) const {
-  const int nq = y.scalarCount();
-  out->q = y.q + s * v.head(nq);
-  out->N.resize(y.N.size());
-  for (std::size_t k = 0; k < y.N.size(); ++k)
-    out->N[k] = y.N[k] * SO3d::exp(s * v.segment<3>(nq + 3 * static_cast<int>(k)));
-}
-
-bool ArticulatedSystem::sameConfiguration(const State& a, const State& b) {
-  if (a.q.size() != b.q.size() || a.N.size() != b.N.size() || a.q != b.q) return false;
-  for (std::size_t k = 0; k < a.N.size(); ++k)
-    if (a.N[k].quaternion().coeffs() != b.N[k].quaternion().coeffs()) return false;
-  return true;
-}
-
-void ArticulatedSystem::toStepChart(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
-                                    StepChart* chart) const {
-  const int nq = model_.scalar_coordinates;
-  chart->xi.resize(model_.rotations);
-  chart->pi.resize(model_.rotations);
-  chart->delta.resize(model_.rotations);
-  for (int k = 0; k < model_.rotations; ++k) {
-    const int o = nq + 3 * k;
-    const Eigen::Vector3d xi = h * v.segment<3>(o);
-    const Eigen::Matrix3d JlInv = SO3d::JlInv(xi);
-    const Eigen::Matrix3d B = SO3d::exp(-0.5 * xi).matrix() - 0.5 * SO3d::Jr(0.5 * xi) * JlInv;
-    chart->xi[k] = xi;
-    chart->pi[k] = Mv->segment<3>(o);
-    chart->delta[k] = dT->segment<3>(o);
-    Mv->segment<3>(o).noalias() = JlInv.transpose() * chart->pi[k];
-    dT->segment<3>(o).noalias() = 2.0 * (B.transpose() * chart->delta[k]);
-  }
-}
-
-void ArticulatedSystem::fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b,
-                                      Eigen::VectorXd* p) const {
-  const int nq = model_.scalar_coordinates;
-  for (int k = 0; k < model_.rotations; ++k) {
-    const int o = nq + 3 * k;
-    // D₂L_d + D₁L_d = (Jr⁻¹ − Jl⁻¹)(ξ)ᵀ π + h (A + B)ᵀ δ, Jr⁻¹ − Jl⁻¹ = [ξ]×,
-    // A + B = exp(−ξ/2) + ½ Jr(ξ/2) [ξ]×.
-    const Eigen::Vector3d& xi = chart.xi[k];
-    const Eigen::Matrix3d AB = SO3d::exp(-0.5 * xi).matrix() + 0.5 * SO3d::Jr(0.5 * xi) * hat(xi);
-    p->segment<3>(o) = b.segment<3>(o) + cross3(chart.pi[k], xi) + h * (AB.transpose() * chart.delta[k]);
   }
 }
 
