@@ -404,6 +404,9 @@ class ArticulatedSystem {
   /// frames()' factorization: the articulated inertias, U, D⁻¹, the free
   /// roots' blocks; with coupling rows, Y = M⁻¹ Gᵀ and G Y.
   void factorMassAndCouplings(Frames* f, double damping_weight) const;
+  /// kinetic() (v in the step's coordinates) or, `state_rates`, momenta().
+  void kineticPasses(const Frames& f, const Eigen::VectorXd& v, bool state_rates, Eigen::VectorXd* Mv,
+                     Eigen::VectorXd* dTdq) const;
   /// solveMass (step's coordinates) or, `state_rates`, the state's rates.
   void solveStepMass(const Frames& f, const Eigen::VectorXd& rhs, bool state_rates, Eigen::VectorXd* x) const;
   /// By body: the rotation index of the free root whose tree holds it, or

@@ -406,25 +406,24 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
   }
 }
 
-void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
-                                Eigen::VectorXd* dTdq) const {
+void ArticulatedSystem::kineticPasses(const Frames& f, const Eigen::VectorXd& v, bool state_rates,
+                                      Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const {
   const int n = bodyCount();
   data_.twist.resize(n);
   data_.before.resize(n);
   data_.accumulated.resize(n);
   for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], v);
-  centreFreeTrees(f, v, false);
+  centreFreeTrees(f, v, state_rates);
   momentumBack(f, v, Mv, dTdq);
 }
 
+void ArticulatedSystem::kinetic(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv,
+                                Eigen::VectorXd* dTdq) const {
+  kineticPasses(f, v, false, Mv, dTdq);
+}
+
 void ArticulatedSystem::momenta(const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* p) const {
-  const int n = bodyCount();
-  data_.twist.resize(n);
-  data_.before.resize(n);
-  data_.accumulated.resize(n);
-  for (int i = 0; i < n; ++i) momentumOut(i, f.bodies[i], u);
-  centreFreeTrees(f, u, true);
-  momentumBack(f, u, p, nullptr);
+  kineticPasses(f, u, true, p, nullptr);
 }
 
 void ArticulatedSystem::kineticAt(double, const State& y, const Eigen::VectorXd& v, const Frames& near, Frames* f,

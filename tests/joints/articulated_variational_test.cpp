@@ -430,27 +430,26 @@ constexpr const char* kCoupledRig = R"({
   ]
 })";
 
-TEST(JointLgviOnGroups, HoldsCouplingRowsAndConvergesAtOrderTwo) {
-  // The rows as multipliers (RATTLE on G q = const): every CSV column after
-  // 0.5 s against joint rkmk4 at h = 1e-4 at order 2, and the coupled
-  // coordinates' relations kept to round-off at every row.
-  const Simulation sim(parseScene(kCoupledRig, "coupled-rig.json"));
-  EXPECT_EQ(sim.defaultFormulation("lgvi"), "joint");
+/// `integrator` on the coupled rig `scene` in joint coordinates: every CSV
+/// column after 0.5 s against joint rkmk4 at h = 1e-4 at order 2, and the
+/// coupled coordinates' relations kept to round-off at every row over 2 s.
+void expectCoupledRigHeld(const SceneDescription& scene, const std::string& integrator) {
+  const Simulation sim(scene);
+  EXPECT_EQ(sim.defaultFormulation(integrator), "joint");
   const RunEnds reference = runEnds(sim, "joint", "rkmk4", 1e-4, 0.5);
   std::vector<double> hs, errors;
   for (double h : {4e-3, 2e-3, 1e-3}) {
-    const RunEnds r = runEnds(sim, "joint", "lgvi", h, 0.5);
+    const RunEnds r = runEnds(sim, "joint", integrator, h, 0.5);
     ASSERT_FALSE(r.result.failed) << r.result.failure;
     hs.push_back(h);
     errors.push_back(maxDifference(r.last, reference.last));
   }
   const double slope = testing_support::logLogSlope(hs, errors);
-  std::cout << "[ measured ] coupled rig, lgvi in joint coordinates: errors " << errors[0] << " " << errors[1] << " "
-            << errors[2] << " (slope " << slope << ")\n";
+  std::cout << "[ measured ] " << scene.name << ", " << integrator << " in joint coordinates: errors " << errors[0]
+            << " " << errors[1] << " " << errors[2] << " (slope " << slope << ")\n";
   EXPECT_GT(slope, 1.9);
   EXPECT_LT(slope, 2.1);
-  const scene_testing::Trajectory tr =
-      scene_testing::simulate(parseScene(kCoupledRig, "coupled-rig.json"), "lgvi", 2e-3, 2.0, 1, "joint");
+  const scene_testing::Trajectory tr = scene_testing::simulate(scene, integrator, 2e-3, 2.0, 1, "joint");
   double mimic = 0.0, feed = 0.0, travel = 0.0;
   const double l0 = tr.at(0, "hinge_left.phi"), r0 = tr.at(0, "hinge_right.phi"), x0 = tr.at(0, "bore.x");
   for (std::size_t r = 0; r < tr.rows.size(); ++r) {
@@ -459,19 +458,25 @@ TEST(JointLgviOnGroups, HoldsCouplingRowsAndConvergesAtOrderTwo) {
     feed = std::max(feed, std::abs(0.2 * dl + (tr.at(r, "bore.x") - x0)));
     travel = std::max(travel, std::abs(dl));
   }
-  std::cout << "[ measured ] coupled rig, lgvi h = 2e-3 over 2 s: max |1.5 dphi_l + dphi_r| " << mimic
-            << ", max |0.2 dphi_l + dx| " << feed << " (the left hinge turned up to " << travel << " rad)\n";
+  std::cout << "[ measured ] " << scene.name << ", " << integrator
+            << " h = 2e-3 over 2 s: max |1.5 dphi_l + dphi_r| " << mimic << ", max |0.2 dphi_l + dx| " << feed
+            << " (the left hinge turned up to " << travel << " rad)\n";
   EXPECT_GT(travel, 0.05);
   EXPECT_LT(mimic, 1e-12);
   EXPECT_LT(feed, 1e-12);
 }
 
+TEST(JointLgviOnGroups, HoldsCouplingRowsAndConvergesAtOrderTwo) {
+  // The rows as multipliers (RATTLE on G q = const).
+  expectCoupledRigHeld(parseScene(kCoupledRig, "coupled-rig.json"), "lgvi");
+}
+
 TEST(JointGeneralizedAlpha, RunsCouplingRowsInTheirKernel) {
   // The coupled rig with its trunk on a hinge to the ground (genalpha in
-  // joint coordinates takes no free root yet): in the coordinates of ker G
-  // (articulated_coupled_alpha.hpp) genalpha converges at order 2 against
-  // rkmk4 at h = 1e-4 and holds both rows to round-off; it is the default.
+  // joint coordinates takes no free root yet), in the coordinates of ker G
+  // (articulated_coupled_alpha.hpp).
   SceneDescription scene = parseScene(kCoupledRig, "coupled-rig.json");
+  scene.name = "hinged coupled rig";
   JointDescription pivot;
   pivot.name = "pivot";
   pivot.type = "revolute";
@@ -479,35 +484,7 @@ TEST(JointGeneralizedAlpha, RunsCouplingRowsInTheirKernel) {
   pivot.secondary = "trunk";
   pivot.axis_main = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();
   scene.joints.insert(scene.joints.begin(), pivot);
-  const Simulation sim(scene);
-  EXPECT_EQ(sim.defaultFormulation("genalpha"), "joint");
-  const RunEnds reference = runEnds(sim, "joint", "rkmk4", 1e-4, 0.5);
-  std::vector<double> hs, errors;
-  for (double h : {4e-3, 2e-3, 1e-3}) {
-    const RunEnds r = runEnds(sim, "joint", "genalpha", h, 0.5);
-    ASSERT_FALSE(r.result.failed) << r.result.failure;
-    hs.push_back(h);
-    errors.push_back(maxDifference(r.last, reference.last));
-  }
-  const double slope = testing_support::logLogSlope(hs, errors);
-  std::cout << "[ measured ] hinged coupled rig, genalpha in joint coordinates: errors " << errors[0] << " "
-            << errors[1] << " " << errors[2] << " (slope " << slope << ")\n";
-  EXPECT_GT(slope, 1.8);
-  EXPECT_LT(slope, 2.2);
-  const scene_testing::Trajectory tr = scene_testing::simulate(scene, "genalpha", 2e-3, 2.0, 1, "joint");
-  double mimic = 0.0, feed = 0.0, travel = 0.0;
-  const double l0 = tr.at(0, "hinge_left.phi"), r0 = tr.at(0, "hinge_right.phi"), x0 = tr.at(0, "bore.x");
-  for (std::size_t r = 0; r < tr.rows.size(); ++r) {
-    const double dl = tr.at(r, "hinge_left.phi") - l0;
-    mimic = std::max(mimic, std::abs(1.5 * dl + (tr.at(r, "hinge_right.phi") - r0)));
-    feed = std::max(feed, std::abs(0.2 * dl + (tr.at(r, "bore.x") - x0)));
-    travel = std::max(travel, std::abs(dl));
-  }
-  std::cout << "[ measured ] hinged coupled rig, genalpha h = 2e-3 over 2 s: max |1.5 dphi_l + dphi_r| " << mimic
-            << ", max |0.2 dphi_l + dx| " << feed << " (the left hinge turned up to " << travel << " rad)\n";
-  EXPECT_GT(travel, 0.05);
-  EXPECT_LT(mimic, 1e-12);
-  EXPECT_LT(feed, 1e-12);
+  expectCoupledRigHeld(scene, "genalpha");
 }
 
 /// lgvi in joint coordinates for 0.01 s at h = 1e-3 with one integrator option.
