@@ -2,7 +2,7 @@
 /// A variational integrator for a mechanical system in generalized
 /// coordinates q (the joint coordinates of a tree of rigid bodies, `lgvi`
 /// with --formulation joint: angles and slides on vector spaces, spherical
-/// joints and free roots on SO(3) in a chart per step, below), L(q, q̇) = ½ q̇ᵀ M(q) q̇ − V(q),
+/// joints and free roots on SO(3), below), L(q, q̇) = ½ q̇ᵀ M(q) q̇ − V(q),
 /// with the non-conservative forces by the discrete Lagrange–d'Alembert
 /// principle.
 ///
@@ -35,7 +35,7 @@
 /// variational integrator on SO(3) as Lee, Leok & McClamroch's, Comput.
 /// Methods Appl. Mech. Engrg. 196 (2007), with the midpoint and the joints
 /// of Johnson & Murphey 2009). Its derivatives in the body's terms
-/// (System::toStepChart, fromStepChart: the Jacobians of exp) take the
+/// (System::rotationStartTerms, rotationEndMomenta: the Jacobians of exp) take the
 /// places of M v and ∂T/∂q in (1) and of p₁ in (2); at ξ = 0 they are the
 /// vector-space midpoint rule's. L_d is invariant under a turn of the whole
 /// system (N₀, N₁ → G N₀, G N₁ leaves ξ), so a free system keeps its
@@ -98,8 +98,8 @@
 ///   void placeFreeRoots(start, end, y0, v, h, y1*);  (what advance leaves to the end's frames)
 ///   void advance(y, v, s, State* out);              (out's configuration y ⊕ s v)
 ///   static bool sameConfiguration(a, b);
-///   void toStepChart(v, h, Mv*, dTdq*, chart*);     (the rotations' −D₁L_d terms; StepChart keeps the body's)
-///   void fromStepChart(h, chart, b, p*);            (the rotations' D₂L_d in the body's terms)
+///   void rotationStartTerms(v, h, Mv*, dTdq*, terms*); (the rotations' −D₁L_d terms; RotationTerms keeps the body's)
+///   void rotationEndMomenta(h, terms, b, p*);        (the rotations' D₂L_d in the body's terms)
 #pragma once
 
 #include <algorithm>
@@ -257,7 +257,7 @@ class JointSpaceVariationalStepper {
     system.frames(t + h, y1, true, &w.end, damping_weight);
     system.placeFreeRoots(w.start, w.end, y, w.v, h, &y1);
     w.p1 = w.b + h * w.dT;
-    system.fromStepChart(h, w.chart, w.b, &w.p1);  // the rotations' D₂L_d
+    system.rotationEndMomenta(h, w.rotation_terms, w.b, &w.p1);  // the rotations' D₂L_d
     if (!implicit_forces) {
       system.generalizedForces(t + h, w.end, w.v, &w.Q);
       w.r = w.p1 + (0.5 * h) * w.Q;
@@ -301,7 +301,7 @@ class JointSpaceVariationalStepper {
     Work& w = work_;
     system.advance(y, v, 0.5 * h, &w.mid);
     system.kineticAt(t + 0.5 * h, w.mid, v, w.start, &w.midframes, Mv, dT);
-    system.toStepChart(v, h, Mv, dT, &w.chart);
+    system.rotationStartTerms(v, h, Mv, dT, &w.rotation_terms);
     *r = w.b + (0.5 * h) * *dT - *Mv;
   }
 
@@ -358,7 +358,7 @@ class JointSpaceVariationalStepper {
     Eigen::VectorXd u_step;  ///< q̇ at the step's start in its coordinates (the iteration's start)
     Eigen::VectorXd Q0;      ///< the end's forces at rest (the dashpots' part left out)
     State end_config;  ///< where the last step ended (its configuration is compared)
-    typename System::StepChart chart;  ///< the rotations' body terms at the last midpoint
+    typename System::RotationTerms rotation_terms;  ///< the rotations' body terms at the last midpoint
     Eigen::VectorXd v_best;
     State substep;  ///< the start of the next substep (see step())
     State mid;

@@ -32,6 +32,18 @@ struct CoupledArticulatedState {
   ArticulatedState full;
   Eigen::VectorXd w;
   std::shared_ptr<const Eigen::MatrixXd> N;
+  /// Scratch of the traits below (N dq, N v, the full T and T N), sized at
+  /// first use and kept by each state: copying a state leaves it alone (the
+  /// stepper copies states every step; copied, the scratch would move sizes
+  /// between them and allocate).
+  struct Scratch {
+    Eigen::VectorXd dq_full, v_full;
+    Eigen::MatrixXd T_full, TN;
+    Scratch() = default;
+    Scratch(const Scratch&) {}
+    Scratch& operator=(const Scratch&) { return *this; }
+  };
+  mutable Scratch scratch;
 };
 
 /// The tree seen through N, with its full matrices as scratch.
@@ -64,16 +76,19 @@ struct SecondOrderStateTraits<articulated::CoupledArticulatedState> {
   static const Vector& velocity(const State& y) { return y.w; }
   static void advanceInto(const State& y, const Vector& dq, const Vector& v, State* out) {
     const Eigen::MatrixXd& N = *y.N;
-    Full::advanceInto(y.full, N * dq, N * v, &out->full);
+    y.scratch.dq_full.noalias() = N * dq;
+    y.scratch.v_full.noalias() = N * v;
+    Full::advanceInto(y.full, y.scratch.dq_full, y.scratch.v_full, &out->full);
     out->w = v;
     out->N = y.N;
   }
   /// T_r = Nᵀ T(N dq) N: exact, as T is the identity on the coordinates N mixes.
   static void tangentOperatorInto(const State& y, const Vector& dq, Matrix* T) {
     const Eigen::MatrixXd& N = *y.N;
-    Eigen::MatrixXd full;
-    Full::tangentOperatorInto(y.full, N * dq, &full);
-    *T = N.transpose() * full * N;
+    y.scratch.dq_full.noalias() = N * dq;
+    Full::tangentOperatorInto(y.full, y.scratch.dq_full, &y.scratch.T_full);
+    y.scratch.TN.noalias() = y.scratch.T_full * N;
+    T->noalias() = N.transpose() * y.scratch.TN;
   }
   static bool identical(const State& a, const State& b) { return Full::identical(a.full, b.full) && a.w == b.w; }
 };
@@ -91,8 +106,14 @@ struct SecondOrderSystemTraits<articulated::CoupledArticulatedSystem> {
     s.MN.noalias() = s.M * N;
     M->noalias() = N.transpose() * s.MN;
     g->noalias() = N.transpose() * s.g;
-    if (Ct) *Ct = N.transpose() * s.Ct * N;
-    if (Kt) *Kt = N.transpose() * s.Kt * N;
+    if (Ct) {
+      s.MN.noalias() = s.Ct * N;
+      Ct->noalias() = N.transpose() * s.MN;
+    }
+    if (Kt) {
+      s.MN.noalias() = s.Kt * N;
+      Kt->noalias() = N.transpose() * s.MN;
+    }
   }
 };
 

@@ -1,5 +1,6 @@
 // ArticulatedSystem: the joint-space mass matrix (composite-rigid-body
 // algorithm) and the terms of M v̇ + g = 0 for the generalized-α method.
+#include <array>
 #include <vector>
 
 #include "joints/articulated/articulated_coupled_alpha.hpp"
@@ -7,6 +8,15 @@
 
 namespace lieflow {
 namespace articulated {
+
+namespace {
+
+/// A free root's six slots in u in freeColumns' order: ω (body), then v_c.
+std::array<int, 6> freeRootSlots(const ArticulatedBody& b) {
+  return {b.u_rotation, b.u_rotation + 1, b.u_rotation + 2, b.u_begin, b.u_begin + 1, b.u_begin + 2};
+}
+
+}  // namespace
 
 void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::MatrixXd* M, Eigen::VectorXd* g,
                                          Eigen::MatrixXd* Ct, Eigen::MatrixXd* Kt) const {
@@ -29,6 +39,15 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
         data_.composite[b.parent] += data_.composite[i];
       }
     }
+    if (b.kind == JointKind::kFree) {
+      // A free root's block S_rᵀ I_c S_r (S_r = freeColumns: ω body, then
+      // v_c); its rows against the columns below it were set from there.
+      const Matrix6 S = freeColumns(d.R, d.c);
+      const Matrix6 block = S.transpose() * (data_.composite[i] * S);
+      const std::array<int, 6> u = freeRootSlots(b);
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) (*M)(u[r], u[c]) = block(r, c);
+    }
     for (int k = 0; k < nf; ++k) {
       // F = I_c s_k: the force that column k's unit rate takes through the
       // subtree; M(u_k, u_l) = s_lᵀ F for the columns l of i and its ancestors.
@@ -39,6 +58,14 @@ void ArticulatedSystem::secondOrderTerms(double t, const State& y, Eigen::Matrix
       for (int j = b.parent; j != kGround; below = j, j = model_.bodies[j].parent) {
         if (model_.bodies[below].rotation_only) F = heldForce(data_.bodies[below].c, F);
         const BodyData& dj = data_.bodies[j];
+        if (model_.bodies[j].kind == JointKind::kFree) {
+          const Vector6 m = freeColumns(dj.R, dj.c).transpose() * F;
+          const std::array<int, 6> u = freeRootSlots(model_.bodies[j]);
+          for (int l = 0; l < 6; ++l) {
+            (*M)(row, u[l]) = m[l];
+            (*M)(u[l], row) = m[l];
+          }
+        }
         for (int l = 0; l < dj.free; ++l) {
           const double m = dj.S.col(l).dot(F);
           (*M)(row, dj.free_u[l]) = m;

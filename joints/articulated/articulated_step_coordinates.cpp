@@ -26,35 +26,35 @@ bool ArticulatedSystem::sameConfiguration(const State& a, const State& b) {
   return true;
 }
 
-void ArticulatedSystem::toStepChart(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
-                                    StepChart* chart) const {
+void ArticulatedSystem::rotationStartTerms(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
+                                    RotationTerms* terms) const {
   const int nq = model_.scalar_coordinates;
-  chart->xi.resize(model_.rotations);
-  chart->pi.resize(model_.rotations);
-  chart->delta.resize(model_.rotations);
+  terms->xi.resize(model_.rotations);
+  terms->pi.resize(model_.rotations);
+  terms->delta.resize(model_.rotations);
   for (int k = 0; k < model_.rotations; ++k) {
     const int o = nq + 3 * k;
     const Eigen::Vector3d xi = h * v.segment<3>(o);
     const Eigen::Matrix3d JlInv = SO3d::JlInv(xi);
     const Eigen::Matrix3d B = SO3d::exp(-0.5 * xi).matrix() - 0.5 * SO3d::Jr(0.5 * xi) * JlInv;
-    chart->xi[k] = xi;
-    chart->pi[k] = Mv->segment<3>(o);
-    chart->delta[k] = dT->segment<3>(o);
-    Mv->segment<3>(o).noalias() = JlInv.transpose() * chart->pi[k];
-    dT->segment<3>(o).noalias() = 2.0 * (B.transpose() * chart->delta[k]);
+    terms->xi[k] = xi;
+    terms->pi[k] = Mv->segment<3>(o);
+    terms->delta[k] = dT->segment<3>(o);
+    Mv->segment<3>(o).noalias() = JlInv.transpose() * terms->pi[k];
+    dT->segment<3>(o).noalias() = 2.0 * (B.transpose() * terms->delta[k]);
   }
 }
 
-void ArticulatedSystem::fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b,
+void ArticulatedSystem::rotationEndMomenta(double h, const RotationTerms& terms, const Eigen::VectorXd& b,
                                       Eigen::VectorXd* p) const {
   const int nq = model_.scalar_coordinates;
   for (int k = 0; k < model_.rotations; ++k) {
     const int o = nq + 3 * k;
     // D₂L_d + D₁L_d = (Jr⁻¹ − Jl⁻¹)(ξ)ᵀ π + h (A + B)ᵀ δ, Jr⁻¹ − Jl⁻¹ = [ξ]×,
     // A + B = exp(−ξ/2) + ½ Jr(ξ/2) [ξ]×.
-    const Eigen::Vector3d& xi = chart.xi[k];
+    const Eigen::Vector3d& xi = terms.xi[k];
     const Eigen::Matrix3d AB = SO3d::exp(-0.5 * xi).matrix() + 0.5 * SO3d::Jr(0.5 * xi) * hat(xi);
-    p->segment<3>(o) = b.segment<3>(o) + cross3(chart.pi[k], xi) + h * (AB.transpose() * chart.delta[k]);
+    p->segment<3>(o) = b.segment<3>(o) + cross3(terms.pi[k], xi) + h * (AB.transpose() * terms.delta[k]);
   }
 }
 
@@ -106,7 +106,7 @@ void ArticulatedSystem::projectIncrement(const Frames& f, const Eigen::VectorXd&
   if (coupling_G_.size() == 0) return;
   data_.coupling_g.noalias() = coupling_G_ * v;
   data_.coupling_g.noalias() += coupling_G_ * *dv;
-  data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
+  data_.coupling_lambda.noalias() = f.coupling_Ainv * data_.coupling_g;
   dv->noalias() -= f.coupling_Y * data_.coupling_lambda;
   r->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
 }
@@ -116,7 +116,7 @@ void ArticulatedSystem::rates(const Frames& f, Eigen::VectorXd* p, Eigen::Vector
     // μ with G M⁻¹ (p + Gᵀμ) = 0: −(G Y)⁻¹ G M⁻¹ p.
     solveStepMass(f, *p, false, &data_.coupling_x);
     data_.coupling_g.noalias() = coupling_G_ * data_.coupling_x;
-    data_.coupling_lambda = f.coupling_A.solve(data_.coupling_g);
+    data_.coupling_lambda.noalias() = f.coupling_Ainv * data_.coupling_g;
     p->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
   }
   solveStepMass(f, *p, true, u);

@@ -50,7 +50,6 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -125,7 +124,8 @@ class ArticulatedSystem {
   /// joint-space mass matrix by the composite-rigid-body algorithm
   /// (Featherstone 2008, §6.2, in world coordinates: a body's composite
   /// inertia is added to its parent's as it is, through Pᵀ · P for a
-  /// rotation-only body), g = −M u̇ with u̇ from the ABA (so the residual
+  /// rotation-only body; a free root's columns S_r = freeColumns as one 6 × 6
+  /// block), g = −M u̇ with u̇ from the ABA (so the residual
   /// vanishes exactly at the ABA's accelerations), and C_t, K_t the joints'
   /// dashpots and springs (the velocity- and configuration-dependence of the
   /// other forces left out: Newton then converges linearly, at a rate of
@@ -222,9 +222,8 @@ class ArticulatedSystem {
     /// Each free tree's centre of mass from its root, by the root's rotation index.
     std::vector<Eigen::Vector3d> root_offset;
     /// With coupling rows G (constant in joint coordinates): Y = M⁻¹ Gᵀ and
-    /// the factorization of G Y at this configuration (when factored).
-    Eigen::MatrixXd coupling_Y;
-    Eigen::LDLT<Eigen::MatrixXd> coupling_A;
+    /// (G Y)⁻¹ (m × m, m the rows) at this configuration (when factored).
+    Eigen::MatrixXd coupling_Y, coupling_Ainv;
     bool factored = false;
   };
 
@@ -253,19 +252,19 @@ class ArticulatedSystem {
   /// where N₀ exp(η) moves N_m by B η, B = exp(−ξ/2) − ½ Jr(ξ/2) Jl⁻¹(ξ), and
   /// N₁ exp(η) by A η, A = ½ Jr(ξ/2) Jr⁻¹(ξ) (both ½ I at ξ = 0: the
   /// vector-space midpoint rule).
-  struct StepChart {
-    std::vector<Eigen::Vector3d> xi, pi, delta;  ///< ξ, π, δ per rotation, for fromStepChart
+  struct RotationTerms {
+    std::vector<Eigen::Vector3d> xi, pi, delta;  ///< ξ, π, δ per rotation, for rotationEndMomenta
   };
   /// Mv ← Jl⁻¹(ξ)ᵀ π and dT ← 2 Bᵀ δ on each rotation, so that (1) keeps its
-  /// form Mv − (h/2) dT = p₀ + (h/2) Q₀; π, δ kept in *chart. Nothing to do
+  /// form Mv − (h/2) dT = p₀ + (h/2) Q₀; π, δ kept in *terms. Nothing to do
   /// without rotations.
-  void toStepChart(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
-                   StepChart* chart) const;
+  void rotationStartTerms(const Eigen::VectorXd& v, double h, Eigen::VectorXd* Mv, Eigen::VectorXd* dT,
+                   RotationTerms* terms) const;
   /// p ← D₂L_d on each rotation as b + (D₂L_d + D₁L_d), b = −D₁L_d the
-  /// right side of (1), the sum from ξ, π, δ of the last toStepChart: as the
+  /// right side of (1), the sum from ξ, π, δ of the last rotationStartTerms: as the
   /// vector-space p₁ = b + h ∂T/∂q, whose error from the iteration's last
   /// change is O(h) times that change, not the change itself.
-  void fromStepChart(double h, const StepChart& chart, const Eigen::VectorXd& b, Eigen::VectorXd* p) const;
+  void rotationEndMomenta(double h, const RotationTerms& terms, const Eigen::VectorXd& b, Eigen::VectorXd* p) const;
   /// The step's coordinates: the state's, except that a free root's
   /// translation rate is its tree's centre-of-mass velocity v_z (and its
   /// translation that centre z): by König's theorem T = ½ M_tree |v_z|² +

@@ -4,6 +4,8 @@
 // forces. articulated_system.hpp states the conventions and the equations.
 #include <sstream>
 
+#include <Eigen/Cholesky>
+
 #include "joints/articulated/articulated_system.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
@@ -236,7 +238,11 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
   }
   data_.coupling_GY.resize(m, m);
   data_.coupling_GY.noalias() = coupling_G_ * f->coupling_Y;
-  f->coupling_A.compute(data_.coupling_GY);
+  // G Y = G M⁻¹ Gᵀ is symmetric positive definite (the assembly refuses
+  // redundant rows): Cholesky in place, then its inverse.
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(data_.coupling_GY);
+  f->coupling_Ainv.setIdentity(m, m);
+  llt.solveInPlace(f->coupling_Ainv);
 }
 
 void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
