@@ -1,0 +1,140 @@
+"""Figure and tables of papers/robots-work-precision/ from the studies' CSVs.
+
+    /usr/bin/python3 analyze.py OUT_DIR PAPER_DIR
+
+OUT_DIR/models.txt lists "name|study dir" per model; each study dir holds the
+study.csv of `lieflow study MODEL --with-mujoco` (one row per integrator and
+step: wall_seconds, the median run's time; orientation_error, the largest
+rotation angle of a body from the reference at T). OUT_DIR/formulations.csv
+says which formulation each lieflow integrator ran in by default.
+Writes PAPER_DIR/work_precision.png (error against run time, one panel per
+model), PAPER_DIR/results.md and the table between the GENERATED markers of
+PAPER_DIR/README.md.
+
+Error at equal run time, as papers/mechanism-work-precision/analyze.py (whose
+interpolation this reuses): each series is log error against log seconds,
+linear between measured points, never extrapolated; for each MuJoCo error
+level E = 1e-3 … 1e-9 rad that MuJoCo's fastest integrator reaches, the time t
+it takes and lieflow's lowest error in t; the ratio E / that error.
+"""
+import csv
+import importlib.util
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, ".."))
+from paper_common import splice_readme  # noqa: E402
+
+_spec = importlib.util.spec_from_file_location(
+    "mechanism_analyze", os.path.join(HERE, "..", "mechanism-work-precision", "analyze.py"))
+mech = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mech)
+
+MUJOCO_NAMES = {"mujoco-rk4": "RK4", "mujoco-euler": "Euler", "mujoco-implicit": "implicit"}
+
+
+def rows_of(name, study_csv, formulations):
+    """The study's rows as the mechanism paper's runs (engine, formulation,
+    integrator, seconds, error)."""
+    out = []
+    with open(study_csv) as f:
+        for r in csv.DictReader(f):
+            mujoco = r["integrator"] in MUJOCO_NAMES
+            out.append({
+                "scene": name,
+                "engine": "mujoco" if mujoco else "lieflow",
+                "integrator": MUJOCO_NAMES.get(r["integrator"], r["integrator"]),
+                "formulation": "" if mujoco else formulations.get((name, r["integrator"]), "?"),
+                "dt": r["dt"],
+                "seconds": r["wall_seconds"],
+                "error": r["orientation_error"],
+                "failed": r["failed"],
+            })
+    return out
+
+
+def main(out_dir, paper_dir):
+    formulations = {}
+    with open(os.path.join(out_dir, "formulations.csv")) as f:
+        for name, integrator, formulation in csv.reader(f):
+            formulations[(name, integrator)] = formulation
+    models = []
+    with open(os.path.join(out_dir, "models.txt")) as f:
+        for line in f:
+            name, path = line.rstrip("\n").split("|")
+            models.append((name, rows_of(name, os.path.join(path, "study.csv"), formulations)))
+    cols = min(4, max(1, len(models)))
+    nrows = math.ceil(len(models) / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(5.2 * cols, 4.4 * nrows), dpi=90, squeeze=False)
+    table = ["| model | MuJoCo error [rad] | MuJoCo's fastest (time) | lieflow's best at that time | lieflow error "
+             "| ratio |", "| --- | --- | --- | --- | --- | --- |"]
+    pairs = ["| model | MuJoCo Euler error [rad] | its run time | lieflow lgvi error at that time | ratio |",
+             "| --- | --- | --- | --- | --- |"]
+    summary = []
+    for k, (name, rows) in enumerate(models):
+        ax = axes[k // cols][k % cols]
+        s = mech.series_of(rows)
+        for key, p in sorted(s.items()):
+            color, style = mech.series_style(key)
+            ax.loglog([t for t, _ in p], [e for _, e in p], style, color=color, ms=4, lw=1.2, label=key, alpha=0.9)
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel("run time [s]")
+        ax.set_ylabel("max rotation from the reference at T [rad]", fontsize=8)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6)
+        ratios = []
+        for level in mech.LEVELS:
+            t, who = mech.fastest_mujoco(s, level)
+            if t is None:
+                table.append(f"| {name} | {level:.0e} | not reached | | | |")
+                continue
+            e, lf, bound = mech.best_lieflow(s, t)
+            if e is None:
+                table.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
+                continue
+            ratios.append(level / e)
+            table.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | {lf}" +
+                         (" (its longest run, shorter)" if bound else "") +
+                         f" | {e:.3g} | {'≥ ' if bound else ''}{level / e:.3g} |")
+        lgvi = next((key for key in s if key.startswith("lieflow lgvi")), None)
+        for level in mech.EULER_LEVELS if lgvi else []:
+            t, _ = mech.fastest_mujoco(s, level, only="MuJoCo Euler")
+            if t is None:
+                pairs.append(f"| {name} | {level:.0e} | not reached | | |")
+                continue
+            e, _, bound = mech.best_lieflow(s, t, only=lgvi)
+            if e is None:
+                pairs.append(f"| {name} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
+            else:
+                pairs.append(f"| {name} | {level:.0e} | {t:.3g} s | {e:.3g}" +
+                             (f" (its longest run, {s[lgvi][-1][0]:.3g} s)" if bound else "") +
+                             f" | {'≥ ' if bound else ''}{level / e:.3g} |")
+        if ratios:
+            summary.append(f"{name}: lieflow's best error at MuJoCo's run time is {min(ratios):.3g}x to "
+                           f"{max(ratios):.3g}x lower over the MuJoCo error levels it could be evaluated at "
+                           f"({len(ratios)} of {len(mech.LEVELS)})")
+        else:
+            summary.append(f"{name}: no MuJoCo error level between 1e-3 and 1e-9 rad could be compared")
+    for k in range(len(models), nrows * cols):
+        axes[k // cols][k % cols].axis("off")
+    fig.tight_layout()
+    fig.savefig(os.path.join(paper_dir, "work_precision.png"))
+    text = ("\n".join(table) + "\n\n" + "\n".join(f"- {line}" for line in summary) + "\n\n" +
+            "lgvi (second order, symplectic) against MuJoCo's semi-implicit Euler (first order) at Euler's run "
+            "time:\n\n" + "\n".join(pairs) + "\n")
+    with open(os.path.join(out_dir, "machine.txt")) as f:
+        machine = f.read()
+    with open(os.path.join(paper_dir, "results.md"), "w") as f:
+        f.write("# Results (generated by analyze.py)\n\n```\n" + machine + "```\n\n" + text)
+    splice_readme(os.path.join(paper_dir, "README.md"), text)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])

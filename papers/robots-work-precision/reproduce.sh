@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Regenerates papers/robots-work-precision/: error against run time on public
+# fixed-base robot descriptions (bench/models/robots: UR5, Panda), every
+# integrator family with lieflow's defaults (the default formulation) beside
+# MuJoCo's RK4, Euler and implicit integrators on the same file, each model
+# one `lieflow study MODEL --ignore all --with-mujoco` run; then analyze.py
+# writes results.md, work_precision.png and the table between the GENERATED
+# markers of README.md.
+#
+#   bash papers/robots-work-precision/reproduce.sh [T]
+#
+# T: end time in seconds (default 1). Needs a build with MuJoCo
+# (libmujoco-dev; libmujoco-samples for the MJCF models) and URDF reading
+# (liburdfdom-dev). About a minute on 2 CPUs. The floating robots are left
+# out: falling limp from rest, a floating tree does not move relative to
+# itself (uniform gravity), so every integrator's error is round-off (README).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+cd "$root"
+source "$root/papers/find_lieflow.sh"
+t_end=${1:-1}
+out="$here/out"
+rm -rf "$out"
+mkdir -p "$out"
+robots="$root/bench/models/robots"
+samples=/usr/share/mujoco/model
+# name|file|flags
+models=(
+  "ur5|$robots/ur5.urdf|"
+  "panda|$robots/panda.urdf|"
+)
+integrators=rkmk4,cf4,lgvi,genalpha
+for entry in "${models[@]}"; do
+  IFS='|' read -r name file flags <<<"$entry"
+  if [[ ! -f "$file" ]]; then
+    echo "reproduce: $file absent, $name left out" >&2
+    continue
+  fi
+  dir="$out/${name%% *}"
+  # shellcheck disable=SC2086
+  "$lieflow" study "$file" --ignore all $flags --with-mujoco --integrators "$integrators" \
+    --dt 8e-3,4e-3,2e-3,1e-3,5e-4 --t-end "$t_end" --min-time 0.1 --no-plots --out "$dir" >"$dir.log" 2>&1 ||
+    { echo "reproduce: the study of $name failed (see $dir.log)" >&2; continue; }
+  rm -f "$dir/drift.csv"  # the drift series: not what this paper reads
+  # The formulation each lieflow integrator ran in (the default's choice).
+  for i in ${integrators//,/ }; do
+    # shellcheck disable=SC2086
+    f=$("$lieflow" simulate "$file" --ignore all $flags --integrator "$i" --dt 1e-3 --t-end 1e-3 --stats --quiet 2>/dev/null |
+      sed -n 's/.*"formulation":"\([a-z]*\)".*/\1/p')
+    echo "$name,$i,$f" >>"$out/formulations.csv"
+  done
+  echo "$name|$dir" >>"$out/models.txt"
+done
+{
+  echo "git: $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet 2>/dev/null || echo ' (with uncommitted changes)')"
+  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+} >"$out/machine.txt"
+/usr/bin/python3 "$here/analyze.py" "$out" "$here"
