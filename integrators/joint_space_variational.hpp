@@ -41,6 +41,15 @@
 /// system (N₀, N₁ → G N₀, G N₁ leaves ξ), so a free system keeps its
 /// angular momentum to round-off (discrete Noether).
 ///
+/// ## Free roots and coupling rows (the System's step coordinates)
+/// The System may write the step in coordinates of its own: ArticulatedSystem
+/// takes a free root's translation as its tree's centre of mass (so the
+/// centre moves exactly under gravity and the momentum about it is kept;
+/// articulated_system.hpp), with momenta() and rates() mapping the state's
+/// rates to and from them. Linear rows G q = const (coupling rows) are
+/// RATTLE's multipliers: each increment of the iteration is projected onto
+/// G v = 0 (projectIncrement), and p₁ takes Gᵀμ so that G q̇₁ = 0 (rates()).
+///
 /// ## The iteration
 /// (1) is solved for v by the quasi-Newton iteration
 ///   v ← v + M(q₀)⁻¹ r(v),  r(v) = p₀ + (h/2)(Q₀ + ∂T/∂q(q_m, v)) − M(q_m) v,
