@@ -126,8 +126,7 @@ namespace lieflow {
 
 struct JointSpaceVariationalOptions {
   /// The iteration over v stops when ‖Δv‖ ≤ tolerance · ‖v‖ in the
-  /// kinetic-energy norm (and the dashpot fixed point when ‖Δq̇₁‖∞ ≤
-  /// tolerance · (1 + ‖q̇₁‖∞)).
+  /// kinetic-energy norm.
   double tolerance = 1e-14;
   /// Passes allowed per step (each iteration).
   int max_iterations = 20;

@@ -142,11 +142,10 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       Eigen::Matrix3d M;
       Eigen::Vector3d gimbal_a2 = Eigen::Vector3d::Zero(), gimbal_a3 = Eigen::Vector3d::Zero();  // E₁e₂, E₁E₂e₃
       if (gimbal) {
-        const Eigen::Matrix3d E1 = rotationAbout(b.axis1, cos_phi[0], sin_phi[0]);
-        const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, cos_phi[1], sin_phi[1]);
-        M = E12 * rotationAbout(b.axis3, cos_phi[2], sin_phi[2]) * b.R_ref;
-        gimbal_a2 = E1 * b.axis2;
-        gimbal_a3 = E12 * b.axis3;
+        const GimbalAxes g = gimbalAxes(b, cos_phi, sin_phi);
+        M = g.M;
+        gimbal_a2 = g.a2;
+        gimbal_a3 = g.a3;
       } else {
         M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
       }
@@ -163,7 +162,7 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
       // An offset universal joint's second column is the line through the
       // secondary anchor x₂ = x₁ + R_main exp(φ₁a₁) δ (δ = offset_ref), which
       // also carries the child; every other column's line is the anchor.
-      if (b.offset) child_anchor = d.x2 = d.x + R_main * (rotationAbout(b.axis1, cos_phi[0], sin_phi[0]) * b.offset_ref);
+      if (b.offset) child_anchor = d.x2 = offsetAnchor(b, d.x, R_main, cos_phi[0], sin_phi[0]);
       // A slide moves the child's anchor along A by x from the main's (σ = −1
       // when the child is the main body).
       if (slides) child_anchor = d.x + (sigma * d.phi[0]) * d.axis[0];

@@ -40,11 +40,7 @@ struct SecondOrderStateTraits<articulated::ArticulatedState> {
     }
   }
   static bool identical(const State& a, const State& b) {
-    if (a.q.size() != b.q.size() || a.u.size() != b.u.size() || a.N.size() != b.N.size()) return false;
-    if (a.q != b.q || a.u != b.u) return false;
-    for (std::size_t k = 0; k < a.N.size(); ++k)
-      if (a.N[k].quaternion().coeffs() != b.N[k].quaternion().coeffs()) return false;
-    return true;
+    return a.u.size() == b.u.size() && a.u == b.u && articulated::ArticulatedSystem::sameConfiguration(a, b);
   }
 };
 

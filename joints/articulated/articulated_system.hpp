@@ -391,6 +391,25 @@ class ArticulatedSystem {
     if (b.kind == JointKind::kUniversal) M = M * rotationAbout(b.axis2, c[1], s[1]);
     return M;
   }
+  /// A gimbal's relative rotation M = E₁E₂E₃ R_ref (E_k = exp(φ_k e_k)) and
+  /// its second and third axes turned by the hinges before them, E₁e₂ and
+  /// E₁E₂e₃ (main frame), from the cosines and sines of its angles.
+  struct GimbalAxes {
+    Eigen::Matrix3d M;
+    Eigen::Vector3d a2, a3;
+  };
+  static GimbalAxes gimbalAxes(const ArticulatedBody& b, const std::array<double, 3>& c,
+                               const std::array<double, 3>& s) {
+    const Eigen::Matrix3d E1 = rotationAbout(b.axis1, c[0], s[0]);
+    const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, c[1], s[1]);
+    return {E12 * rotationAbout(b.axis3, c[2], s[2]) * b.R_ref, E1 * b.axis2, E12 * b.axis3};
+  }
+  /// An offset universal joint's secondary anchor x₂ = x + R_main exp(φ₁a₁) δ
+  /// (δ = offset_ref), which the first hinge carries.
+  static Eigen::Vector3d offsetAnchor(const ArticulatedBody& b, const Eigen::Vector3d& x,
+                                      const Eigen::Matrix3d& R_main, double c0, double s0) {
+    return x + R_main * (rotationAbout(b.axis1, c0, s0) * b.offset_ref);
+  }
   /// The variational passes' steps: body i's pose at q from its parent's in
   /// *f; its twist, momentum and the twist before its columns at rates v
   /// (data_.twist, data_.accumulated, data_.before); the backward pass over all bodies.

@@ -13,9 +13,19 @@
 namespace lieflow {
 namespace articulated {
 
+namespace {
+
+/// Whether a closure is one coupling row (α q̇₁ + q̇₂ = 0: linear and
+/// constant in joint coordinates).
+bool isCouplingRow(const ArticulatedClosure& c) {
+  return c.gear && std::holds_alternative<constraints::CouplingJoint<double>>(*c.gear);
+}
+
+}  // namespace
+
 bool ArticulatedSystem::variationalCovers(std::string* why) const {
   for (const ArticulatedClosure& c : model_.closures) {
-    if (c.gear && std::holds_alternative<constraints::CouplingJoint<double>>(*c.gear)) continue;
+    if (isCouplingRow(c)) continue;
     if (why)
       *why = c.label + (c.gear ? " is a gear row" : " closes a loop") +
              ": lgvi in joint coordinates takes coupling rows (linear in the joint coordinates) but no loop-closing "
@@ -38,7 +48,7 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
 
 bool ArticulatedSystem::onlyCouplings() const {
   for (const ArticulatedClosure& c : model_.closures)
-    if (!c.gear || !std::holds_alternative<constraints::CouplingJoint<double>>(*c.gear)) return false;
+    if (!isCouplingRow(c)) return false;
   return true;
 }
 
@@ -115,10 +125,9 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
   if (b.kind == JointKind::kGimbal) {
     // M = E₁E₂E₃ R_ref, E_k = exp(φ_k e_k); the columns the lines through the
     // anchor along R_main e₁, R_main E₁ e₂, R_main E₁E₂ e₃ (the parent is main).
-    const Eigen::Matrix3d E1 = rotationAbout(b.axis1, fr.cos_phi[0], fr.sin_phi[0]);
-    const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, fr.cos_phi[1], fr.sin_phi[1]);
-    fr.R = Rp * (E12 * rotationAbout(b.axis3, fr.cos_phi[2], fr.sin_phi[2]) * b.R_ref);
-    const Eigen::Vector3d A[3] = {Rp * b.axis1, Rp * (E1 * b.axis2), Rp * (E12 * b.axis3)};
+    const GimbalAxes g = gimbalAxes(b, fr.cos_phi, fr.sin_phi);
+    fr.R = Rp * g.M;
+    const Eigen::Vector3d A[3] = {Rp * b.axis1, Rp * g.a2, Rp * g.a3};
     for (int k = 0; k < 3; ++k) {
       fr.S.col(k).head<3>() = A[k];
       fr.S.col(k).tail<3>() = cross3(line, A[k]);
@@ -134,10 +143,8 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
   fr.S.col(0).head<3>() = A0;
   fr.S.col(0).tail<3>() = cross3(line, A0);
   // An offset universal joint (the parent is main): its second line passes
-  // through the secondary anchor x₂ = x + R_p exp(φ₁a₁) δ, which the first
-  // hinge carries and the child hangs from.
-  const Eigen::Vector3d x2 =
-      b.offset ? Eigen::Vector3d(x + Rp * (rotationAbout(b.axis1, fr.cos_phi[0], fr.sin_phi[0]) * b.offset_ref)) : x;
+  // through the secondary anchor, which the child hangs from.
+  const Eigen::Vector3d x2 = b.offset ? offsetAnchor(b, x, Rp, fr.cos_phi[0], fr.sin_phi[0]) : x;
   if (nc == 2) {
     const Eigen::Vector3d A1 = sigma * ((b.parent_is_main ? fr.R : Rp) * b.axis2);
     fr.S.col(1).head<3>() = A1;

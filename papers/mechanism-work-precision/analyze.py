@@ -113,6 +113,48 @@ def fastest_mujoco(all_series, level, only=None):
     return best, who
 
 
+def equal_time_rows(scene, s):
+    """The table rows of lieflow's best error at MuJoCo's fastest time for
+    each level of LEVELS, and the ratios that could be evaluated."""
+    rows, ratios = [], []
+    for level in LEVELS:
+        t, who = fastest_mujoco(s, level)
+        if t is None:
+            rows.append(f"| {scene} | {level:.0e} | not reached | | | |")
+            continue
+        e, lf, bound = best_lieflow(s, t)
+        if e is None:
+            rows.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
+            continue
+        ratios.append(level / e)
+        rows.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | {lf}" +
+                    (" (its longest run, shorter)" if bound else "") +
+                    f" | {e:.3g} | {'≥ ' if bound else ''}{level / e:.3g} |")
+    return rows, ratios
+
+
+def lgvi_euler_rows(scene, s, lgvi_key):
+    """The table rows of lieflow's lgvi (series lgvi_key) at MuJoCo Euler's
+    time for each level of EULER_LEVELS (none without that series)."""
+    lgvi = s.get(lgvi_key, [])
+    rows = []
+    for level in EULER_LEVELS if lgvi else []:
+        t, _ = fastest_mujoco(s, level, only="MuJoCo Euler")
+        e, _, bound = best_lieflow(s, t, only=lgvi_key) if t is not None else (None, None, False)
+        if t is None:
+            rows.append(f"| {scene} | {level:.0e} | not reached | | |")
+        elif e is not None and bound:
+            # Euler needs longer than lgvi's longest run: that run, shorter
+            # and more accurate, bounds the ratio from below.
+            rows.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e:.3g} in {lgvi[-1][0]:.3g} s (its longest "
+                        f"run) | ≥ {level / e:.3g} |")
+        elif e is not None:
+            rows.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e:.3g} | {level / e:.3g} |")
+        else:
+            rows.append(f"| {scene} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
+    return rows
+
+
 def main(out_dir, paper_dir):
     with open(os.path.join(out_dir, "runs.csv")) as f:
         rows = list(csv.DictReader(f))
@@ -156,35 +198,9 @@ def main(out_dir, paper_dir):
                              (f"{e:.3g} | {level / e:.3g} |" if e else "no joint run that short | n/a |"))
         if not with_mujoco:
             continue
-        ratios = []
-        for level in LEVELS:
-            t, who = fastest_mujoco(s, level)
-            if t is None:
-                table.append(f"| {scene} | {level:.0e} | not reached | | | |")
-                continue
-            e, lf, bound = best_lieflow(s, t)
-            if e is None:
-                table.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
-                continue
-            ratios.append(level / e)
-            table.append(f"| {scene} | {level:.0e} | {who} ({t:.3g} s) | {lf}" +
-                         (" (its longest run, shorter)" if bound else "") +
-                         f" | {e:.3g} | {'≥ ' if bound else ''}{level / e:.3g} |")
-        lgvi = s.get("lieflow lgvi (joint)", [])
-        for level in EULER_LEVELS if lgvi else []:
-            t, _ = fastest_mujoco(s, level, only="MuJoCo Euler")
-            e, _, bound = best_lieflow(s, t, only="lieflow lgvi (joint)") if t is not None else (None, None, False)
-            if t is None:
-                pairs.append(f"| {scene} | {level:.0e} | not reached | | |")
-            elif e is not None and bound:
-                # Euler needs longer than lgvi's longest run: that run, shorter
-                # and more accurate, bounds the ratio from below.
-                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e:.3g} in {lgvi[-1][0]:.3g} s (its longest "
-                             f"run) | ≥ {level / e:.3g} |")
-            elif e is not None:
-                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | {e:.3g} | {level / e:.3g} |")
-            else:
-                pairs.append(f"| {scene} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
+        level_rows, ratios = equal_time_rows(scene, s)
+        table += level_rows
+        pairs += lgvi_euler_rows(scene, s, "lieflow lgvi (joint)")
         if ratios:
             summary.append(f"{scene}: lieflow's best error at MuJoCo's run time is {min(ratios):.3g}x to "
                            f"{max(ratios):.3g}x lower over the MuJoCo error levels it could be evaluated at "

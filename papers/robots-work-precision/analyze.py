@@ -89,33 +89,11 @@ def main(out_dir, paper_dir):
         ax.set_ylabel("max rotation from the reference at T [rad]", fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6)
-        ratios = []
-        for level in mech.LEVELS:
-            t, who = mech.fastest_mujoco(s, level)
-            if t is None:
-                table.append(f"| {name} | {level:.0e} | not reached | | | |")
-                continue
-            e, lf, bound = mech.best_lieflow(s, t)
-            if e is None:
-                table.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
-                continue
-            ratios.append(level / e)
-            table.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | {lf}" +
-                         (" (its longest run, shorter)" if bound else "") +
-                         f" | {e:.3g} | {'≥ ' if bound else ''}{level / e:.3g} |")
+        level_rows, ratios = mech.equal_time_rows(name, s)
+        table += level_rows
         lgvi = next((key for key in s if key.startswith("lieflow lgvi")), None)
-        for level in mech.EULER_LEVELS if lgvi else []:
-            t, _ = mech.fastest_mujoco(s, level, only="MuJoCo Euler")
-            if t is None:
-                pairs.append(f"| {name} | {level:.0e} | not reached | | |")
-                continue
-            e, _, bound = mech.best_lieflow(s, t, only=lgvi)
-            if e is None:
-                pairs.append(f"| {name} | {level:.0e} | {t:.3g} s | no lgvi run that short | n/a |")
-            else:
-                pairs.append(f"| {name} | {level:.0e} | {t:.3g} s | {e:.3g}" +
-                             (f" (its longest run, {s[lgvi][-1][0]:.3g} s)" if bound else "") +
-                             f" | {'≥ ' if bound else ''}{level / e:.3g} |")
+        if lgvi:
+            pairs += mech.lgvi_euler_rows(name, s, lgvi)
         if ratios:
             summary.append(f"{name}: lieflow's best error at MuJoCo's run time is {min(ratios):.3g}x to "
                            f"{max(ratios):.3g}x lower over the MuJoCo error levels it could be evaluated at "
