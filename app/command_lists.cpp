@@ -9,10 +9,31 @@
 #include "app/commands.hpp"
 #include "integrators/registry.hpp"
 #include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "joints/stepper_table.hpp"
 
 namespace lieflow {
 namespace app {
+
+namespace {
+
+/// The joint-coordinate columns of the table of steppers where the
+/// integrator has a stepper, or why it has none in any.
+std::string jointColumns(const std::string& integrator) {
+  std::string held, why;
+  for (const auto& column : {std::make_pair(SystemKind::kJointTree, "trees"),
+                             std::make_pair(SystemKind::kJointCoupled, "coupling rows"),
+                             std::make_pair(SystemKind::kJointLoops, "closed loops and gear rows")}) {
+    const std::string none = stepperUnavailable(integrator, column.first);
+    if (none.empty())
+      held += std::string(held.empty() ? " " : ", ") + column.second;
+    else if (why.empty())
+      why = none;
+  }
+  if (held.empty()) return " no (" + why + ")";
+  return held + (why.empty() ? "" : " (not: " + why + ")");
+}
+
+}  // namespace
 
 int runIntegrators(int argc, char** argv) {
   const Arguments args(argc, argv, {}, {});
@@ -29,11 +50,12 @@ int runIntegrators(int argc, char** argv) {
     std::cout << std::setw(11) << i.name << std::setw(7) << (i.order == 0 ? "exact" : std::to_string(i.order))
               << std::setw(10) << (i.is_implicit ? "yes" : "no") << std::setw(12) << (i.is_symplectic ? "yes" : "no")
               << std::setw(10) << (i.preserves_momentum ? "yes" : "no") << std::setw(10)
-              << (i.is_adaptive ? "yes" : "no") << std::setw(8) << (i.supports_joints ? "yes" : "no")
+              << (i.is_adaptive ? "yes" : "no") << std::setw(8) << (stepperUnavailable(i.name, SystemKind::kMaximal).empty() ? "yes" : "no")
               << i.description << "\n";
     const std::string indent(11, ' ');
-    std::cout << indent << "with joints: " << i.joints_note
-              << (runsInJointCoordinates(i.name) ? "; in joint coordinates where they represent the scene" : "") << "\n";
+    const std::string maximal = stepperUnavailable(i.name, SystemKind::kMaximal);
+    std::cout << indent << "with joints: " << (maximal.empty() ? i.joints_note : "no: " + maximal) << "\n";
+    std::cout << indent << "in joint coordinates:" << jointColumns(i.name) << "\n";
     for (const IntegratorOption& o : i.options) {
       std::ostringstream line;
       line << indent << "option " << o.name << " = " << o.default_value << " (" << o.meaning << "; "
@@ -42,12 +64,12 @@ int runIntegrators(int argc, char** argv) {
     }
   }
   std::cout << "\nOptions are given as --options KEY=VALUE,... or in the scene's \"integrator\" object.\n"
-            << "Scenes with joints run in joint coordinates wherever they represent the scene and the\n"
-               "integrator runs there (trees of revolute, universal (offset too), gimbal, prismatic and spherical joints from the\n"
-               "ground, from rotation-only bodies or from free roots (those with rkmk*, cg3 and cf4);\n"
-               "joints closing loops and gear rows on multipliers,\n"
-               "with the explicit integrators), else in maximal coordinates (bodies' poses with\n"
-               "multipliers); --formulation maximal|joint chooses, and --stats prints the one used.\n";
+            << "Scenes with joints run in joint coordinates wherever they represent the scene (trees of\n"
+               "revolute, universal (offset too), gimbal, prismatic and spherical joints from the ground, from\n"
+               "rotation-only bodies or from free roots; couplings, loop-closing joints and gear rows on\n"
+               "multipliers) and the integrator has a stepper there (the lines above), else in maximal\n"
+               "coordinates (bodies' poses with multipliers); --formulation maximal|joint chooses, and --stats\n"
+               "prints the one used.\n";
   return kSuccess;
 }
 

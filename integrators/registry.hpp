@@ -1,7 +1,8 @@
 /// \file
 /// The integrators the `lieflow` command knows, with their order and
-/// properties (what `lieflow integrators` prints). Pure data: the factory that
-/// builds each stepper for a given system lives with the scene assembly.
+/// properties (what `lieflow integrators` prints). Pure data: the stepper each
+/// one builds on each kind of system is its row of the table of steppers
+/// (joints/stepper_table_rows.hpp, in this order).
 #pragma once
 
 #include <cmath>
@@ -49,8 +50,9 @@ struct IntegratorInfo {
   /// Options it accepts in the scene's "integrator" object, with defaults.
   std::vector<IntegratorOption> options;
   std::string description;
-  /// Whether it can run scenes with joints (constraint rows), and if not why.
-  bool supports_joints;
+  /// How it runs scenes with joints in maximal coordinates, where it does
+  /// (which system kinds it runs at all is the table of steppers',
+  /// joints/stepper_table.hpp).
   std::string joints_note;
 
   const IntegratorOption* option(const std::string& key) const {
@@ -67,45 +69,44 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
   const IntegratorOption max_iterations{"max_iterations", 20, 1, 1000, true, false, "Newton iterations per step"};
   static const std::vector<IntegratorInfo> registry = {
       {"rkmk-euler", 1, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, forward Euler tableau (Lie-Euler)",
-       true, "projected onto the constraints after every step"},
-      {"rkmk-heun", 2, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Heun's tableau", true,
+       "projected onto the constraints after every step"},
+      {"rkmk-heun", 2, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Heun's tableau",
        "projected onto the constraints after every step"},
       {"rkmk3", 3, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, Kutta's third-order tableau, dexp^-1 to ad^1",
-       true, "projected onto the constraints after every step"},
+       "projected onto the constraints after every step"},
       {"rkmk4", 4, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, classical RK4 tableau, dexp^-1 to ad^2",
-       true, "projected onto the constraints after every step"},
+       "projected onto the constraints after every step"},
       {"rkmk45", 5, false, false, false, true,
        {{"rtol", 1e-8, 1e-15, 1.0, false, false, "relative tolerance of the local error"},
         {"atol", 1e-10, 0.0, 1.0, false, false, "absolute tolerance of the local error"}},
        "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with adaptive steps on the group; dt = output interval, "
        "outputs by dense output on the group",
-       true, "projected onto the constraints after every accepted step and at every output (the error "
-             "estimate is taken before the projection)"},
-      {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)", true,
+       "projected onto the constraints after every accepted step and at every output (the error "
+       "estimate is taken before the projection)"},
+      {"cg3", 3, false, false, false, false, {}, "Crouch-Grossman order 3 (Owren-Marthinsen coefficients)",
        "projected onto the constraints after every step"},
-      {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)", true,
+      {"cf4", 4, false, false, false, false, {}, "commutator-free order 4 (Celledoni-Marthinsen-Owren 2003)",
        "projected onto the constraints after every step"},
       {"lgvi", 2, true, true, true, false,
        {{"tolerance", 1e-14, 1e-16, 1.0, false, false, "Newton residual tolerance"}, max_iterations,
         {"cayley", 0, 0, 1, true, false, "1: Cayley map instead of exp"}},
        "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian; "
        "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit",
-       true, "RATTLE with the constraint impulses; in joint coordinates the variational integrator on the joint "
-             "angles (midpoint kinetic, trapezoidal potential energy; revolute and universal joints)"},
+       "RATTLE with the constraint impulses; in joint coordinates the variational integrator on the joints' "
+       "groups (midpoint kinetic, trapezoidal potential energy; coupling rows on multipliers)"},
       {"splitting", 2, false, true, true, false, {},
        "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques",
-       false, "no: its sub-flows are each body's free rotation, which leaves the joints; the splitting that keeps "
-              "them (kick, constrained drift, kick: RATTLE) is lgvi"},
+       ""},
       {"genalpha", 2, true, false, false, false,
        {{"rho_inf", 1.0, 0.0, 1.0, false, false, "spectral radius at infinity (1: no numerical damping)"},
         {"tolerance", 1e-12, 1e-16, 1.0, false, false, "Newton residual tolerance"}, max_iterations,
         {"index", 2, 2, 3, true, false,
          "with joints: 2 stabilized index 2 (Arnold-Bruls-Cardona, stable at rho_inf = 1), 3 index 3 (needs rho_inf < 1)"}},
        "Lie group generalized-alpha (Bruls-Cardona-Arnold 2012); rho_inf = 1 no numerical damping",
-       true, "stabilized index 2 by default (index=2: positions and velocities on the constraints); index=3 needs rho_inf < 1"},
+       "stabilized index 2 by default (index=2: positions and velocities on the constraints); index=3 needs rho_inf < 1"},
       {"exact", 0, false, true, true, false, {},
-       "exact torque-free flow by Jacobi elliptic functions (free body only; order 0 = exact)", false,
-       "torque-free single bodies only"},
+       "exact torque-free flow by Jacobi elliptic functions (free body only; order 0 = exact)",
+       ""},
   };
   return registry;
 }

@@ -8,25 +8,13 @@
 #include <memory>
 #include <sstream>
 
-#include "integrators/adaptive.hpp"
-#include "integrators/commutator_free.hpp"
-#include "integrators/exact_free_body.hpp"
-#include "integrators/generalized_alpha.hpp"
-#include "integrators/lgvi.hpp"
-#include "integrators/splitting.hpp"
-#include "integrators/integrate.hpp"
 #include "integrators/registry.hpp"
 #include "integrators/rigid_body_system.hpp"
-#include "integrators/constrained_generalized_alpha.hpp"
-#include "integrators/constrained_lgvi.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
-#include "integrators/rkmk.hpp"
 #include "joints/invariants.hpp"
 #include "joints/multibody_scene.hpp"
 #include "joints/simulation_model.hpp"
 #include "joints/simulation_observer.hpp"
-#include "joints/simulation_projected.hpp"
-#include "joints/simulation_unconstrained.hpp"
+#include "joints/stepper_table_rows.hpp"
 #include "liegroup/number_text.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -134,81 +122,20 @@ std::unique_ptr<Simulation::Model> assemble(const SceneDescription& scene) {
   return model;
 }
 
-template <typename System>
-SimulationResult runSystem(const Simulation::Model& model, const System& system,
-                           const typename System::State& y0, const SimulationOptions& o,
-                           const std::vector<std::string>& columns,
-                           const std::function<void(const std::vector<double>&)>& row) {
-  if (auto result = runUnconstrained(model, system, y0, o, columns, row)) return *result;
-  using State = typename System::State;
-  const std::string& name = o.integrator;
-  auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
-  if (name == "lgvi") {
-    LgviOptions l;
-    l.tolerance = option(o, "tolerance", l.tolerance);
-    l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
-    // cayley = 1: the Cayley-map variant (no h‖ω‖ < 1 limit of the exp map).
-    if (option(o, "cayley", 0.0) == 1.0) l.map = LgviMap::kCayley;
-    return fixed(LgviStepper<State>(l));
-  }
-  if (name == "splitting") return fixed(SplittingStepper<State>(system.inertia()));
-  throw InvalidInput("--integrator", "'" + name + "' is not available for this scene");
+/// The column of the table of steppers (stepper_table.hpp) a scene runs in.
+SystemKind kindOf(const Simulation::Model& m, const std::string& formulation) {
+  if (!m.multibody) return SystemKind::kSingleBody;
+  if (formulation != "joint") return SystemKind::kMaximal;
+  const articulated::ArticulatedSystem& s = *m.articulated->system;
+  if (!s.hasClosures()) return SystemKind::kJointTree;
+  return s.couplingRows().size() != 0 ? SystemKind::kJointCoupled : SystemKind::kJointLoops;
 }
 
-/// The integrators of a constrained multibody scene: the explicit Lie-group
-/// steppers in index-1 form with projection (simulation_projected.hpp), lgvi
-/// (RATTLE) and generalized-α.
-SimulationResult runMultibody(const Simulation::Model& model, const SimulationOptions& o,
-                              const std::vector<std::string>& columns,
-                              const std::function<void(const std::vector<double>&)>& row) {
-  const multibody::MultibodySystem& system = *model.multibody->system;
-  const multibody::MultibodyGroupState& y0 = model.multibody->y0;
-  const std::string& name = o.integrator;
-  auto fixed = [&](auto stepper) { return runFixedStep(model, system, y0, o, columns, row, std::move(stepper)); };
-  if (auto result = runProjected(model, system, y0, o, columns, row)) return *result;
-  if (model.multibody->has_user_loads && (name == "lgvi" || name == "genalpha"))
-    throw InvalidInput("--integrator", "'" + name + "' treats forces implicitly; a scene with loads from a program "
-                                       "(torques, moments) runs with rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3 or cf4");
-  if (name == "lgvi") {
-    ConstrainedLgviOptions l;
-    l.tolerance = option(o, "tolerance", l.tolerance);
-    l.max_iterations = static_cast<int>(option(o, "max_iterations", l.max_iterations));
-    if (option(o, "cayley", 0.0) == 1.0) l.rotation.map = LgviMap::kCayley;
-    return fixed(ConstrainedLgviStepper<multibody::MultibodySystem>(l));
-  }
-  if (name == "genalpha") {
-    ConstrainedGeneralizedAlphaOptions g;
-    g.rho_inf = option(o, "rho_inf", g.rho_inf);
-    g.tolerance = option(o, "tolerance", g.tolerance);
-    g.max_iterations = static_cast<int>(option(o, "max_iterations", g.max_iterations));
-    g.index = static_cast<int>(option(o, "index", g.index));
-    return fixed(ConstrainedGeneralizedAlphaStepper<multibody::MultibodySystem>(g));
-  }
-  throw InvalidInput("--integrator", "'" + name + "' is not available for scenes with joints");
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : " ") + n;
+  return out;
 }
-
-/// The exact flow sampled on the output grid (a "step" is one evaluation).
-struct ExactStepper {
-  const ExactFreeRigidBody* flow;
-  double t0;
-  template <typename System, typename State>
-  State step(const System& system, double t, const State& y, double h, StepReport*) const {
-    State next = y;
-    Eigen::Quaterniond q;
-    flow->evaluate(t + h - t0, &q, &next.omega);
-    next.R = SO3d(q);
-    advanceTranslation(system, t, h, &next);
-    return next;
-  }
-  static void advanceTranslation(const RotorSystem<double>&, double, double, RotorState<double>*) {}
-  static void advanceTranslation(const FreeBodySystem<double>& sys, double t, double h,
-                                 FreeBodyState<double>* y) {
-    // Constant force (gravity): exact parabola.
-    const Eigen::Vector3d a = sys.force(t) / sys.mass();
-    y->p += h * y->v + 0.5 * h * h * a;
-    y->v += h * a;
-  }
-};
 
 }  // namespace
 
@@ -261,12 +188,6 @@ std::vector<std::string> Simulation::columns(bool imu) const {
 
 std::vector<std::string> Simulation::invariantNames() const { return model_->invariants.names(); }
 
-bool runsInJointCoordinates(const std::string& integrator) {
-  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi", "genalpha"})
-    if (integrator == name) return true;
-  return false;
-}
-
 bool Simulation::hasConstraints() const { return model_->multibody != nullptr; }
 
 bool Simulation::hasJointFormulation(std::string* why) const {
@@ -277,69 +198,45 @@ bool Simulation::hasJointFormulation(std::string* why) const {
 
 std::string Simulation::defaultFormulation(const std::string& integrator) const {
   if (!model_->multibody) return "joint";
-  // genalpha on a floating tree: its joint-coordinate form solves a dense
-  // n × n Newton matrix, the maximal one a sparse KKT matrix that without
-  // joints to the ground stays cheap for KLU (measured per step, joint
-  // against maximal: Solo12 7.8 / 5.5 µs, Talos 32.8 / 15.6, Talos full
-  // 200.9 / 22.3, MuJoCo's humanoid 15.0 / 7.6; on a fixed-base arm the
-  // other way round, UR5 6.7 / 100).
-  if (integrator == "genalpha" && model_->articulated && model_->articulated->system->hasFreeRoot())
+  if (model_->articulated && model_->articulated->system->hasFreeRoot() && prefersMaximalOnFloatingTrees(integrator))
     return "maximal";
   return supports(integrator, nullptr, "joint") ? "joint" : "maximal";
 }
 
 bool Simulation::supports(const std::string& integrator, std::string* why, const std::string& formulation_in) const {
-  if (!findIntegrator(integrator)) {
+  const IntegratorInfo* info = findIntegrator(integrator);
+  if (!info) {
     if (why) *why = "unknown integrator '" + integrator + "' (see lieflow integrators)";
     return false;
   }
-  if (model_->multibody && model_->multibody->has_user_loads && (integrator == "lgvi" || integrator == "genalpha")) {
+  if (model_->multibody && model_->multibody->has_user_loads && info->is_implicit) {
     if (why) *why = "'" + integrator + "' treats forces implicitly; loads from a program need an explicit integrator";
     return false;
   }
   const std::string formulation = formulation_in.empty() ? defaultFormulation(integrator) : formulation_in;
-  if (model_->multibody && formulation == "joint") {
-    if (!hasJointFormulation(why)) {
-      if (why) *why = "joint coordinates cannot represent this scene: " + *why;
-      return false;
-    }
-    if (integrator == "lgvi" && !model_->articulated->system->variationalCovers(why)) {
-      if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
-      return false;
-    }
-    const bool only_couplings = model_->articulated->system->couplingRows().size() != 0;
-    if (integrator != "lgvi" && !(integrator == "genalpha" && only_couplings) &&
-        model_->articulated->system->hasClosures() && !runsWithLoopsInJointCoordinates(integrator, why))
-      return false;
-    if (runsInJointCoordinates(integrator)) return true;
-    if (why)
-      *why = "'" + integrator +
-             "' is not available in joint coordinates (" +
-             (integrator == "exact" ? std::string("the exact flow is a single free body's")
-                                    : std::string("splitting is written for bodies in maximal coordinates")) +
-             "; available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi genalpha)";
+  if (model_->multibody && formulation == "joint" && !hasJointFormulation(why)) {
+    if (why) *why = "joint coordinates cannot represent this scene: " + *why;
     return false;
   }
-  if (model_->multibody) {
-    const IntegratorInfo& info = *findIntegrator(integrator);
-    if (info.supports_joints) return true;
+  const SystemKind kind = kindOf(*model_, formulation);
+  const std::string none = stepperUnavailable(integrator, kind);
+  if (!none.empty()) {
     if (why) {
-      *why = "'" + integrator + "' is not available for scenes with joints (" + info.joints_note + "; available:";
-      for (const IntegratorInfo& i : integratorRegistry())
-        if (i.supports_joints) *why += " " + i.name;
-      *why += ")";
+      *why = "'" + integrator + "' is not available " + systemKindName(kind) + " (" + none +
+             "; available: " + joined(steppersFor(kind)) + ")";
+      if (kind != SystemKind::kSingleBody && kind != SystemKind::kMaximal &&
+          stepperUnavailable(integrator, SystemKind::kMaximal).empty())
+        *why += "; it runs the scene in maximal coordinates (--formulation maximal)";
     }
     return false;
   }
-  if (integrator == "exact") {
-    const RigidBodyParameters<double>& p = model_->params;
-    const bool torque_free = !p.has_pivot && p.spring_stiffness == 0.0 && !p.torque_body;
-    if (!torque_free) {
-      if (why)
-        *why = std::string("'exact' is the torque-free flow: this scene has ") +
-               (p.has_pivot ? "a pivot under gravity" : "a torque on the body");
-      return false;
-    }
+  using namespace stepper_table;
+  switch (kind) {
+    case SystemKind::kSingleBody: return covers<SingleBody>(integrator, model_->params, why);
+    case SystemKind::kMaximal: return covers<Maximal>(integrator, *model_->multibody->system, why);
+    case SystemKind::kJointTree: return covers<JointTree>(integrator, *model_->articulated->system, why);
+    case SystemKind::kJointCoupled: return covers<JointCoupled>(integrator, *model_->articulated->system, why);
+    case SystemKind::kJointLoops: return covers<JointLoops>(integrator, *model_->articulated->system, why);
   }
   return true;
 }
@@ -387,21 +284,19 @@ SimulationResult Simulation::run(const SimulationOptions& options,
   const std::vector<std::string> columns = this->columns(options.imu);
 
   const Model& m = *model_;
-  // The exact flow is sampled on the output grid; everything else steps.
-  auto run_on = [&](const auto& system, const auto& y0) {
-    if (options.integrator != "exact") return runSystem(m, system, y0, options, columns, row);
-    const ExactFreeRigidBody flow(system.inertia(), y0.R.quaternion(), y0.omega);
-    return runFixedStep(m, system, y0, options, columns, row, ExactStepper{&flow, 0.0});
-  };
+  const SystemKind kind = kindOf(m, formulation);
   SimulationResult result;
   try {
-    if (m.multibody && formulation == "joint")
-      result = runArticulated(m, options, columns, row);
-    else if (m.multibody)
-      result = runMultibody(m, options, columns, row);
+    using stepper_table::runStepper;
+    if (kind == SystemKind::kMaximal)
+      result = runStepper(stepper_table::Maximal{}, m, *m.multibody->system, m.multibody->y0, options, columns, row);
+    else if (kind != SystemKind::kSingleBody)
+      result = runArticulated(m, kind, options, columns, row);
+    else if (m.rotor)
+      result = runStepper(stepper_table::SingleBody{}, m, RotorSystem<double>(m.params), m.rotor0, options, columns, row);
     else
-      result = m.rotor ? run_on(RotorSystem<double>(m.params), m.rotor0)
-                     : run_on(FreeBodySystem<double>(m.params), m.free0);
+      result = runStepper(stepper_table::SingleBody{}, m, FreeBodySystem<double>(m.params), m.free0, options, columns,
+                          row);
   } catch (const InvalidInput& e) {
     // A stepper's constructor names a bare option (rho_inf): the scene's
     // integrator.OPTION. A field that names its place already (a file's, a

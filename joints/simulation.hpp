@@ -68,11 +68,6 @@ struct SimulationOptions {
   bool imu = false;
 };
 
-/// Whether the integrator runs in joint coordinates (the explicit Lie-group
-/// steppers; lgvi, genalpha and splitting are written for bodies in maximal
-/// coordinates).
-bool runsInJointCoordinates(const std::string& integrator);
-
 struct SimulationResult {
   std::string integrator;
   /// The formulation the run used ("maximal" or "joint"; a scene without

@@ -15,6 +15,7 @@
 #include "joints/invariants.hpp"
 #include "joints/multibody_scene.hpp"
 #include "joints/simulation.hpp"
+#include "joints/stepper_table.hpp"
 
 namespace lieflow {
 
@@ -43,12 +44,9 @@ struct Simulation::Model {
 };
 
 /// Runs a scene in joint coordinates (simulation_articulated.cpp): the
-/// explicit Lie-group steppers and rkmk45 on ArticulatedSystem.
-/// Whether `integrator` runs a tree with loops in joint coordinates (the
-/// explicit steppers, projected); if not, `why` says why.
-bool runsWithLoopsInJointCoordinates(const std::string& integrator, std::string* why);
-
-SimulationResult runArticulated(const Simulation::Model& model, const SimulationOptions& options,
+/// stepper the table (stepper_table_rows.hpp) gives o.integrator in column
+/// `kind` (kJointTree, kJointCoupled or kJointLoops) on ArticulatedSystem.
+SimulationResult runArticulated(const Simulation::Model& model, SystemKind kind, const SimulationOptions& options,
                                 const std::vector<std::string>& columns,
                                 const std::function<void(const std::vector<double>&)>& row);
 

@@ -9,6 +9,8 @@
 
 #include "integrators/registry.hpp"
 #include "joints/simulation.hpp"
+#include "joints/stepper_table_rows.hpp"
+#include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 namespace {
@@ -86,6 +88,59 @@ TEST(Simulation, TheDefaultFormulationIsJointCoordinatesWhereverTheyRunTheScene)
       EXPECT_EQ(by_default.final_row, named.final_row) << b.name << " " << info.name;
     }
   }
+}
+
+/// The table of steppers (joints/stepper_table_rows.hpp) has one row per
+/// integrator of the registry, in its order, and `supports`, the run and the
+/// refusals read it alike: on every built-in scene, integrator and
+/// formulation, a run goes exactly where `supports` says yes, and where it
+/// says no the run is refused with the same reason.
+TEST(Simulation, TheTableOfSteppersAnswersSupportsAndRunsAlike) {
+  std::vector<std::string> rows;
+  stepper_table::forEachRow([&](const auto& row) { rows.push_back(row.name); });
+  std::vector<std::string> registry;
+  for (const IntegratorInfo& info : integratorRegistry()) registry.push_back(info.name);
+  EXPECT_EQ(rows, registry);
+  int refused = 0, ran = 0;
+  for (const BuiltinScene& b : builtinScenes()) {
+    const Simulation sim(loadScene(b.name));
+    for (const IntegratorInfo& info : integratorRegistry())
+      for (const char* formulation : {"", "maximal", "joint"}) {
+        SCOPED_TRACE(std::string(b.name) + " " + info.name + " '" + formulation + "'");
+        if (!sim.hasConstraints() && *formulation) continue;  // one formulation: nothing to choose
+        std::string why;
+        const bool supported = sim.supports(info.name, &why, formulation);
+        SimulationOptions o;
+        o.integrator = info.name;
+        o.formulation = formulation;
+        o.dt = 1e-3;
+        o.t_end = 2e-3;
+        if (supported) {
+          EXPECT_NO_THROW(sim.run(o));
+          ++ran;
+          continue;
+        }
+        ++refused;
+        EXPECT_FALSE(why.empty());
+        try {
+          sim.run(o);
+          ADD_FAILURE() << "ran although supports said: " << why;
+        } catch (const InvalidInput& e) {
+          // A joint formulation that cannot hold the scene is refused as
+          // --formulation, its reason with the way out added.
+          EXPECT_TRUE(e.reason() == why || e.reason().find(why.substr(why.find(':') + 1)) != std::string::npos)
+              << e.reason() << " | " << why;
+        }
+      }
+  }
+  EXPECT_GT(ran, 100);
+  EXPECT_GT(refused, 10);
+  // Each refusal in joint coordinates names the integrators that have a stepper there.
+  const Simulation cardan(loadScene("cardan-shaft"));
+  std::string why;
+  EXPECT_FALSE(cardan.supports("lgvi", &why, "joint"));
+  EXPECT_NE(why.find("available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4)"), std::string::npos) << why;
+  EXPECT_NE(why.find("--formulation maximal"), std::string::npos) << why;
 }
 
 /// The run's figures are checked at the output steps unless asked for more

@@ -1,0 +1,72 @@
+/// \file
+/// The questions asked of the table of steppers (stepper_table.hpp), answered
+/// from its rows (stepper_table_rows.hpp).
+#include "joints/stepper_table.hpp"
+
+#include "joints/stepper_table_rows.hpp"
+
+namespace lieflow {
+
+namespace {
+
+/// The reason in the row's cell of column K (empty where it has a stepper).
+template <typename K>
+std::string emptyCellReason(const std::string& integrator) {
+  std::string why;
+  stepper_table::forEachRow([&](const auto& row) {
+    using Row = std::decay_t<decltype(row)>;
+    if constexpr (stepper_table::IsEmptyCell<Row, K>::value)
+      if (integrator == row.name) why = row.make(K{}).why;
+  });
+  return why;
+}
+
+/// A row's kMaximalOnFloatingTrees, false where it has none.
+template <typename Row, typename = void>
+struct MaximalOnFloatingTrees : std::false_type {};
+template <typename Row>
+struct MaximalOnFloatingTrees<Row, std::void_t<decltype(Row::kMaximalOnFloatingTrees)>>
+    : std::integral_constant<bool, Row::kMaximalOnFloatingTrees> {};
+
+}  // namespace
+
+const char* systemKindName(SystemKind kind) {
+  switch (kind) {
+    case SystemKind::kSingleBody: return "for a single body";
+    case SystemKind::kMaximal: return "for scenes with joints";
+    case SystemKind::kJointTree: return "in joint coordinates";
+    case SystemKind::kJointCoupled: return "in joint coordinates with coupling rows";
+    case SystemKind::kJointLoops: return "in joint coordinates with closed loops or gear rows";
+  }
+  return "";
+}
+
+std::string stepperUnavailable(const std::string& integrator, SystemKind kind) {
+  using namespace stepper_table;
+  switch (kind) {
+    case SystemKind::kSingleBody: return emptyCellReason<SingleBody>(integrator);
+    case SystemKind::kMaximal: return emptyCellReason<Maximal>(integrator);
+    case SystemKind::kJointTree: return emptyCellReason<JointTree>(integrator);
+    case SystemKind::kJointCoupled: return emptyCellReason<JointCoupled>(integrator);
+    case SystemKind::kJointLoops: return emptyCellReason<JointLoops>(integrator);
+  }
+  return "";
+}
+
+std::vector<std::string> steppersFor(SystemKind kind) {
+  std::vector<std::string> names;
+  stepper_table::forEachRow([&](const auto& row) {
+    if (stepperUnavailable(row.name, kind).empty()) names.push_back(row.name);
+  });
+  return names;
+}
+
+bool prefersMaximalOnFloatingTrees(const std::string& integrator) {
+  bool prefers = false;
+  stepper_table::forEachRow([&](const auto& row) {
+    if (integrator == row.name) prefers = MaximalOnFloatingTrees<std::decay_t<decltype(row)>>::value;
+  });
+  return prefers;
+}
+
+}  // namespace lieflow
