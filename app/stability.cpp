@@ -74,7 +74,7 @@ std::vector<StabilityRow> runStability(const Simulation& sim, const StabilityOpt
   std::vector<std::string> integrators = o.integrators;
   if (integrators.empty())
     for (const IntegratorInfo& info : integratorRegistry())
-      if (info.name != "exact" && !info.is_adaptive && sim.supports(info.name, nullptr, o.formulation))
+      if (info.order != 0 && !info.is_adaptive && sim.supports(info.name, nullptr, o.formulation))
         integrators.push_back(info.name);
   for (const std::string& name : integrators) {
     std::string why;

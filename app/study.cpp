@@ -110,14 +110,16 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   // default (joint coordinates where they can), so that the reference is
   // computed by other equations than the runs it judges.
   o.formulation = "maximal";
-  if (integrator == "rkmk45") o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
+  const IntegratorInfo* info = findIntegrator(integrator);
+  const bool adaptive = info && info->is_adaptive;
+  if (adaptive) o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
   SimulationResult r;
   try {
     r = sim.run(o);
   } catch (const InvalidInput& e) {
     // Its step is the study's, not one the user gave: say whose it is.
     throw InvalidInput(e.field(), e.reason() + " (in the study's reference run, " + integrator +
-                                      (integrator == "rkmk45" ? std::string(" at rtol ") + formatNumber(rtol)
+                                      (adaptive ? std::string(" at rtol ") + formatNumber(rtol)
                                                               : " at h = " + formatNumber(dt) +
                                                                     ", the smallest studied step / 32 or / 16") +
                                       ")");
@@ -287,7 +289,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   if (integrators.empty()) {
     std::string first_why;
     for (const IntegratorInfo& info : integratorRegistry()) {
-      if (info.name == "exact") continue;
+      if (info.order == 0) continue;  // an exact flow: the reference, not a studied integrator
       if (sim.supports(info.name, &why, options.formulation))
         integrators.push_back(info.name);
       else if (first_why.empty())

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "integrators/step_report.hpp"
 #include "liegroup/scalar.hpp"
@@ -44,24 +45,28 @@ inline long stepCount(double t0, double t_end, double h) {
   return static_cast<long>(std::ceil(ratio));
 }
 
-/// Advances y from t0 to t_end with steps h (the last one shortened to land
+/// Advances *y from t0 to t_end with steps h (the last one shortened to land
 /// on t_end exactly, when t_end − t0 is not a multiple of h), calling
-/// observer(step_index, t, y) for step 0 (the initial state) and after every
-/// step. The observer returns false to stop. Stops with `failed` set when a
-/// step's implicit solve does not converge or the state becomes non-finite.
+/// observer(step_index, t, state) for step 0 (the initial state) and after
+/// every step. The observer returns false to stop. Stops with `failed` set
+/// when a step's implicit solve does not converge or the state becomes
+/// non-finite. On return *y is the last state the observer accepted: a
+/// refused or failed step does not overwrite it, so an observer needs no
+/// copy of the last good state (one state copy per step, as a bare loop).
 template <typename Stepper, typename System, typename Observer>
-RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename System::State y,
-                              double t0, double t_end, double h, Observer&& observer) {
+RunSummary integrateFixedStepInPlace(Stepper&& stepper, const System& system, typename System::State* y, double t0,
+                                     double t_end, double h, Observer&& observer) {
   using Scalar = typename System::Scalar;
   RunSummary summary;
   summary.t_reached = t0;
   const long n = stepCount(t0, t_end, h);
-  if (!observer(0L, t0, y)) return summary;
+  if (!observer(0L, t0, *y)) return summary;
   for (long k = 0; k < n; ++k) {
     const double t = t0 + static_cast<double>(k) * h;
     const double t_next = k + 1 == n ? t_end : t0 + static_cast<double>(k + 1) * h;
     StepReport report;
-    y = stepper.step(system, Scalar(t), y, Scalar(t_next - t), &report);
+    // A value for fixed-size states, the stepper's own buffer for heap-backed ones.
+    auto&& y1 = stepper.step(system, Scalar(t), *y, Scalar(t_next - t), &report);
     summary.steps = k + 1;
     summary.newton_iterations += report.newton_iterations;
     if (report.substeps > 0) ++summary.substepped_steps;
@@ -73,7 +78,7 @@ RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename 
       summary.failure = why.str();
       return summary;
     }
-    if (!isFinite(y)) {
+    if (!isFinite(y1)) {
       std::ostringstream why;
       why << "blow-up: the state became non-finite at t = " << t_next << " (step " << k + 1
           << "); the step h = " << h << " is beyond this integrator's stability limit";
@@ -82,9 +87,18 @@ RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename 
       return summary;
     }
     summary.t_reached = t_next;
-    if (!observer(k + 1, t_next, y)) return summary;
+    if (!observer(k + 1, t_next, y1)) return summary;
+    *y = std::forward<decltype(y1)>(y1);
   }
   return summary;
+}
+
+/// integrateFixedStepInPlace from a copy of y.
+template <typename Stepper, typename System, typename Observer>
+RunSummary integrateFixedStep(Stepper&& stepper, const System& system, typename System::State y,
+                              double t0, double t_end, double h, Observer&& observer) {
+  return integrateFixedStepInPlace(std::forward<Stepper>(stepper), system, &y, t0, t_end, h,
+                                   std::forward<Observer>(observer));
 }
 
 }  // namespace lieflow

@@ -315,7 +315,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
                             const SimulationOptions& options, long n_outputs,
                             const std::vector<std::string>& columns,
                             const std::function<void(const std::vector<double>&)>& row_sink,
-                            Advance&& advance) {
+                            Advance&& advance, const typename System::State* final_state = nullptr) {
   SimulationResult result;
   DriftTracker drift;
   drift.momentum_conserved = system.conservesAngularMomentum();
@@ -323,7 +323,9 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   RowBuilder rows{model, options.imu};
   ProgressPacer pacer;
   std::vector<double> row;
-  typename System::State last;  // the last state observed and found good
+  // The last state observed and found good: *final_state where the driver
+  // keeps it (integrateFixedStepInPlace), else a copy at every step.
+  typename System::State last;
   bool have_last = false;       // none when the run failed at its first state
   double t_last = 0.0;
   bool last_written = false;
@@ -367,7 +369,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
         last_written = true;
       }
     }
-    last = y;
+    if (!final_state) last = y;
     have_last = true;
     t_last = t;
     return true;
@@ -381,8 +383,9 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.ns_per_step = summary.steps > 0 ? 1e9 * result.wall_seconds / summary.steps : 0.0;
   result.newton_iterations_mean = summary.newtonIterationsMean();
   result.substepped_steps = summary.substepped_steps;
+  const typename System::State& good = final_state ? *final_state : last;
   if (have_last) {
-    rows(system, t_last, last, &result.final_row);
+    rows(system, t_last, good, &result.final_row);
     if (stop_reason.empty() && !summary.failed) non_finite(result.final_row, summary.steps, t_last);
   }
   result.failed = summary.failed || !stop_reason.empty();
@@ -391,7 +394,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;
-  if (have_last) result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, last));
+  if (have_last) result.constraint_error = std::max(constraint_error, constraintErrorOf(system, t_last, good));
   if (options.diagnostics)
     for (std::size_t i = 0; i < invariants.names().size(); ++i)
       result.invariants.emplace_back(invariants.names()[i], invariants.maxDrift()[i]);
@@ -409,9 +412,11 @@ SimulationResult runFixedStep(const Simulation::Model& model, const System& syst
                               const typename System::State& y0, const SimulationOptions& o,
                               const std::vector<std::string>& columns,
                               const std::function<void(const std::vector<double>&)>& row, Stepper stepper) {
-  return observeRun(model, system, o, stepCount(0.0, o.t_end, o.dt), columns, row, [&](auto& observer) {
-    return integrateFixedStep(stepper, system, y0, 0.0, o.t_end, o.dt, observer);
-  });
+  typename System::State y = y0;
+  return observeRun(
+      model, system, o, stepCount(0.0, o.t_end, o.dt), columns, row,
+      [&](auto& observer) { return integrateFixedStepInPlace(stepper, system, &y, 0.0, o.t_end, o.dt, observer); },
+      &y);
 }
 
 }  // namespace simulation_detail

@@ -6,6 +6,7 @@
 /// Dormand–Prince tableau at a step 16× below the finest tested one.
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -173,6 +174,46 @@ TEST(Integrate, BlowUpIsReportedNotReturnedAsNaN) {
   EXPECT_TRUE(s.failed);
   EXPECT_NE(s.failure.find("blow-up"), std::string::npos) << s.failure;
   EXPECT_FALSE(saw_nan);
+}
+
+/// The in-place driver leaves in *y the last state the observer accepted: the
+/// state of the step before a refused one, the last finite state before a
+/// blow-up, the final state after a whole run (what the command writes as the
+/// last good row without copying every state).
+TEST(Integrate, InPlaceDriverLeavesTheLastAcceptedState) {
+  const RotorSystem<double> sys(torquedTop<double>());
+  const RkmkStepper<RotorState<double>> rk4(ButcherTableau::rk4());
+  std::vector<RotorState<double>> seen;
+  RotorState<double> y = initialRotor();
+  integrateFixedStepInPlace(rk4, sys, &y, 0.0, 1.0, 0.1, [&](long k, double, const RotorState<double>& s) {
+    seen.push_back(s);
+    return k < 5;
+  });
+  ASSERT_EQ(seen.size(), 6u);
+  EXPECT_EQ(y.R.quaternion().coeffs(), seen[4].R.quaternion().coeffs());
+  EXPECT_EQ(y.omega, seen[4].omega);
+
+  RotorState<double> whole = initialRotor();
+  RotorState<double> last_seen;
+  integrateFixedStepInPlace(rk4, sys, &whole, 0.0, 1.0, 0.1, [&](long, double, const RotorState<double>& s) {
+    last_seen = s;
+    return true;
+  });
+  EXPECT_EQ(whole.omega, last_seen.omega);
+
+  RigidBodyParameters<double> p = torquedTop<double>();
+  p.gravity *= 1e6;
+  const RotorSystem<double> wild(p);
+  RotorState<double> blown = initialRotor();
+  const RunSummary s = integrateFixedStepInPlace(RkmkStepper<RotorState<double>>(ButcherTableau::euler()), wild,
+                                                 &blown, 0.0, 1000.0, 0.5,
+                                                 [&](long, double, const RotorState<double>& z) {
+                                                   last_seen = z;
+                                                   return true;
+                                                 });
+  ASSERT_TRUE(s.failed);
+  EXPECT_TRUE(isFinite(blown));
+  EXPECT_EQ(blown.omega, last_seen.omega);
 }
 
 #ifdef LIEFLOW_HAVE_CERES
