@@ -126,7 +126,7 @@ const std::set<std::string>& modelSwitches() {
 
 const std::set<std::string>& runLimitFlags() {
   static const std::set<std::string> flags = {"--max-steps", "--max-input-mb", "--max-bodies", "--ignore",
-                                              "--keyframe"};
+                                              "--keyframe", "--spin"};
   return flags;
 }
 
@@ -142,6 +142,19 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
   if (import.floating_base && !isUrdfFile(scene))
     throw UsageError("--floating-base: '" + scene + "' is not a URDF (.urdf); a scene or an MJCF model says "
                      "which bodies are free itself");
+  if (args.has("--spin")) {
+    if (!isModelFile(scene))
+      throw UsageError("--spin: '" + scene + "' is not a model file (.xml, .urdf); a scene file gives its bodies' "
+                       "velocities itself");
+    const std::string text = args.value("--spin", "");
+    std::stringstream parts(text);
+    std::vector<std::string> values;
+    for (std::string part; std::getline(parts, part, ',');) values.push_back(part);
+    if (values.size() != 3 || text.back() == ',')
+      throw UsageError("--spin: expected three numbers WX,WY,WZ (rad/s, world axes), got " + quotedValue(text));
+    for (int i = 0; i < 3; ++i) import.spin[i] = parseNumber("--spin", values[i]);
+    import.has_spin = true;
+  }
   return import;
 }
 

@@ -15,11 +15,11 @@ namespace lieflow {
 namespace app {
 
 int runImport(int argc, char** argv) {
-  const Arguments args(argc, argv, {"--out", "--ignore", "--keyframe", "--max-input-mb", "--max-bodies"},
+  const Arguments args(argc, argv, {"--out", "--ignore", "--keyframe", "--spin", "--max-input-mb", "--max-bodies"},
                        modelSwitches());
   if (args.help()) {
     std::cout << "usage: lieflow import MODEL.xml|MODEL.urdf [--out SCENE.json] [--ignore LIST] [--keyframe K]\n"
-                 "                      [--floating-base] [--verbose]\n\n"
+                 "                      [--floating-base] [--spin WX,WY,WZ] [--verbose]\n\n"
                  "Writes the lieflow scene a model file becomes (to stdout without --out). MJCF is read by\n"
                  "MuJoCo's compiler (libmujoco-dev: " << (canReadMjcf() ? "present" : "absent in this build")
               << "), URDF by urdfdom (liburdfdom-dev: " << (canReadUrdf() ? "present" : "absent in this build")
@@ -30,7 +30,11 @@ int runImport(int argc, char** argv) {
     std::cout << "  all: every category above\nWhat was ignored is printed to stderr, one line per category with the count\n"
                  "and the first elements (--verbose: every element). An MJCF model starts at qpos0 "
                  "and at rest, as\nMuJoCo's mj_resetData puts it, or at the qpos and qvel of --keyframe NAME|INDEX.\n"
-                 "The same --ignore, --keyframe, --floating-base and --verbose work on simulate, study and stability, which take\nmodel files "
+                 "--spin WX,WY,WZ adds to every free tree (a body on a free joint and what hangs from it) a rigid\n"
+                 "turn at that rate (rad/s, world axes) about the tree's centre of mass, its joints' rates\n"
+                 "unchanged: a floating robot set tumbling, whose limbs the turn flings (from rest in uniform\n"
+                 "gravity a floating tree does not move relative to itself); --with-mujoco starts MuJoCo the same.\n"
+                 "The same --ignore, --keyframe, --floating-base, --spin and --verbose work on simulate, study and stability, which take\nmodel files "
                  "wherever they take a SCENE.\n";
     return kSuccess;
   }

@@ -18,7 +18,7 @@ int runStabilityCommand(int argc, char** argv) {
   if (args.help()) {
     std::cout << "usage: lieflow stability [SCENE...] [--integrators a,b,...] [--options KEY=VALUE,...]\n"
                  "                         [--out DIR] [--no-plots] [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
-                 "                         [--formulation maximal|joint] [--ignore LIST] [--keyframe K] [--floating-base]\n"
+                 "                         [--formulation maximal|joint] [--ignore LIST] [--keyframe K] [--floating-base] [--spin WX,WY,WZ]\n"
                  "\n"
                  "For each integrator and scene (default: stiff-spring and fast-top), the\n"
                  "largest h*omega_c for which a run of 40 periods stays bounded (no blow-up,\n"

@@ -18,7 +18,7 @@ constexpr const char* kUsage =
     "usage: lieflow study SCENE [--integrators a,b,...] [--dt h1,h2,...] [--t-end T] [--out DIR]\n"
     "                     [--min-time SECONDS] [--options KEY=VALUE,...] [--no-plots]\n"
     "                     [--formulation maximal|joint] [--with-mujoco]\n"
-    "                     [--ignore LIST] [--keyframe K] [--floating-base]\n"
+    "                     [--ignore LIST] [--keyframe K] [--floating-base] [--spin WX,WY,WZ]\n"
     "                     [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
     "\n"
     "Work-precision study of SCENE: each integrator at each step; error at t_end\n"

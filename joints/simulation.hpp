@@ -139,10 +139,9 @@ class Simulation {
   /// represents it, "joint" wherever joint coordinates represent the scene
   /// and the integrator runs there (a tree, or loops and gear rows with the
   /// explicit steppers: 2 to 3 times fewer operations per step than bodies'
-  /// poses with multipliers, bench/multibody), else "maximal", and genalpha
-  /// on a tree with a free root in maximal coordinates, faster there
-  /// (simulation.cpp has the figures). A scene without joints has one
-  /// formulation, "joint".
+  /// poses with multipliers, bench/multibody; on floating robots in motion
+  /// genalpha too, simulation.cpp has the figures), else "maximal". A scene
+  /// without joints has one formulation, "joint".
   std::string defaultFormulation(const std::string& integrator) const;
 
   /// Whether the scene is a mechanism, whose maximal formulation imposes

@@ -21,13 +21,6 @@ std::string emptyCellReason(const std::string& integrator) {
   return why;
 }
 
-/// A row's kMaximalOnFloatingTrees, false where it has none.
-template <typename Row, typename = void>
-struct MaximalOnFloatingTrees : std::false_type {};
-template <typename Row>
-struct MaximalOnFloatingTrees<Row, std::void_t<decltype(Row::kMaximalOnFloatingTrees)>>
-    : std::integral_constant<bool, Row::kMaximalOnFloatingTrees> {};
-
 }  // namespace
 
 const char* systemKindName(SystemKind kind) {
@@ -59,14 +52,6 @@ std::vector<std::string> steppersFor(SystemKind kind) {
     if (stepperUnavailable(row.name, kind).empty()) names.push_back(row.name);
   });
   return names;
-}
-
-bool prefersMaximalOnFloatingTrees(const std::string& integrator) {
-  bool prefers = false;
-  stepper_table::forEachRow([&](const auto& row) {
-    if (integrator == row.name) prefers = MaximalOnFloatingTrees<std::decay_t<decltype(row)>>::value;
-  });
-  return prefers;
 }
 
 }  // namespace lieflow

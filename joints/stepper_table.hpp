@@ -39,9 +39,4 @@ std::string stepperUnavailable(const std::string& integrator, SystemKind kind);
 /// "available:" lists of the error messages).
 std::vector<std::string> steppersFor(SystemKind kind);
 
-/// Whether the integrator's default on a tree with a free root is the
-/// maximal formulation although it runs in joint coordinates there (a row's
-/// measured choice, joints/stepper_table_rows.hpp).
-bool prefersMaximalOnFloatingTrees(const std::string& integrator);
-
 }  // namespace lieflow

@@ -198,14 +198,6 @@ struct SplittingRow {
 
 struct GenalphaRow {
   const char* name = "genalpha";
-  /// On a tree with a free root its joint-coordinate form solves a dense
-  /// n × n Newton matrix, the maximal one a sparse KKT matrix that without
-  /// joints to the ground stays cheap for KLU (measured per step, joint
-  /// against maximal: Solo12 7.8 / 5.5 µs, Talos 32.8 / 15.6, Talos full
-  /// 200.9 / 22.3, MuJoCo's humanoid 15.0 / 7.6; on a fixed-base arm the
-  /// other way round, UR5 6.7 / 100): the default there is maximal.
-  static constexpr bool kMaximalOnFloatingTrees = true;
-
   static GeneralizedAlphaOptions options(const SimulationOptions& o) {
     GeneralizedAlphaOptions g;
     g.rho_inf = option(o, "rho_inf", g.rho_inf);

@@ -318,14 +318,21 @@ void defineCommands(py::module_& m) {
 #endif
   m.def(
       "import_model",
-      [](const std::string& path, const std::string& ignore, const std::string& keyframe, bool floating_base) {
+      [](const std::string& path, const std::string& ignore, const std::string& keyframe, bool floating_base,
+         const std::vector<double>& spin) {
         ModelImportOptions options = parseIgnoreList(ignore);
         options.keyframe = keyframe;
         options.floating_base = floating_base;
+        if (!spin.empty()) {
+          if (spin.size() != 3) throw InvalidInput("spin", "expected three numbers (rad/s, world axes)");
+          options.has_spin = true;
+          for (int i = 0; i < 3; ++i) options.spin[i] = spin[i];
+        }
         const SceneDescription s = importModel(path, options);
         return py::make_tuple(sceneToJson(s), s.import_notes);
       },
-      py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "", py::arg("floating_base") = false);
+      py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "", py::arg("floating_base") = false,
+      py::arg("spin") = std::vector<double>{});
   m.attr("reads_mjcf") = canReadMjcf();
   m.attr("reads_urdf") = canReadUrdf();
   m.def("scenes", [] {

@@ -2,6 +2,7 @@
 /// What a model importer may leave out (`--ignore`): model_import.hpp.
 #pragma once
 
+#include <array>
 #include <set>
 #include <string>
 
@@ -19,6 +20,11 @@ struct ModelImportOptions {
   /// without it the root is fixed to the world, as URDF's tools take it,
   /// and the import says so.
   bool floating_base = false;
+  /// `--spin WX,WY,WZ` (rad/s, world axes): every free tree of the model
+  /// turns rigidly about its centre of mass at this rate, added to its start
+  /// (joints/import/free_tree_spin.hpp; the MuJoCo peer starts the same).
+  bool has_spin = false;
+  std::array<double, 3> spin{{0.0, 0.0, 0.0}};
   bool ignores(const std::string& category) const { return ignore.count(category) > 0; }
 };
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "joints/import/model_readers.hpp"
+#include "joints/import/free_tree_spin.hpp"
 #include "joints/import/model_to_scene.hpp"
 #include "joints/input_file.hpp"
 #include "joints/scene_writer.hpp"
@@ -138,7 +139,9 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
                                  std::to_string(limits.max_bodies));
   // Through the scene file's reader, so that an imported model passes every
   // check a scene file does and `lieflow import` writes what runs.
-  const SceneDescription built = model_import::sceneFromModel(model);
+  SceneDescription built = model_import::sceneFromModel(model);
+  if (options.has_spin)
+    model_import::spinFreeTrees(Eigen::Vector3d(options.spin[0], options.spin[1], options.spin[2]), path, &built);
   try {
     SceneDescription scene = parseScene(sceneToJson(built), path, limits.max_bodies);
     scene.import_notes = built.import_notes;

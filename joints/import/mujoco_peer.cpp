@@ -69,6 +69,27 @@ struct Measured {
   Eigen::Vector3d L = Eigen::Vector3d::Zero(), L_com = Eigen::Vector3d::Zero();
 };
 
+/// The turn of --spin (free_tree_spin.hpp) on MuJoCo's free roots: each
+/// tree turning rigidly at ω (world) about its centre of mass, subtree_com of
+/// its root, with the joints' rates unchanged: the free joint's qvel gains
+/// ω × (x − c) (the linear velocity of the body's origin, world axes) and
+/// Rᵀ ω (the angular velocity, body axes).
+void addSpin(const mjModel* m, mjData* d, const Eigen::Vector3d& omega) {
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  for (int j = 0; j < m->njnt; ++j) {
+    const int b = m->jnt_bodyid[j];
+    if (m->jnt_type[j] != mjJNT_FREE || m->body_parentid[b] != 0) continue;
+    const Eigen::Vector3d linear = omega.cross(mjVec3(d->xpos + 3 * b) - mjVec3(d->subtree_com + 3 * b));
+    const Eigen::Vector3d angular = mjMat3(d->xmat + 9 * b).transpose() * omega;
+    mjtNum* v = d->qvel + m->jnt_dofadr[j];
+    for (int i = 0; i < 3; ++i) {
+      v[i] += linear[i];
+      v[3 + i] += angular[i];
+    }
+  }
+}
+
 Measured measure(const mjModel* m, mjData* d) {
   Measured out;
   mj_energyPos(m, d);
@@ -125,6 +146,8 @@ struct MujocoPeer::Impl {
   std::vector<std::string> notes;
   model_import::MjcfModel model;
   int key = -1;
+  bool has_spin = false;
+  Eigen::Vector3d spin = Eigen::Vector3d::Zero();
   std::vector<int> bodies;  ///< MuJoCo body of each scene body
 };
 
@@ -136,6 +159,8 @@ MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& option
   mjModel* m = impl_->model.get();
   model_import::switchOffIgnored(m, options);
   impl_->key = model_import::keyframeIndex(m, path, options.keyframe);
+  impl_->has_spin = options.has_spin;
+  impl_->spin = Eigen::Vector3d(options.spin[0], options.spin[1], options.spin[2]);
   // Scene bodies by the names the importer gave MuJoCo's bodies (unnamed
   // ones included: mjcfBodyName).
   std::map<std::string, int> by_name;
@@ -177,6 +202,7 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
     mj_resetDataKeyframe(m, d.get(), impl_->key);
   else
     mj_resetData(m, d.get());
+  if (impl_->has_spin) addSpin(m, d.get(), impl_->spin);
   d->time = 0.0;
 
   MujocoPeerRun run;

@@ -115,6 +115,15 @@ def _keyframe(flag, value):
     return _text(flag, value)
 
 
+def _spin(flag, value):
+    """WX,WY,WZ from three finite numbers (a list, tuple or NumPy array)."""
+    values = _plain(value, flag)
+    if not isinstance(values, list) or len(values) != 3 or not all(
+            isinstance(v, numbers.Real) and not isinstance(v, bool) for v in values):
+        raise InputError(f"{flag}: expected three numbers (rad/s, world axes), got {_shown(value)}")
+    return ",".join(repr(float(v)) for v in values)
+
+
 def _names(flag, values):
     if isinstance(values, (str, os.PathLike)):
         values = [values]
@@ -163,7 +172,8 @@ def _flags(spec, values):
 
 _LIMITS = {"max_steps": ("--max-steps", _integer), "max_input_mb": ("--max-input-mb", _integer),
            "max_bodies": ("--max-bodies", _integer), "ignore": ("--ignore", _names),
-           "keyframe": ("--keyframe", _keyframe), "floating_base": ("--floating-base", None)}
+           "keyframe": ("--keyframe", _keyframe), "floating_base": ("--floating-base", None),
+           "spin": ("--spin", _spin)}
 
 
 def _plain(value, where):
@@ -216,7 +226,7 @@ def _scene(scene, what="scene"):
     raise InputError(f"{what}: expected a scene file, a built-in scene name or a dict, got {type(scene).__name__}")
 
 
-def import_model(model, ignore=None, keyframe=None, floating_base=False):
+def import_model(model, ignore=None, keyframe=None, floating_base=False, spin=None):
     """A MuJoCo MJCF (.xml) or URDF (.urdf) model as the scene it becomes, as
     ``lieflow import MODEL``: a dict in the scene schema (welded links merged;
     pass it to simulate, study or stability, or edit it first). ignore: what
@@ -224,14 +234,17 @@ def import_model(model, ignore=None, keyframe=None, floating_base=False):
     left out is reported with warnings.warn. keyframe: an MJCF keyframe's name
     or index whose qpos and qvel are the start (default: qpos0, at rest).
     floating_base: a URDF's root link on a free joint to the world (default:
-    fixed to it, as URDF's tools take it; the notes say so).
+    fixed to it, as URDF's tools take it; the notes say so). spin: (wx, wy, wz)
+    rad/s, world axes: every free tree turning rigidly about its centre of
+    mass, added to its start (--spin).
     Raises InputError naming the file, element and line for what lieflow
     cannot represent."""
     if not isinstance(model, (str, os.PathLike)):
         raise InputError(f"model: expected a path to a .xml or .urdf file, got {type(model).__name__}")
     text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "",
                                         _keyframe("keyframe", keyframe) if keyframe is not None else "",
-                                        _switch("floating_base", floating_base))
+                                        _switch("floating_base", floating_base),
+                                        [float(v) for v in _spin("spin", spin).split(",")] if spin is not None else [])
     if notes:
         warnings.warn(f"lieflow: {os.fspath(model)}: " + "; ".join(notes), stacklevel=2)
     return json.loads(text)
@@ -266,7 +279,7 @@ def _callables(name, loads):
 
 def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None, noise=None, torques=None,
              moments=None, partial=False, max_steps=None, max_input_mb=None, max_bodies=None, formulation=None,
-             imu=False, ignore=None, keyframe=None, floating_base=False, check_every=None):
+             imu=False, ignore=None, keyframe=None, floating_base=False, check_every=None, spin=None):
     """Runs a scene, as ``lieflow simulate SCENE --stats``.
 
     scene:      a scene file, a model file (MJCF .xml, URDF .urdf), a built-in
@@ -274,6 +287,9 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     ignore:     what a model file may leave out (--ignore), e.g.
                 ["contacts", "limits"]; what was left out is printed to stderr;
     keyframe:   an MJCF model's keyframe (name or index) as the start (--keyframe);
+    spin:       (wx, wy, wz) rad/s, world axes: every free tree of a model
+                turning rigidly about its centre of mass, added to its start
+                (--spin);
     integrator, dt, t_end, every: as --integrator, --dt, --t-end, --every
                 (None: the scene's own; a scene that names no integrator or step
                 runs rkmk4 at a default step, as stats["integrator"] and
@@ -319,7 +335,7 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
             "formulation": ("--formulation", _text), "imu": ("--imu", None), **_LIMITS}
     tokens = positional + _flags(spec, dict(integrator=integrator, dt=dt, t_end=t_end, every=every, check_every=check_every,
                                             options=options, formulation=formulation, imu=imu, ignore=ignore, keyframe=keyframe,
-                                            floating_base=floating_base, max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
+                                            floating_base=floating_base, spin=spin, max_steps=max_steps, max_input_mb=max_input_mb, max_bodies=max_bodies,
                                             **noise)) + ["--quiet"]
     raw = _lieflow.simulate(tokens, scene_json, _callables("torques", torques), _callables("moments", moments))
     data = raw["data"]
@@ -377,7 +393,7 @@ class _OutputDirectory:
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
           max_steps=None, max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None,
-          with_mujoco=False, floating_base=False):
+          with_mujoco=False, floating_base=False, spin=None):
     """Work-precision study, as ``lieflow study SCENE``.
 
     Returns a dict: "rows" (the columns of study.csv: integrator, dt, steps,
@@ -399,7 +415,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
                                                 options=options, max_steps=max_steps, max_input_mb=max_input_mb,
                                                 max_bodies=max_bodies, formulation=formulation, ignore=ignore,
                                                 keyframe=keyframe, with_mujoco=with_mujoco,
-                                                floating_base=floating_base))
+                                                floating_base=floating_base, spin=spin))
         tokens += ["--out", directory.path]
         if not plots:
             tokens.append("--no-plots")
@@ -415,7 +431,7 @@ def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None,
 
 def stability(scenes=None, integrators=None, options=None, out=None, plots=False, max_steps=None,
               max_input_mb=None, max_bodies=None, formulation=None, ignore=None, keyframe=None,
-              floating_base=False):
+              floating_base=False, spin=None):
     """Stability scan, as ``lieflow stability [SCENE...]``: for each integrator
     and scene the largest bounded h*omega_c. scenes: a list of files, built-in
     names or dicts (default stiff-spring and fast-top). Returns a dict:
@@ -441,7 +457,7 @@ def stability(scenes=None, integrators=None, options=None, out=None, plots=False
         tokens = positional + _flags(spec, dict(integrators=integrators, options=options, max_steps=max_steps,
                                                 max_input_mb=max_input_mb, max_bodies=max_bodies,
                                                 formulation=formulation, ignore=ignore, keyframe=keyframe,
-                                                floating_base=floating_base))
+                                                floating_base=floating_base, spin=spin))
         tokens += ["--out", directory.path] + ([] if plots else ["--no-plots"])
         raw = _lieflow.stability(tokens, jsons)
         result = {"rows": _read_csv(os.path.join(directory.path, "stability.csv")),

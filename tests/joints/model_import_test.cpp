@@ -511,6 +511,43 @@ TEST(ModelImport, AUrdfFloatsWithItsRootOnAFreeJoint) {
   if (canReadMjcf()) expectContains(refusal(model("arm6.xml"), floating), {"arm6.xml", "--floating-base"});
 }
 
+TEST(ModelImport, SpinTurnsEveryFreeTreeRigidlyAboutItsCentre) {
+  // --spin ω: the floating arm turns as one rigid body about its centre of
+  // mass. Read back by the simulator (its own kinematics): every joint's
+  // rate is zero, the centre of mass does not move, and each body turns at ω
+  // (world axes), its centre at ω × (c_i − c).
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  ModelImportOptions options;
+  options.floating_base = true;
+  options.has_spin = true;
+  options.spin = {{0.5, -1.0, 2.0}};
+  const Eigen::Vector3d omega(0.5, -1.0, 2.0);
+  const SceneDescription s = importModel(model("arm6.urdf"), options);
+  const Trajectory tr = simulate(s, "rkmk4", 1e-3, 1e-3);
+  double mass = 0.0;
+  Eigen::Vector3d momentum = Eigen::Vector3d::Zero(), centre = Eigen::Vector3d::Zero();
+  for (const BodyDescription& b : s.bodies) {
+    mass += b.mass;
+    centre += b.mass * b.position;
+    momentum += b.mass * Eigen::Vector3d(tr.at(0, b.name + ".vx"), tr.at(0, b.name + ".vy"), tr.at(0, b.name + ".vz"));
+  }
+  centre /= mass;
+  EXPECT_LE(momentum.norm(), 1e-12 * mass);
+  for (const BodyDescription& b : s.bodies) {
+    const Eigen::Quaterniond q(tr.at(0, b.name + ".qw"), tr.at(0, b.name + ".qx"), tr.at(0, b.name + ".qy"),
+                               tr.at(0, b.name + ".qz"));
+    const Eigen::Vector3d w_body(tr.at(0, b.name + ".wx"), tr.at(0, b.name + ".wy"), tr.at(0, b.name + ".wz"));
+    EXPECT_LE((q * w_body - omega).norm(), 1e-12) << b.name;
+    const Eigen::Vector3d v(tr.at(0, b.name + ".vx"), tr.at(0, b.name + ".vy"), tr.at(0, b.name + ".vz"));
+    EXPECT_LE((v - omega.cross(b.position - centre)).norm(), 1e-12) << b.name;
+  }
+  for (const char* joint : {"j1", "j2", "j3", "j4", "j5", "j6"})
+    EXPECT_LE(std::abs(tr.at(0, std::string(joint) + ".phidot")), 1e-12) << joint;
+  // A fixed base has nothing free to turn.
+  options.floating_base = false;
+  expectContains(refusal(model("arm6.urdf"), options), {"arm6.urdf", "--spin", "--floating-base"});
+}
+
 TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
   if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
   // A revolute joint with limits and a link with a collision shape.

@@ -54,6 +54,23 @@ def test_limits_and_contacts_are_refused_then_ignored_with_a_warning():
         lieflow.import_model(path, ignore=["gravity"])
 
 
+@needs_urdf
+def test_spin_sets_a_floating_model_turning_as_the_command_does(run_command):
+    model = os.path.join(MODELS, "arm6.urdf")
+    status, out, err = run_command("import", model, "--floating-base", "--spin", "0.5,-1,2")
+    assert status == 0, err
+    scene = lieflow.import_model(model, floating_base=True, spin=np.array([0.5, -1.0, 2.0]))
+    assert scene == json.loads(out)
+    result = lieflow.simulate(model, floating_base=True, spin=(0.5, -1, 2), integrator="rkmk4", dt=0.01, t_end=0.02)
+    assert abs(result.columns["j1.phidot"][0]) < 1e-12  # a rigid turn: the joints do not move
+    assert result.columns["base.wz"][0] != 0.0
+    for bad in [(1, 2), "fast", (1, 2, float("nan"))]:
+        with pytest.raises(lieflow.InputError, match="spin"):
+            lieflow.import_model(model, floating_base=True, spin=bad)
+    with pytest.raises(lieflow.InputError, match="--spin.*--floating-base"):
+        lieflow.import_model(model, spin=(0, 0, 1))
+
+
 needs_mjcf = pytest.mark.skipif(not _lieflow.reads_mjcf, reason="this build has no MJCF reader (libmujoco-dev)")
 
 

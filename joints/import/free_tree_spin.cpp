@@ -1,0 +1,86 @@
+/// \file
+/// A model's free trees set turning (free_tree_spin.hpp).
+#include "joints/import/free_tree_spin.hpp"
+
+#include <map>
+#include <numeric>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "liegroup/invalid_input.hpp"
+
+namespace lieflow {
+namespace model_import {
+
+namespace {
+
+/// The root of i's set (union-find with path halving).
+int findRoot(std::vector<int>* parent, int i) {
+  while ((*parent)[i] != i) i = (*parent)[i] = (*parent)[(*parent)[i]];
+  return i;
+}
+
+}  // namespace
+
+void spinFreeTrees(const Eigen::Vector3d& omega, const std::string& path, SceneDescription* scene) {
+  std::vector<BodyDescription>& bodies = scene->bodies;
+  const int n = static_cast<int>(bodies.size());
+  std::map<std::string, int> index;
+  for (int i = 0; i < n; ++i) index.emplace(bodies[i].name, i);
+  // Trees as the joints join them; a tree with a joint to the ground (or a
+  // body held at a point, rotation-only) is not free.
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<bool> grounded(n, false);
+  for (int i = 0; i < n; ++i) grounded[i] = bodies[i].rotation_only;
+  // A gear's rows hold rates relative to its carriers: a carrier that is the
+  // ground grounds its nodes (a turn of theirs alone would break the rows).
+  for (const JointDescription& j : scene->joints) {
+    std::vector<std::string> members = {j.main, j.secondary};
+    if (j.isGear()) members.insert(members.end(), {j.tertiary, j.carrier, j.carrier_secondary});
+    int first = -1;
+    bool to_ground = false;
+    for (const std::string& name : members) {
+      if (name.empty()) continue;
+      const auto found = index.find(name);
+      if (found == index.end()) {
+        to_ground = true;  // "ground", the world
+        continue;
+      }
+      if (first < 0)
+        first = found->second;
+      else
+        parent[findRoot(&parent, found->second)] = findRoot(&parent, first);
+    }
+    if (to_ground && first >= 0) grounded[first] = true;
+  }
+  std::vector<bool> tree_grounded(n, false);
+  for (int i = 0; i < n; ++i)
+    if (grounded[i]) tree_grounded[findRoot(&parent, i)] = true;
+  // Each free tree's mass and centre of mass.
+  std::vector<double> mass(n, 0.0);
+  std::vector<Eigen::Vector3d> moment(n, Eigen::Vector3d::Zero());
+  for (int i = 0; i < n; ++i) {
+    const int r = findRoot(&parent, i);
+    mass[r] += bodies[i].mass;
+    moment[r] += bodies[i].mass * bodies[i].position;
+  }
+  int free_trees = 0;
+  for (int i = 0; i < n; ++i) {
+    const int r = findRoot(&parent, i);
+    if (tree_grounded[r]) continue;
+    if (r == i) ++free_trees;
+    BodyDescription& b = bodies[i];
+    const Eigen::Vector3d centre = moment[r] / mass[r];
+    b.angular_velocity += b.orientation.conjugate() * omega;
+    b.velocity += omega.cross(b.position - centre);
+    b.has_velocity = true;
+  }
+  if (free_trees == 0)
+    throw InvalidInput(path + ": --spin", "the model has no free body or tree to turn (every tree is joined to the "
+                                          "world; a URDF's root link floats with --floating-base)");
+}
+
+}  // namespace model_import
+}  // namespace lieflow
