@@ -100,6 +100,10 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   tinyxml2::XMLElement* compiler = doc.NewElement("compiler");
   compiler->SetAttribute("fusestatic", "true");
   compiler->SetAttribute("discardvisual", "true");
+  // A link without <inertial> has no mass in URDF (urdfdom, lieflow's
+  // import); MuJoCo's default would give it the mass of its collision
+  // primitives (ANYmal's base: 29 kg that the file does not have).
+  compiler->SetAttribute("inertiafromgeom", "false");
   mujoco->InsertEndChild(compiler);
   robot->InsertFirstChild(mujoco);
   if (options.floating_base) {

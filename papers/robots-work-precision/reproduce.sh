@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates papers/robots-work-precision/: error against run time on public
-# fixed-base robot descriptions (bench/models/robots: UR5, Panda), every
+# robot descriptions (bench/models/robots: UR5, Panda fixed; Solo12, ANYmal,
+# Talos, Talos full floating and turning; MuJoCo's humanoid turning), every
 # integrator family with lieflow's defaults (the default formulation) beside
 # MuJoCo's RK4, Euler and implicit integrators on the same file, each model
 # one `lieflow study MODEL --ignore all --with-mujoco` run; then analyze.py
@@ -11,9 +12,10 @@
 #
 # T: end time in seconds (default 1). Needs a build with MuJoCo
 # (libmujoco-dev; libmujoco-samples for the MJCF models) and URDF reading
-# (liburdfdom-dev). About a minute on 2 CPUs. The floating robots are left
-# out: falling limp from rest, a floating tree does not move relative to
-# itself (uniform gravity), so every integrator's error is round-off (README).
+# (liburdfdom-dev). About five minutes on 2 CPUs. The floating robots start
+# turning (--spin 0.5,1,2 rad/s, MuJoCo from the same start): falling limp
+# from rest, a floating tree does not move relative to itself (uniform
+# gravity), so every integrator's error would be round-off (README).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -26,9 +28,15 @@ mkdir -p "$out"
 robots="$root/bench/models/robots"
 samples=/usr/share/mujoco/model
 # name|file|flags
+spin="--spin 0.5,1,2"
 models=(
   "ur5|$robots/ur5.urdf|"
   "panda|$robots/panda.urdf|"
+  "solo12|$robots/solo12.urdf|--floating-base $spin"
+  "anymal|$robots/anymal.urdf|--floating-base $spin"
+  "talos|$robots/talos.urdf|--floating-base $spin"
+  "talos_full|$robots/talos_full.urdf|--floating-base $spin"
+  "humanoid|$samples/humanoid/humanoid.xml|$spin"
 )
 integrators=rkmk4,cf4,lgvi,genalpha
 for entry in "${models[@]}"; do
@@ -40,7 +48,7 @@ for entry in "${models[@]}"; do
   dir="$out/${name%% *}"
   # shellcheck disable=SC2086
   "$lieflow" study "$file" --ignore all $flags --with-mujoco --integrators "$integrators" \
-    --dt 8e-3,4e-3,2e-3,1e-3,5e-4 --t-end "$t_end" --min-time 0.1 --no-plots --out "$dir" >"$dir.log" 2>&1 ||
+    --dt 8e-3,4e-3,2e-3,1e-3,5e-4,2.5e-4,1.25e-4 --t-end "$t_end" --min-time 0.1 --no-plots --out "$dir" >"$dir.log" 2>&1 ||
     { echo "reproduce: the study of $name failed (see $dir.log)" >&2; continue; }
   rm -f "$dir/drift.csv"  # the drift series: not what this paper reads
   # The formulation each lieflow integrator ran in (the default's choice).
