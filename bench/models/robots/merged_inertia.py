@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The mass, centre and inertia of a URDF link with every link welded to it
 (fixed joints, recursively), from the file alone: an independent reference for
-the merged bodies of `lieflow import` and of MuJoCo's `fusestatic`.
+the merged bodies of `lieflow import` and of MuJoCo's `fusestatic` (which
+also sees the inertias its compiler balanced).
 
     /usr/bin/python3 merged_inertia.py MODEL.urdf LINK
 
