@@ -59,7 +59,16 @@
 /// O(h²), C = ∂(M v)/∂q, so each pass gains a factor of order h |q̇| (the
 /// joint rates times the step; the skew, gyroscopic part C − Cᵀ is what
 /// M(q₀) leaves out): measured 0.002–0.01 per pass at h = 1e-3 on the
-/// falling chains of bench/multibody. The start is the quartic extrapolation
+/// falling chains of bench/multibody. On a turning tree with light links
+/// (Talos's wrists and grippers turning at 2 rad/s, h = 2 ms) M(q₀)⁻¹ scales
+/// that part up beyond 1 in a few modes and the plain iteration diverges
+/// there; the passes are therefore Anderson-accelerated (andersonStep:
+/// depth 4, least squares in the kinetic-energy norm), which solves for
+/// those modes. Measured per step at h = 2 ms, plain against accelerated:
+/// Talos turning 21.3 passes, 91 µs (half its steps substepped) against
+/// 2.9 passes, 13 µs; chain-30 4.92 against 4.44 passes; the UR5 3.07
+/// against 2.77; Solo12 turning 2.30 against 2.29 (4 % dearer per step
+/// for the bookkeeping). The start is the quartic extrapolation
 /// of the mid-step rates of the last five steps when the step continues them
 /// (same h; 5 v₋₁ − 10 v₋₂ + 10 v₋₃ − 5 v₋₄ + v₋₅, error O(h⁵)), lower orders
 /// after fewer, else q̇₀ (error O(h)); on chain-10 at h = 1e-3 it brings the
@@ -116,6 +125,7 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "integrators/step_report.hpp"
@@ -349,14 +359,78 @@ class JointSpaceVariationalStepper {
       } else {
         ++stalls;
       }
-      w.v += w.dv;
-      if (converged(change, previous, bound)) return true;
+      if (converged(change, previous, bound)) {
+        w.v += w.dv;
+        return true;
+      }
       if (!std::isfinite(change) || stalls >= 4 || it == options_.max_iterations) {
         w.v = w.v_best;
         return false;
       }
+      andersonStep(it == 1);
       previous = change;
     }
+  }
+
+  /// The next iterate by Anderson acceleration (Walker & Ni, SIAM J. Numer.
+  /// Anal. 49 (2011), type II) of the fixed-point map g(v) = v + f(v), f the
+  /// quasi-Newton increment M(q₀)⁻¹ r(v): with the last m differences ΔF of f
+  /// and ΔG of g, γ = argmin ‖f − ΔF γ‖ in the kinetic-energy norm (Gram
+  /// matrix ΔFᵀ M(q₀) ΔF = ΔFᵀ ΔR, the differences of r: no extra solve) and
+  /// v ← v + f − ΔG γ. On a linear map it is GMRES over the last m
+  /// increments, so the few modes the quasi-Newton matrix M(q₀) gets wrong by
+  /// a factor beyond 1 (the gyroscopic part it leaves out, large on light
+  /// links of a turning tree) are solved for instead of amplified. The
+  /// converged v is the same; only the path there changes. `first`: a new
+  /// step, no history yet (the plain step v + f).
+  void andersonStep(bool first) const {
+    Work& w = work_;
+    const Eigen::Index n = w.v.size();
+    if (w.anderson_F.rows() != n) {
+      w.anderson_F.resize(n, kAndersonDepth);
+      w.anderson_G.resize(n, kAndersonDepth);
+      w.anderson_R.resize(n, kAndersonDepth);
+    }
+    if (first) {
+      w.anderson_count = 0;
+      w.anderson_next = 0;
+    } else {
+      const int c = w.anderson_next;
+      w.anderson_F.col(c) = w.dv - w.f_last;
+      w.anderson_R.col(c) = w.r - w.r_last;
+      w.anderson_G.col(c) = (w.v + w.dv) - w.g_last;
+      w.anderson_next = (c + 1) % kAndersonDepth;
+      w.anderson_count = std::min(w.anderson_count + 1, kAndersonDepth);
+    }
+    w.f_last = w.dv;
+    w.r_last = w.r;
+    w.g_last = w.v + w.dv;
+    w.v += w.dv;
+    const int m = w.anderson_count;
+    if (m == 0) return;
+    // The m × m normal equations in a fixed 4 × 4 block (identity beyond m:
+    // those γ are 0), symmetrized, regularized at kAndersonRegularization of
+    // its trace against columns that repeat one another.
+    Eigen::Matrix<double, kAndersonDepth, kAndersonDepth> A =
+        Eigen::Matrix<double, kAndersonDepth, kAndersonDepth>::Identity();
+    Eigen::Matrix<double, kAndersonDepth, 1> rhs = Eigen::Matrix<double, kAndersonDepth, 1>::Zero();
+    double trace = 0.0;
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        A(i, j) = A(j, i) =
+            0.5 * (w.anderson_F.col(i).dot(w.anderson_R.col(j)) + w.anderson_F.col(j).dot(w.anderson_R.col(i)));
+      }
+      rhs(i) = w.anderson_F.col(i).dot(w.r);
+      trace += A(i, i);
+    }
+    if (!(trace > 0.0) || !std::isfinite(trace)) return;
+    for (int i = 0; i < m; ++i) A(i, i) += kAndersonRegularization * trace;
+    const Eigen::LDLT<Eigen::Matrix<double, kAndersonDepth, kAndersonDepth>> ldlt(A);
+    const Eigen::Matrix<double, kAndersonDepth, 1> gamma = ldlt.solve(rhs);
+    if (ldlt.info() != Eigen::Success || !gamma.allFinite()) return;
+    // The valid columns only: the ring fills from column 0, and the others
+    // are not yet written (0 × an unset value is not 0 when it is NaN).
+    w.v.noalias() -= w.anderson_G.leftCols(m) * gamma.head(m);
   }
 
   /// The step's vectors and frames, kept from step to step.
@@ -375,7 +449,19 @@ class JointSpaceVariationalStepper {
     double h_last = 0.0, t_end = 0.0;
     Eigen::VectorXd v1, v2, v3, v4, v5;  ///< the last steps' mid-step rates, newest first
     int history = 0;             ///< how many of them continue into this step
+    /// Anderson acceleration's last kAndersonDepth differences of f, g and r
+    /// (columns of a ring, anderson_next the next to overwrite) and the last f, r, g.
+    Eigen::MatrixXd anderson_F, anderson_G, anderson_R;
+    Eigen::VectorXd f_last, r_last, g_last;
+    int anderson_count = 0, anderson_next = 0;
   };
+
+  /// Anderson acceleration's memory: the last 4 increments (a handful of
+  /// badly approximated modes: a turning tree's light links).
+  static constexpr int kAndersonDepth = 4;
+  /// Added to the normal equations' diagonal, relative to their trace: keeps
+  /// γ bounded when two differences are nearly parallel (near convergence).
+  static constexpr double kAndersonRegularization = 1e-10;
 
   mutable Work work_;
   mutable State result_;

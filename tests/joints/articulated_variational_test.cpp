@@ -17,6 +17,7 @@
 
 #include "integrators/joint_space_variational.hpp"
 #include "joints/articulated_scene.hpp"
+#include "joints/import/model_import.hpp"
 #include "joints/scene.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -533,6 +534,34 @@ TEST(JointLgvi, TakesAStepItCannotSolveWholeAsSubsteps) {
   const RunEnds fine = runEnds(sim, "joint", "lgvi", 1e-3, 0.5);
   ASSERT_FALSE(fine.result.failed) << fine.result.failure;
   EXPECT_EQ(fine.result.substepped_steps, 0);
+}
+
+TEST(JointLgvi, SolvesATurningTreeWithLightLinksWithoutSubsteps) {
+  // Talos (example-robot-data, bench/models/robots) floating and turning at
+  // ω = (0.5, 1, 2) rad/s, h = 2 ms: M(q₀)⁻¹ scales the gyroscopic part the
+  // quasi-Newton matrix leaves out beyond 1 on its light wrist and gripper
+  // links, and the plain iteration diverged there (21 passes per step, half
+  // the steps substepped); Anderson acceleration solves those modes
+  // (measured: 2.9 passes per step, no substeps). The momentum about the
+  // centre of mass stays at round-off (uniform gravity puts no moment on it).
+  if (!canReadUrdf()) GTEST_SKIP() << "this build has no URDF reader";
+  ModelImportOptions options = parseIgnoreList("all");
+  options.floating_base = true;
+  options.has_spin = true;
+  options.spin = {{0.5, 1.0, 2.0}};
+  const Simulation sim(importModel(std::string(LIEFLOW_SOURCE_DIR) + "/bench/models/robots/talos.urdf", options));
+  EXPECT_EQ(sim.defaultFormulation("lgvi"), "joint");
+  const RunEnds r = runEnds(sim, "joint", "lgvi", 2e-3, 0.4);
+  ASSERT_FALSE(r.result.failed) << r.result.failure;
+  std::cout << "[ measured ] Talos turning, lgvi at h = 2 ms: " << r.result.newton_iterations_mean
+            << " passes per step, " << r.result.substepped_steps << " substepped steps\n";
+  EXPECT_EQ(r.result.substepped_steps, 0);
+  EXPECT_LT(r.result.newton_iterations_mean, 4.0);
+  double l_com = -1.0;
+  for (const auto& [name, drift] : r.result.invariants)
+    if (name == "L_com") l_com = drift;
+  EXPECT_GE(l_com, 0.0);
+  EXPECT_LT(l_com, 1e-11);
 }
 
 }  // namespace
