@@ -14,6 +14,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/QR>
@@ -24,6 +25,30 @@
 namespace lieflow {
 namespace articulated {
 
+/// N kept as the structure it has: the identity on the coordinates no row
+/// touches (free_rows[i] ↔ column free_cols[i]) and a dense block on the
+/// touched ones (touched_rows × mixed_cols). Nᵀ A N then costs O(n t k) (t
+/// touched coordinates, k mixed columns) where two dense products cost
+/// O(n³): on Talos full (twelve gripper rows) they were two thirds of a
+/// genalpha step (`perf`: Eigen's gebp kernel 67 %).
+struct ReducedBasis {
+  Eigen::MatrixXd N;  ///< n × (n − m), the whole basis
+  std::vector<int> free_rows, free_cols, touched_rows, mixed_cols;
+  Eigen::MatrixXd block;  ///< N(touched_rows, mixed_cols)
+  /// Scratch of reduce(): A's touched rows and columns and their products with the block.
+  struct Scratch {
+    Eigen::MatrixXd rows, left, cols, right;
+  };
+
+  explicit ReducedBasis(Eigen::MatrixXd basis);
+  /// u = N w.
+  void expand(const Eigen::VectorXd& w, Eigen::VectorXd* u) const;
+  /// w = Nᵀ u.
+  void project(const Eigen::VectorXd& u, Eigen::VectorXd* w) const;
+  /// out = Nᵀ A N (A n × n).
+  void reduce(const Eigen::MatrixXd& A, Eigen::MatrixXd* out, Scratch* scratch) const;
+};
+
 /// The reduced state: the full one, its reduced velocity w (u = N w) and
 /// the basis N it is read through.
 struct CoupledArticulatedState {
@@ -31,14 +56,15 @@ struct CoupledArticulatedState {
   static constexpr int kTangentDim = Eigen::Dynamic;
   ArticulatedState full;
   Eigen::VectorXd w;
-  std::shared_ptr<const Eigen::MatrixXd> N;
-  /// Scratch of the traits below (N dq, N v, the full T and T N), sized at
+  std::shared_ptr<const ReducedBasis> N;
+  /// Scratch of the traits below (N dq, N v, the full T and its reduction), sized at
   /// first use and kept by each state: copying a state leaves it alone (the
   /// stepper copies states every step; copied, the scratch would move sizes
   /// between them and allocate).
   struct Scratch {
     Eigen::VectorXd dq_full, v_full;
-    Eigen::MatrixXd T_full, TN;
+    Eigen::MatrixXd T_full;
+    ReducedBasis::Scratch reduce;
     Scratch() = default;
     Scratch(const Scratch&) {}
     Scratch& operator=(const Scratch&) { return *this; }
@@ -51,9 +77,10 @@ struct CoupledArticulatedSystem {
   using Scalar = double;
   using State = CoupledArticulatedState;
   const ArticulatedSystem* system = nullptr;
-  std::shared_ptr<const Eigen::MatrixXd> N;
-  mutable Eigen::MatrixXd M, Ct, Kt, MN;
+  std::shared_ptr<const ReducedBasis> N;
+  mutable Eigen::MatrixXd M, Ct, Kt;
   mutable Eigen::VectorXd g;
+  mutable ReducedBasis::Scratch scratch;
 
   /// N for the coupling rows G (m × n, full row rank): on the coordinates
   /// some row touches, the last columns of the QR factor of that block of Gᵀ
@@ -75,20 +102,17 @@ struct SecondOrderStateTraits<articulated::CoupledArticulatedState> {
   static int dofs(const State& y) { return static_cast<int>(y.w.size()); }
   static const Vector& velocity(const State& y) { return y.w; }
   static void advanceInto(const State& y, const Vector& dq, const Vector& v, State* out) {
-    const Eigen::MatrixXd& N = *y.N;
-    y.scratch.dq_full.noalias() = N * dq;
-    y.scratch.v_full.noalias() = N * v;
+    y.N->expand(dq, &y.scratch.dq_full);
+    y.N->expand(v, &y.scratch.v_full);
     Full::advanceInto(y.full, y.scratch.dq_full, y.scratch.v_full, &out->full);
     out->w = v;
     out->N = y.N;
   }
   /// T_r = Nᵀ T(N dq) N: exact, as T is the identity on the coordinates N mixes.
   static void tangentOperatorInto(const State& y, const Vector& dq, Matrix* T) {
-    const Eigen::MatrixXd& N = *y.N;
-    y.scratch.dq_full.noalias() = N * dq;
+    y.N->expand(dq, &y.scratch.dq_full);
     Full::tangentOperatorInto(y.full, y.scratch.dq_full, &y.scratch.T_full);
-    y.scratch.TN.noalias() = y.scratch.T_full * N;
-    T->noalias() = N.transpose() * y.scratch.TN;
+    y.N->reduce(y.scratch.T_full, T, &y.scratch.reduce);
   }
   static bool identical(const State& a, const State& b) { return Full::identical(a.full, b.full) && a.w == b.w; }
 };
@@ -101,19 +125,11 @@ struct SecondOrderSystemTraits<articulated::CoupledArticulatedSystem> {
   using Matrix = Eigen::MatrixXd;
   static void evaluate(const articulated::CoupledArticulatedSystem& s, double t, const State& y, Matrix* M,
                        Vector* g, Matrix* Ct, Matrix* Kt) {
-    const Eigen::MatrixXd& N = *s.N;
     s.system->secondOrderTerms(t, y.full, &s.M, &s.g, Ct ? &s.Ct : nullptr, Kt ? &s.Kt : nullptr);
-    s.MN.noalias() = s.M * N;
-    M->noalias() = N.transpose() * s.MN;
-    g->noalias() = N.transpose() * s.g;
-    if (Ct) {
-      s.MN.noalias() = s.Ct * N;
-      Ct->noalias() = N.transpose() * s.MN;
-    }
-    if (Kt) {
-      s.MN.noalias() = s.Kt * N;
-      Kt->noalias() = N.transpose() * s.MN;
-    }
+    s.N->reduce(s.M, M, &s.scratch);
+    s.N->project(s.g, g);
+    if (Ct) s.N->reduce(s.Ct, Ct, &s.scratch);
+    if (Kt) s.N->reduce(s.Kt, Kt, &s.scratch);
   }
 };
 
@@ -128,7 +144,7 @@ class CoupledGeneralizedAlphaStepper {
                                  GeneralizedAlphaOptions options)
       : inner_(options) {
     reduced_system_.system = &system;
-    reduced_system_.N = std::make_shared<const Eigen::MatrixXd>(CoupledArticulatedSystem::kernelBasis(G));
+    reduced_system_.N = std::make_shared<const ReducedBasis>(CoupledArticulatedSystem::kernelBasis(G));
   }
 
   const ArticulatedState& step(const ArticulatedSystem&, double t, const ArticulatedState& y, double h,
@@ -138,7 +154,7 @@ class CoupledGeneralizedAlphaStepper {
     if (!(have_last_ && SecondOrderStateTraits<ArticulatedState>::identical(y, last_.full))) {
       last_.full = y;
       last_.N = reduced_system_.N;
-      last_.w.noalias() = reduced_system_.N->transpose() * y.u;
+      reduced_system_.N->project(y.u, &last_.w);
     }
     last_ = inner_.step(reduced_system_, t, last_, h, report);
     have_last_ = true;
