@@ -147,9 +147,7 @@ ModelImportOptions modelImportOptionsFrom(const Arguments& args, const std::stri
       throw UsageError("--spin: '" + scene + "' is not a model file (.xml, .urdf); a scene file gives its bodies' "
                        "velocities itself");
     const std::string text = args.value("--spin", "");
-    std::stringstream parts(text);
-    std::vector<std::string> values;
-    for (std::string part; std::getline(parts, part, ',');) values.push_back(part);
+    const std::vector<std::string> values = text.empty() ? std::vector<std::string>{} : args.list("--spin");
     if (values.size() != 3 || text.back() == ',')
       throw UsageError("--spin: expected three numbers WX,WY,WZ (rad/s, world axes), got " + quotedValue(text));
     for (int i = 0; i < 3; ++i) import.spin[i] = parseNumber("--spin", values[i]);

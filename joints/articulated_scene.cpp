@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "joints/multibody_scene.hpp"
+#include "joints/union_find.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -76,19 +77,14 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
     (tree_only ? sliding : driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
   }
   // Kruskal: union–find over the bodies and the ground (node nb).
-  std::vector<int> component(nb + 1);
-  for (int i = 0; i <= nb; ++i) component[i] = i;
-  auto find = [&](int i) {
-    while (component[i] != i) i = component[i] = component[component[i]];
-    return i;
-  };
+  UnionFind component(nb + 1);
   cuts->clear();
   std::vector<std::vector<int>> at(nb + 1);  // the tree's joints at each body (and at the ground)
   for (const std::vector<int>* list : {&sliding, &driven, &plain})
     for (int k : *list) {
       const JointDescription& j = scene.joints[k];
       const int a = body(j.main), b = body(j.secondary);
-      const int ra = find(a < 0 ? nb : a), rb = find(b < 0 ? nb : b);
+      const int ra = component.find(a < 0 ? nb : a), rb = component.find(b < 0 ? nb : b);
       if (ra == rb) {
         // A loop: this joint is imposed with multipliers on the tree's poses.
         if (list == &sliding) {
@@ -105,7 +101,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
         cuts->push_back(k);
         continue;
       }
-      component[ra] = rb;
+      component.join(ra, rb);
       at[a < 0 ? nb : a].push_back(k);
       at[b < 0 ? nb : b].push_back(k);
     }

@@ -32,7 +32,6 @@ namespace articulated {
 /// O(n³): on Talos full (twelve gripper rows) they were two thirds of a
 /// genalpha step (`perf`: Eigen's gebp kernel 67 %).
 struct ReducedBasis {
-  Eigen::MatrixXd N;  ///< n × (n − m), the whole basis
   std::vector<int> free_rows, free_cols, touched_rows, mixed_cols;
   Eigen::MatrixXd block;  ///< N(touched_rows, mixed_cols)
   /// Scratch of reduce(): A's touched rows and columns and their products with the block.
@@ -40,7 +39,11 @@ struct ReducedBasis {
     Eigen::MatrixXd rows, left, cols, right;
   };
 
-  explicit ReducedBasis(Eigen::MatrixXd basis);
+  /// From N (n × (n − m), kernelBasis's: identity columns exactly 1).
+  explicit ReducedBasis(const Eigen::MatrixXd& N);
+  /// n, the full coordinates' count, and n − m, the reduced ones'.
+  Eigen::Index fullSize() const { return static_cast<Eigen::Index>(free_rows.size() + touched_rows.size()); }
+  Eigen::Index reducedSize() const { return static_cast<Eigen::Index>(free_cols.size() + mixed_cols.size()); }
   /// u = N w.
   void expand(const Eigen::VectorXd& w, Eigen::VectorXd* u) const;
   /// w = Nᵀ u.

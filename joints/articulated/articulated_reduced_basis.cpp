@@ -7,7 +7,7 @@
 namespace lieflow {
 namespace articulated {
 
-ReducedBasis::ReducedBasis(Eigen::MatrixXd basis) : N(std::move(basis)) {
+ReducedBasis::ReducedBasis(const Eigen::MatrixXd& N) {
   const int n = static_cast<int>(N.rows()), k = static_cast<int>(N.cols());
   std::vector<bool> free_row(static_cast<std::size_t>(n), false);
   for (int c = 0; c < k; ++c) {
@@ -35,7 +35,7 @@ ReducedBasis::ReducedBasis(Eigen::MatrixXd basis) : N(std::move(basis)) {
 }
 
 void ReducedBasis::expand(const Eigen::VectorXd& w, Eigen::VectorXd* u) const {
-  u->resize(N.rows());
+  u->resize(fullSize());
   for (std::size_t i = 0; i < free_rows.size(); ++i) (*u)(free_rows[i]) = w(free_cols[i]);
   for (std::size_t i = 0; i < touched_rows.size(); ++i) {
     double sum = 0.0;
@@ -46,7 +46,7 @@ void ReducedBasis::expand(const Eigen::VectorXd& w, Eigen::VectorXd* u) const {
 }
 
 void ReducedBasis::project(const Eigen::VectorXd& u, Eigen::VectorXd* w) const {
-  w->resize(N.cols());
+  w->resize(reducedSize());
   for (std::size_t i = 0; i < free_rows.size(); ++i) (*w)(free_cols[i]) = u(free_rows[i]);
   for (std::size_t j = 0; j < mixed_cols.size(); ++j) {
     double sum = 0.0;
@@ -59,9 +59,9 @@ void ReducedBasis::project(const Eigen::VectorXd& u, Eigen::VectorXd* w) const {
 void ReducedBasis::reduce(const Eigen::MatrixXd& A, Eigen::MatrixXd* out, Scratch* s) const {
   // With F the free and T the touched coordinates, B the block:
   //   Nᵀ A N = [A_FF, A_FT B; Bᵀ A_TF, Bᵀ A_TT B].
-  const Eigen::Index n = N.rows(), f = static_cast<Eigen::Index>(free_rows.size());
+  const Eigen::Index n = fullSize(), f = static_cast<Eigen::Index>(free_rows.size());
   const Eigen::Index t = static_cast<Eigen::Index>(touched_rows.size());
-  out->resize(N.cols(), N.cols());
+  out->resize(reducedSize(), reducedSize());
   for (Eigen::Index a = 0; a < f; ++a)
     for (Eigen::Index b = 0; b < f; ++b) (*out)(free_cols[a], free_cols[b]) = A(free_rows[a], free_rows[b]);
   if (mixed_cols.empty()) return;

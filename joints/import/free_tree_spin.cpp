@@ -3,25 +3,15 @@
 #include "joints/import/free_tree_spin.hpp"
 
 #include <map>
-#include <numeric>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "joints/union_find.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
 namespace model_import {
-
-namespace {
-
-/// The root of i's set (union-find with path halving).
-int findRoot(std::vector<int>* parent, int i) {
-  while ((*parent)[i] != i) i = (*parent)[i] = (*parent)[(*parent)[i]];
-  return i;
-}
-
-}  // namespace
 
 void spinFreeTrees(const Eigen::Vector3d& omega, const std::string& path, SceneDescription* scene) {
   std::vector<BodyDescription>& bodies = scene->bodies;
@@ -30,8 +20,7 @@ void spinFreeTrees(const Eigen::Vector3d& omega, const std::string& path, SceneD
   for (int i = 0; i < n; ++i) index.emplace(bodies[i].name, i);
   // Trees as the joints join them; a tree with a joint to the ground (or a
   // body held at a point, rotation-only) is not free.
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind trees(n);
   std::vector<bool> grounded(n, false);
   for (int i = 0; i < n; ++i) grounded[i] = bodies[i].rotation_only;
   // A gear's rows hold rates relative to its carriers: a carrier that is the
@@ -51,24 +40,24 @@ void spinFreeTrees(const Eigen::Vector3d& omega, const std::string& path, SceneD
       if (first < 0)
         first = found->second;
       else
-        parent[findRoot(&parent, found->second)] = findRoot(&parent, first);
+        trees.join(found->second, first);
     }
     if (to_ground && first >= 0) grounded[first] = true;
   }
   std::vector<bool> tree_grounded(n, false);
   for (int i = 0; i < n; ++i)
-    if (grounded[i]) tree_grounded[findRoot(&parent, i)] = true;
+    if (grounded[i]) tree_grounded[trees.find(i)] = true;
   // Each free tree's mass and centre of mass.
   std::vector<double> mass(n, 0.0);
   std::vector<Eigen::Vector3d> moment(n, Eigen::Vector3d::Zero());
   for (int i = 0; i < n; ++i) {
-    const int r = findRoot(&parent, i);
+    const int r = trees.find(i);
     mass[r] += bodies[i].mass;
     moment[r] += bodies[i].mass * bodies[i].position;
   }
   int free_trees = 0;
   for (int i = 0; i < n; ++i) {
-    const int r = findRoot(&parent, i);
+    const int r = trees.find(i);
     if (tree_grounded[r]) continue;
     if (r == i) ++free_trees;
     BodyDescription& b = bodies[i];

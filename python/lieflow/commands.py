@@ -115,13 +115,18 @@ def _keyframe(flag, value):
     return _text(flag, value)
 
 
-def _spin(flag, value):
-    """WX,WY,WZ from three finite numbers (a list, tuple or NumPy array)."""
+def _spin_values(flag, value):
+    """Three finite numbers (a list, tuple or NumPy array) as floats."""
     values = _plain(value, flag)
     if not isinstance(values, list) or len(values) != 3 or not all(
             isinstance(v, numbers.Real) and not isinstance(v, bool) for v in values):
         raise InputError(f"{flag}: expected three numbers (rad/s, world axes), got {_shown(value)}")
-    return ",".join(repr(float(v)) for v in values)
+    return [float(v) for v in values]
+
+
+def _spin(flag, value):
+    """--spin's WX,WY,WZ."""
+    return ",".join(repr(v) for v in _spin_values(flag, value))
 
 
 def _names(flag, values):
@@ -244,7 +249,7 @@ def import_model(model, ignore=None, keyframe=None, floating_base=False, spin=No
     text, notes = _lieflow.import_model(os.fspath(model), _names("ignore", ignore) if ignore is not None else "",
                                         _keyframe("keyframe", keyframe) if keyframe is not None else "",
                                         _switch("floating_base", floating_base),
-                                        [float(v) for v in _spin("spin", spin).split(",")] if spin is not None else [])
+                                        _spin_values("spin", spin) if spin is not None else [])
     if notes:
         warnings.warn(f"lieflow: {os.fspath(model)}: " + "; ".join(notes), stacklevel=2)
     return json.loads(text)
