@@ -77,6 +77,16 @@ double maxAbsValue(const Eigen::MatrixBase<Derived>& x) {
   return m;
 }
 
+/// Whether SecondOrderSystemTraits<System> names the independent diagonal
+/// blocks of its equations (`static const std::vector<std::vector<int>>&
+/// independentBlocks(const System&)`; generalized_alpha.hpp).
+template <typename Dynamics, typename System, typename = void>
+struct HasIndependentBlocks : std::false_type {};
+template <typename Dynamics, typename System>
+struct HasIndependentBlocks<Dynamics, System,
+                            std::void_t<decltype(Dynamics::independentBlocks(std::declval<const System&>()))>>
+    : std::true_type {};
+
 }  // namespace detail
 
 // ---- state geometry ----------------------------------------------------------

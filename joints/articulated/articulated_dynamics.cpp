@@ -1,5 +1,6 @@
 // ArticulatedSystem: the articulated-body algorithm in world coordinates
 // (articulated_system.hpp states the conventions and equations).
+#include <algorithm>
 #include <cmath>
 
 #include "joints/articulated/articulated_system.hpp"
@@ -64,6 +65,41 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
       coupling_G_ = (coupling_G_.array().abs() < 1e-12).select(0.0, coupling_G_);
     }
   }
+  findIndependentBlocks();
+}
+
+void ArticulatedSystem::findIndependentBlocks() {
+  // Each body's tree: the body whose parent is the ground (a free root, or
+  // a joint to the ground). Trees share no term of M (the composite-rigid-
+  // body algorithm fills a column's ancestors only), the drives' C_t and
+  // K_t are diagonal and a rotation's T is its own 3 x 3 block. Closures
+  // would join trees: then one block (none named).
+  independent_blocks_.clear();
+  if (hasClosures()) return;
+  std::vector<int> block_of_root(model_.bodies.size(), -1);
+  for (int i = 0; i < bodyCount(); ++i) {
+    int root = i;
+    while (model_.bodies[root].parent != kGround) root = model_.bodies[root].parent;
+    if (block_of_root[root] < 0) {
+      block_of_root[root] = static_cast<int>(independent_blocks_.size());
+      independent_blocks_.emplace_back();
+    }
+    std::vector<int>& block = independent_blocks_[block_of_root[root]];
+    const ArticulatedBody& b = model_.bodies[i];
+    if (b.kind == JointKind::kFree) {
+      for (int k = 0; k < 3; ++k) block.push_back(b.u_rotation + k);
+      for (int k = 0; k < 3; ++k) block.push_back(b.u_begin + k);
+    } else {
+      for (int k = 0; k < b.dofs(); ++k) block.push_back(b.u_begin + k);
+    }
+  }
+  std::size_t total = 0;
+  for (std::vector<int>& block : independent_blocks_) {
+    std::sort(block.begin(), block.end());
+    total += block.size();
+  }
+  LIEFLOW_ASSERT(static_cast<int>(total) == dofs(), "findIndependentBlocks: the trees' rates do not cover u");
+  if (independent_blocks_.size() < 2) independent_blocks_.clear();
 }
 
 void ArticulatedSystem::setUserTorque(int i, UserTorque torque) {

@@ -6,6 +6,8 @@
 /// rotations) and M(q) v̇ + g(q, v, t) = 0 from ArticulatedSystem.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "integrators/second_order_traits.hpp"
@@ -53,6 +55,9 @@ struct SecondOrderSystemTraits<articulated::ArticulatedSystem> {
   static void evaluate(const articulated::ArticulatedSystem& s, double t, const State& y, Matrix* M, Vector* g,
                        Matrix* Ct, Matrix* Kt) {
     s.secondOrderTerms(t, y, M, g, Ct, Kt);
+  }
+  static const std::vector<std::vector<int>>& independentBlocks(const articulated::ArticulatedSystem& s) {
+    return s.independentBlocks();
   }
 };
 

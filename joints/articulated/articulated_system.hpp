@@ -183,6 +183,13 @@ class ArticulatedSystem {
   /// multipliers, genalpha in the coordinates of their kernel
   /// (articulated_coupled_alpha.hpp).
   const Eigen::MatrixXd& couplingRows() const { return coupling_G_; }
+  /// The index sets of u of the trees that share no joint (each body whose
+  /// parent is the ground starts one), when there are two or more and no
+  /// closure joins them; else empty. M, the drives' tangent matrices and the
+  /// rotations' tangent operators have no entry between two of them, so
+  /// genalpha factors its Newton matrix tree by tree (22 humanoids: 22
+  /// blocks of 27 rates instead of one of 594).
+  const std::vector<std::vector<int>>& independentBlocks() const { return independent_blocks_; }
   /// max |Φ| over the closing joints' rows at (t, y) (metres, radians).
   double constraintError(double t, const State& y) const;
   /// Moves y's coordinates onto Φ = 0 by Gauss–Newton steps in the mass
@@ -437,6 +444,9 @@ class ArticulatedSystem {
   Eigen::MatrixXd coupling_G_;
   /// Whether every closure is a coupling row.
   bool onlyCouplings() const;
+  /// independentBlocks(), computed at construction.
+  std::vector<std::vector<int>> independent_blocks_;
+  void findIndependentBlocks();
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };
 

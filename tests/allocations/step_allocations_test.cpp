@@ -105,10 +105,13 @@ TEST(StepAllocationsInLoops, NoneInJointCoordinates) {
 TEST(StepAllocationsInJointCoordinates, NoneOnFreeRootsSphericalJointsDashpotsAndCouplingRows) {
   // What lgvi and genalpha take in joint coordinates beyond the built-in
   // scenes: a trunk hinged to the ground with a sprung, damped arm coupled to
-  // a second arm (a mimic row) and a ball-jointed head, and the same trunk
-  // floating (a free root: lgvi's centroidal step).
-  for (const bool floating : {false, true}) {
-    SCOPED_TRACE(floating ? "floating" : "hinged");
+  // a second arm (a mimic row) and a ball-jointed head, the same trunk
+  // floating (a free root: lgvi's centroidal step), and floating without the
+  // mimic beside a second free body (two trees: genalpha's Newton matrix
+  // factored block by block).
+  for (const int variant : {0, 1, 2}) {
+    const bool floating = variant > 0;
+    SCOPED_TRACE(variant == 0 ? "hinged" : variant == 1 ? "floating" : "two trees");
     std::string text = R"({"name": "coupled", "gravity": [0, 0, -9.81],
       "bodies": [
         {"name": "trunk", "mass": 3, "inertia": [0.05, 0.08, 0.06], "angular_velocity": [1, -0.5, 2]},
@@ -131,6 +134,14 @@ TEST(StepAllocationsInJointCoordinates, NoneOnFreeRootsSphericalJointsDashpotsAn
     const std::string pivot = floating ? "" : R"({"name": "pivot", "type": "revolute", "main": "ground",
         "secondary": "trunk", "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0], "axis_main": [0, 0, 1]},)";
     text.replace(text.find("PIVOT"), 5, pivot);
+    if (variant == 2) {
+      const std::size_t mimic = text.find(R"(,
+        {"name": "mimic")");
+      text.replace(mimic, text.rfind("]}") - mimic, "");
+      text.replace(text.find("}],"), 3, R"(},
+        {"name": "ball", "mass": 0.5, "inertia": [0.001, 0.002, 0.003], "position": [2, 0, 0],
+         "angular_velocity": [0.3, 4, 1]}],)");
+    }
     const Simulation sim(parseScene(text, "coupled.json"));
     for (const char* integrator : {"rkmk4", "lgvi", "genalpha"}) {
       SCOPED_TRACE(integrator);
