@@ -41,14 +41,24 @@
 /// system (N₀, N₁ → G N₀, G N₁ leaves ξ), so a free system keeps its
 /// angular momentum to round-off (discrete Noether).
 ///
-/// ## Free roots and coupling rows (the System's step coordinates)
+/// ## Free roots and constraint rows (the System's step coordinates)
 /// The System may write the step in coordinates of its own: ArticulatedSystem
 /// takes a free root's translation as its tree's centre of mass (so the
 /// centre moves exactly under gravity and the momentum about it is kept;
 /// articulated_system.hpp), with momenta() and rates() mapping the state's
-/// rates to and from them. Linear rows G q = const (coupling rows) are
-/// RATTLE's multipliers: each increment of the iteration is projected onto
-/// G v = 0 (projectIncrement), and p₁ takes Gᵀμ so that G q̇₁ = 0 (rates()).
+/// rates to and from them. Constraint rows are RATTLE's multipliers
+/// (Hairer, Lubich & Wanner, "Geometric Numerical Integration", 2nd ed.,
+/// §VII.1.4, on the discrete Lagrangian above):
+///   M(q_m) v − (h/2) ∂T/∂q = p₀ + (h/2) Q₀ − G(q₀)ᵀλ,   Φ(q₁) = 0,
+///   p₁ = … (2) … + G(q₁)ᵀμ,                              G(q₁) q̇₁ = 0,
+/// G = ∂Φ̇/∂q̇ the rows' Jacobian. Each increment of the iteration takes the
+/// multiplier that meets the rows to first order with G(q₀)
+/// (projectIncrement): coupling rows G q = const, linear, as G v = 0; a
+/// loop's rows as Φ(q₀ ⊕ h v) = 0; gear rows, imposed on velocities, as
+/// B(q_m) v = 0 at the midpoint (symmetric, as the step). (1)'s right side
+/// then loses G(q₀)ᵀλ (constraintImpulse), and p₁ takes G(q₁)ᵀμ so that
+/// G(q₁) q̇₁ = 0 (rates()). The rows' G(q₀) stands in for G(q₁) in the
+/// increments as M(q₀) does for M(q_m): the same O(h |q̇|) per pass.
 ///
 /// ## The iteration
 /// (1) is solved for v by the quasi-Newton iteration
@@ -112,7 +122,8 @@
 ///   bool hasVelocityDependentForces();
 ///   void momenta(const Frames&, u, p*);              (the momenta of the state's rates u, step's coordinates)
 ///   void rates(const Frames&, p*, u*);               (the state's rates of the momenta p, p onto the rows)
-///   void projectIncrement(start, v, dv*, r*);        (the constraint rows' multipliers in the iteration)
+///   void projectIncrement(start, mid, y, v, h, dv*, r*); (the constraint rows' multipliers in the iteration)
+///   void constraintImpulse(start, b*);               (b −= G(q₀)ᵀλ, λ of the last increment)
 ///   void placeFreeRoots(start, end, y0, v, h, y1*);  (what advance leaves to the end's frames)
 ///   void advance(y, v, s, State* out);              (out's configuration y ⊕ s v)
 ///   static bool sameConfiguration(a, b);
@@ -268,6 +279,9 @@ class JointSpaceVariationalStepper {
       return false;
     }
 
+    // The constraint impulse of the first half: b = −D₁L_d (a loop's G(q₀)ᵀλ).
+    system.constraintImpulse(w.start, &w.b);
+
     // (2): q₁, p₁* = p₀ + (h/2) Q₀ + h ∂T/∂q(q_m, v), q̇₁.
     State& y1 = result_;
     y1 = y;
@@ -343,7 +357,7 @@ class JointSpaceVariationalStepper {
     for (int it = 1;; ++it) {
       residual(system, t, y, h, w.v, &w.Mv, &w.dT, &w.r);
       system.solveMass(w.start, w.r, &w.dv);
-      system.projectIncrement(w.start, w.v, &w.dv, &w.r);
+      system.projectIncrement(w.start, w.midframes, y, w.v, h, &w.dv, &w.r);
       // Sizes in the kinetic-energy norm: ‖Δv‖ = √(Δvᵀ M(q₀) Δv) = √(Δvᵀ r),
       // ‖v‖ = √(vᵀ M(q_m) v). (In the max norm the rounding of r, relative to
       // the heavy coordinates' momenta, shows through M⁻¹ in the light ones

@@ -93,7 +93,7 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
        "Lie group variational integrator (Lee-Leok-McClamroch 2005), Newton with analytic Jacobian; "
        "the exp map needs h|omega| < 1, cayley=1 selects the Cayley-map variant (Kobilarov-Marsden) without that limit",
        "RATTLE with the constraint impulses; in joint coordinates the variational integrator on the joints' "
-       "groups (midpoint kinetic, trapezoidal potential energy; coupling rows on multipliers)"},
+       "groups (midpoint kinetic, trapezoidal potential energy; coupling rows, loops and gear rows on multipliers)"},
       {"splitting", 2, false, true, true, false, {},
        "explicit symplectic rotation splitting (McLachlan 1993, Dullweber-Leimkuhler-McLachlan 1997), kick-drift-kick with torques",
        ""},

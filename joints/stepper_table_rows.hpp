@@ -7,7 +7,7 @@
 /// |----------------------|-------------|------------------|-------------|------------------|--------------|
 /// | rkmk-*, cg3, cf4     | stepper     | projected        | stepper     | projected        | projected    |
 /// | rkmk45               | adaptive    | adaptive, proj.  | adaptive    | adaptive, proj.  | adaptive, p. |
-/// | lgvi                 | Lgvi        | ConstrainedLgvi  | JointSpaceVariational (couplings: multipliers) | — |
+/// | lgvi                 | Lgvi        | ConstrainedLgvi  | JointSpaceVariational (rows: RATTLE's multipliers) |
 /// | splitting            | Splitting   | —                | —           | —                | —            |
 /// | genalpha             | GenAlpha    | ConstrainedGenAlpha | GenAlpha | CoupledGenAlpha  | —            |
 /// | exact                | exact flow  | —                | —           | —                | —            |
@@ -155,10 +155,11 @@ struct LgviRow {
     if (option(o, "cayley", 0.0) == 1.0) l.rotation.map = LgviMap::kCayley;
     return ConstrainedLgviStepper<multibody::MultibodySystem>(l);
   }
-  /// The variational integrator on the joints' groups, coupling rows as
-  /// multipliers (integrators/joint_space_variational.hpp).
-  template <typename K, typename = std::enable_if_t<K::kind == SystemKind::kJointTree ||
-                                                    K::kind == SystemKind::kJointCoupled>>
+  /// The variational integrator on the joints' groups, coupling rows, loops
+  /// and gear rows as RATTLE's multipliers
+  /// (integrators/joint_space_variational.hpp).
+  template <typename K, typename = std::enable_if_t<K::kind != SystemKind::kSingleBody &&
+                                                    K::kind != SystemKind::kMaximal>>
   auto make(K, const articulated::ArticulatedSystem&, const articulated::ArticulatedState&,
             const SimulationOptions& o) const {
     if (option(o, "cayley", 0.0) != 0.0)
@@ -168,12 +169,8 @@ struct LgviRow {
     v.max_iterations = static_cast<int>(option(o, "max_iterations", v.max_iterations));
     return JointSpaceVariationalStepper<articulated::ArticulatedSystem>(v);
   }
-  template <typename... Unused>
-  NoStepper make(JointLoops, const Unused&...) const {
-    return {"'lgvi' in joint coordinates takes coupling rows but no loop-closing joints or gear rows"};
-  }
-  template <typename K, typename = std::enable_if_t<K::kind == SystemKind::kJointTree ||
-                                                    K::kind == SystemKind::kJointCoupled>>
+  template <typename K, typename = std::enable_if_t<K::kind != SystemKind::kSingleBody &&
+                                                    K::kind != SystemKind::kMaximal>>
   bool covers(K, const articulated::ArticulatedSystem& system, std::string* why) const {
     if (system.variationalCovers(why)) return true;
     if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";

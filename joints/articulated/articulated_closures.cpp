@@ -19,17 +19,12 @@
 #include <type_traits>
 
 #include "joints/articulated/articulated_system.hpp"
+#include "joints/articulated/pivoted_cholesky.hpp"
 
 namespace lieflow {
 namespace articulated {
 
 namespace {
-
-/// Pivots of G M⁻¹ Gᵀ below this fraction of its largest diagonal entry are
-/// taken as zero: rows a loop repeats (their pivots are
-/// rounding, ~1e-16 of the largest) drop out. A genuine row weaker than this
-/// is a loop within 1e-10 of a singular configuration.
-constexpr double kClosureRankTolerance = 1e-10;
 
 /// The force W_bᵀ λ of a closing joint's rows on one body, a spatial force
 /// (n_O, f) about the origin, from the body's block J = [J_v J_ω] on (v_c, ω
@@ -220,52 +215,14 @@ void ArticulatedSystem::closureInverseMass() const {
 }
 
 void ArticulatedSystem::closureMultipliers() const {
-  const int m = model_.closure_rows;
   closureInverseMass();
   data_.closure_A.noalias() = data_.closure_G * data_.closure_Y;
-  // Cholesky with diagonal pivoting (A = P L Lᵀ Pᵀ; Higham, "Accuracy and
-  // Stability of Numerical Algorithms", §10.3, LAPACK's dpstrf), stopped at
-  // the first pivot below the threshold: the rows a loop repeats get no
-  // pivot and λ = 0, the others are solved exactly (the repeated rows'
-  // equations then hold too: they are combinations of the pivot rows).
-  Eigen::MatrixXd& A = data_.closure_A;
-  std::vector<int>& perm = data_.closure_perm;
-  for (int k = 0; k < m; ++k) perm[k] = k;
-  const double floor = kClosureRankTolerance * std::max(A.diagonal().maxCoeff(), 1e-300);
-  int rank = 0;
-  for (int k = 0; k < m; ++k) {
-    int p = k;
-    for (int i = k + 1; i < m; ++i)
-      if (A(i, i) > A(p, p)) p = i;
-    if (!(A(p, p) > floor)) break;
-    if (p != k) {
-      A.row(k).swap(A.row(p));
-      A.col(k).swap(A.col(p));
-      std::swap(perm[k], perm[p]);
-    }
-    const double l = std::sqrt(A(k, k));
-    A(k, k) = l;
-    for (int i = k + 1; i < m; ++i) A(i, k) /= l;
-    for (int j = k + 1; j < m; ++j)
-      for (int i = j; i < m; ++i) {
-        A(i, j) -= A(i, k) * A(j, k);
-        A(j, i) = A(i, j);
-      }
-    rank = k + 1;
-  }
-  // L Lᵀ x = −(P r) on the pivot rows; λ by the permutation, 0 elsewhere.
-  for (int i = 0; i < rank; ++i) {
-    double v = -data_.closure_r[perm[i]];
-    for (int k = 0; k < i; ++k) v -= A(i, k) * data_.closure_s[k];
-    data_.closure_s[i] = v / A(i, i);
-  }
-  for (int i = rank - 1; i >= 0; --i) {
-    double v = data_.closure_s[i];
-    for (int k = i + 1; k < rank; ++k) v -= A(k, i) * data_.closure_s[k];
-    data_.closure_s[i] = v / A(i, i);
-  }
-  data_.closure_lambda.setZero();
-  for (int i = 0; i < rank; ++i) data_.closure_lambda[perm[i]] = data_.closure_s[i];
+  // G Y λ = −r on the rows with a pivot (pivoted_cholesky.hpp), λ = 0 on the
+  // rows a loop repeats.
+  const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+  data_.closure_rhs = -data_.closure_r;
+  pivotedCholeskySolve(data_.closure_A, data_.closure_perm, rank, data_.closure_rhs, data_.closure_s,
+                       &data_.closure_lambda);
 }
 
 void ArticulatedSystem::applyClosureForces() const {

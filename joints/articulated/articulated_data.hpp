@@ -57,13 +57,16 @@ struct ArticulatedData {
   /// G v and the multipliers.
   Eigen::VectorXd coupling_rhs, coupling_x, coupling_g, coupling_lambda;
   Eigen::MatrixXd coupling_GY;
+  /// With loops or gear rows: the multipliers of the iteration's last pass
+  /// (projectIncrement), which constraintImpulse applies.
+  Eigen::VectorXd loop_lambda;
   std::vector<Matrix6> articulated;
 
   /// Loop workspace, sized at construction (m closure rows, n dofs): G (m × n),
   /// Y = M⁻¹ Gᵀ (n × m), G Y and its factorization, Φ or its
   /// derivatives (m), λ (m), a scratch m-vector, solve scratch (n).
   Eigen::MatrixXd closure_G, closure_Y, closure_A;
-  Eigen::VectorXd closure_r, closure_lambda, closure_s, closure_x;
+  Eigen::VectorXd closure_r, closure_lambda, closure_s, closure_x, closure_rhs;
   /// Per body the 6 × m forces, then accelerations, of closureInverseMass,
   /// and its 3 × m scratch rows.
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> closure_pA;

@@ -2,6 +2,8 @@
 // (articulated_system.hpp states the conventions and equations).
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <variant>
 
 #include "joints/articulated/articulated_system.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -45,12 +47,21 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     data_.closure_r.setZero(m);
     data_.closure_lambda.setZero(m);
     data_.closure_s.setZero(m);
+    data_.closure_rhs.setZero(m);
     data_.closure_pA.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
     data_.closure_rows3.setZero(3, m);
     data_.closure_root_force.setZero(6, m);
     data_.closure_x.setZero(n);
     data_.closure_perm.assign(m, 0);
     for (const ArticulatedClosure& c : model_.closures) data_.closure_phi.push_back(c.initial_angles);
+    // Which rows are a loop's positions and which a gear's velocities.
+    position_rows_.setZero(m);
+    for (const ArticulatedClosure& c : model_.closures) {
+      const int rows = c.gear ? std::visit([](const auto& g) { return static_cast<int>(std::decay_t<decltype(g)>::kRows); }, *c.gear)
+                              : std::visit([](const auto& j) { return static_cast<int>(std::decay_t<decltype(j)>::kRows); }, c.constraint);
+      position_rows_.segment(c.row_begin, rows).setConstant(c.gear ? 0.0 : 1.0);
+      (c.gear ? has_velocity_rows_ : has_position_rows_) = true;
+    }
     if (onlyCouplings()) {
       // The coupling rows α q̇₁ + q̇₂ in joint coordinates: constant, read
       // off the closure Jacobian at the zero configuration (terms below

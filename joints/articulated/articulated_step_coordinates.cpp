@@ -3,11 +3,23 @@
 // states the equations): the rotations' discrete Lagrangian on SO(3), each
 // free tree's centre of mass as its translation, and the coupling rows'
 // multipliers.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "joints/articulated/articulated_system.hpp"
 #include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace articulated {
+
+namespace {
+
+/// A loop's row |Φ| within this many ulps of the bodies' farthest coordinate
+/// (at least 1 m) is closed to rounding (projectIncrement).
+constexpr double kLoopRoundingUlps = 64.0;
+
+}  // namespace
 
 // ---- rotations on SO(3) -------------------------------------------------
 
@@ -99,25 +111,61 @@ void ArticulatedSystem::placeFreeRoots(const Frames& start, const Frames& end, c
   }
 }
 
-// ---- coupling rows: RATTLE's multipliers on G q = const ----------------
+// ---- closures: RATTLE's multipliers --------------------------------------
 
-void ArticulatedSystem::projectIncrement(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* dv,
+void ArticulatedSystem::projectIncrement(const Frames& start, const Frames& mid, const State& y,
+                                         const Eigen::VectorXd& v, double h, Eigen::VectorXd* dv,
                                          Eigen::VectorXd* r) const {
-  if (coupling_G_.size() == 0) return;
-  data_.coupling_g.noalias() = coupling_G_ * v;
-  data_.coupling_g.noalias() += coupling_G_ * *dv;
-  data_.coupling_lambda.noalias() = f.coupling_Ainv * data_.coupling_g;
-  dv->noalias() -= f.coupling_Y * data_.coupling_lambda;
-  r->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
+  if (coupling_G_.size() != 0) {
+    // Coupling rows: G (v + dv) = 0.
+    data_.coupling_g.noalias() = coupling_G_ * v;
+    data_.coupling_g.noalias() += coupling_G_ * *dv;
+    data_.coupling_lambda.noalias() = start.rows_Ainv * data_.coupling_g;
+    dv->noalias() -= start.rows_Y * data_.coupling_lambda;
+    r->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
+    return;
+  }
+  if (!loopRows()) return;
+  // G₀ dv, plus Φ(q₀ ⊕ h v)/h on a loop's rows and B(q_m) v on gear rows.
+  data_.coupling_g.noalias() = start.rows_G * *dv;
+  if (has_position_rows_) {
+    advance(y, v, h, &loop_end_);
+    frames(0.0, loop_end_, false, &loop_frames_);
+    loadFramePoses(loop_frames_);
+    closureTerms(ClosureLevel::kPosition);
+    // Φ at the rounding of the positions is met: kept, its noise over h would
+    // set the iteration's floor, which near a turning point (v → 0, the
+    // bound relative to v with it) it could not reach.
+    double reach = 1.0;
+    for (const Frame& fr : loop_frames_.bodies) reach = std::max(reach, fr.c.cwiseAbs().maxCoeff());
+    const double met = kLoopRoundingUlps * std::numeric_limits<double>::epsilon() * reach;
+    for (int k = 0; k < model_.closure_rows; ++k)
+      if (position_rows_[k] != 0.0 && std::abs(data_.closure_r[k]) > met) data_.coupling_g[k] += data_.closure_r[k] / h;
+  }
+  if (has_velocity_rows_) {
+    loadFramePoses(mid);
+    closureTerms(ClosureLevel::kJacobian);
+    data_.closure_rhs.noalias() = data_.closure_G * v;
+    data_.coupling_g.array() += (1.0 - position_rows_.array()) * data_.closure_rhs.array();
+  }
+  data_.loop_lambda.noalias() = start.rows_Ainv * data_.coupling_g;
+  dv->noalias() -= start.rows_Y * data_.loop_lambda;
+  r->noalias() -= start.rows_G.transpose() * data_.loop_lambda;
+}
+
+void ArticulatedSystem::constraintImpulse(const Frames& start, Eigen::VectorXd* b) const {
+  if (!loopRows()) return;
+  b->noalias() -= start.rows_G.transpose() * data_.loop_lambda;
 }
 
 void ArticulatedSystem::rates(const Frames& f, Eigen::VectorXd* p, Eigen::VectorXd* u) const {
-  if (coupling_G_.size() != 0) {
-    // μ with G M⁻¹ (p + Gᵀμ) = 0: −(G Y)⁻¹ G M⁻¹ p.
+  if (hasClosures()) {
+    // μ with G M⁻¹ (p + Gᵀμ) = 0: −(G Y)⁻¹ G M⁻¹ p (G at f: q₁'s).
+    const Eigen::MatrixXd& G = coupling_G_.size() != 0 ? coupling_G_ : f.rows_G;
     solveStepMass(f, *p, false, &data_.coupling_x);
-    data_.coupling_g.noalias() = coupling_G_ * data_.coupling_x;
-    data_.coupling_lambda.noalias() = f.coupling_Ainv * data_.coupling_g;
-    p->noalias() -= coupling_G_.transpose() * data_.coupling_lambda;
+    data_.coupling_g.noalias() = G * data_.coupling_x;
+    data_.coupling_lambda.noalias() = f.rows_Ainv * data_.coupling_g;
+    p->noalias() -= G.transpose() * data_.coupling_lambda;
   }
   solveStepMass(f, *p, true, u);
 }

@@ -228,17 +228,20 @@ class ArticulatedSystem {
     std::vector<Matrix6> root_inverse;
     /// Each free tree's centre of mass from its root, by the root's rotation index.
     std::vector<Eigen::Vector3d> root_offset;
-    /// With coupling rows G (constant in joint coordinates): Y = M⁻¹ Gᵀ and
-    /// (G Y)⁻¹ (m × m, m the rows) at this configuration (when factored).
-    Eigen::MatrixXd coupling_Y, coupling_Ainv;
+    /// With closures (when factored): Y = M⁻¹ Gᵀ and (G Y)⁻¹ (m × m, m the
+    /// rows; with loops the inverse on the rows with a pivot, 0 on those a
+    /// loop repeats) at this configuration, and with loops G itself (coupling
+    /// rows: constant, couplingRows()).
+    Eigen::MatrixXd rows_G, rows_Y, rows_Ainv;
     bool factored = false;
   };
 
   /// Whether the variational integrator covers this tree: every joint kind
-  /// (the rotations on SO(3), joint_space_variational.hpp) and coupling rows,
-  /// but no prescribed coordinate (a time-dependent constraint), no loop-
-  /// closing joint and no gear row. If not, `why` names the joint or body
-  /// and the reason.
+  /// (the rotations on SO(3), joint_space_variational.hpp), coupling rows,
+  /// and loop-closing joints and gear rows among bodies hung from the ground,
+  /// but no prescribed coordinate (a time-dependent constraint) and no loop
+  /// or gear row on a floating tree (whose step coordinates are its centre of
+  /// mass). If not, `why` names the joint or body and the reason.
   bool variationalCovers(std::string* why) const;
   /// The frames at the configuration of y (factored when `factor`: M, or
   /// M + damping_weight · D_c with D_c the joints' dashpot constants on
@@ -289,11 +292,26 @@ class ArticulatedSystem {
   /// with coupling rows p is first moved to p + Gᵀμ, the momenta whose rates
   /// keep G u = 0 (the end of a RATTLE step).
   void rates(const Frames& f, Eigen::VectorXd* p, Eigen::VectorXd* u) const;
-  /// With coupling rows (α q̇₁ + q̇₂ = 0: linear and constant in joint
-  /// coordinates, so that G q stays constant when G v = 0): the increment dv
-  /// of the iteration at rates v, dv = M⁻¹ r, becomes M⁻¹ (r − Gᵀλ) with λ
-  /// such that G (v + dv) = 0, and r becomes r − Gᵀλ. Nothing without them.
-  void projectIncrement(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* dv, Eigen::VectorXd* r) const;
+  /// The rows' multipliers in the iteration for the mid-step rates v
+  /// (joint_space_variational.hpp): the increment dv = M(q₀)⁻¹ r becomes
+  /// M(q₀)⁻¹ (r − G₀ᵀλ), r becomes r − G₀ᵀλ, with λ such that, to first
+  /// order in dv (G₀ = G(q₀) in start),
+  ///   coupling rows (α q̇₁ + q̇₂ = 0: constant G, G q stays constant when
+  ///   G v = 0):                      G (v + dv) = 0;
+  ///   a loop's position rows:        Φ(q₀ ⊕ h v) + h G₀ dv = 0  (Φ(q₁) = 0);
+  ///   gear rows (on velocities):     B(q_m) v + G₀ dv = 0  (B at the
+  ///                                  midpoint q_m of `mid`: symmetric).
+  /// y is the step's start, mid the frames at q_m = q₀ ⊕ (h/2) v. Nothing
+  /// without closures.
+  void projectIncrement(const Frames& start, const Frames& mid, const State& y, const Eigen::VectorXd& v, double h,
+                        Eigen::VectorXd* dv, Eigen::VectorXd* r) const;
+  /// With loops or gear rows, b ← b − G₀ᵀλ, λ of the last projectIncrement:
+  /// the constraint impulse of the step's first half, −D₁L_d = p₀ + (h/2)Q₀
+  /// − G₀ᵀλ (RATTLE; Hairer, Lubich & Wanner, "Geometric Numerical
+  /// Integration", §VII.1.4), which p₁ = −D₁L_d + (D₁ + D₂)L_d carries. With
+  /// coupling rows only, G is constant and rates() absorbs G ᵀλ into its
+  /// own multiplier: nothing to do.
+  void constraintImpulse(const Frames& start, Eigen::VectorXd* b) const;
   /// The momenta, in the step's coordinates, of the state's rates u.
   void momenta(const Frames& f, const Eigen::VectorXd& u, Eigen::VectorXd* p) const;
   /// Each free root's translation at the end of a step from start to end
@@ -447,6 +465,20 @@ class ArticulatedSystem {
   /// independentBlocks(), computed at construction.
   std::vector<std::vector<int>> independent_blocks_;
   void findIndependentBlocks();
+  /// Whether the closures include loops or gear rows (not only couplings).
+  bool loopRows() const { return hasClosures() && coupling_G_.size() == 0; }
+  /// Per closure row: 1 on a loop's position rows, 0 on gear rows (imposed
+  /// on velocities); computed at construction.
+  Eigen::VectorXd position_rows_;
+  bool has_position_rows_ = false, has_velocity_rows_ = false;
+  /// data_'s bodies' poses and free columns from frames f (the closures'
+  /// terms read data_).
+  void loadFramePoses(const Frames& f) const;
+  /// With loops: G, Y = M⁻¹ Gᵀ and the inverse of G Y at f's configuration.
+  void factorLoopRows(Frames* f) const;
+  /// projectIncrement's configuration q₀ ⊕ h v and its frames.
+  mutable State loop_end_;
+  mutable Frames loop_frames_;
   void momentumBack(const Frames& f, const Eigen::VectorXd& v, Eigen::VectorXd* Mv, Eigen::VectorXd* dTdq) const;
 };
 

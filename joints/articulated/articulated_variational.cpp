@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 
 #include "joints/articulated/articulated_system.hpp"
+#include "joints/articulated/pivoted_cholesky.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
 
@@ -26,11 +27,17 @@ bool isCouplingRow(const ArticulatedClosure& c) {
 bool ArticulatedSystem::variationalCovers(std::string* why) const {
   for (const ArticulatedClosure& c : model_.closures) {
     if (isCouplingRow(c)) continue;
-    if (why)
-      *why = c.label + (c.gear ? " is a gear row" : " closes a loop") +
-             ": lgvi in joint coordinates takes coupling rows (linear in the joint coordinates) but no loop-closing "
-             "joints or gear rows";
-    return false;
+    // Loops and gear rows: RATTLE's multipliers on the rows in the state's
+    // coordinates, which are the step's everywhere but on a floating tree.
+    for (int body : c.bodies) {
+      if (body == kGround || free_tree_[body] < 0) continue;
+      if (why)
+        *why = c.label + (c.gear ? " is a gear row" : " closes a loop") + " on the floating tree of body '" +
+               model_.names[body] +
+               "': lgvi in joint coordinates takes loops and gear rows only among bodies hung from the ground (a "
+               "floating tree's step coordinates are its centre of mass)";
+      return false;
+    }
   }
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
@@ -233,23 +240,67 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
       data_.articulated[b.parent] += Ia;
     }
   }
+  if (loopRows()) {
+    factorLoopRows(f);
+    return;
+  }
   if (coupling_G_.size() == 0) return;
   // Y = M⁻¹ Gᵀ column by column, and G Y factored.
   const int m = static_cast<int>(coupling_G_.rows());
-  f->coupling_Y.resize(dofs(), m);
+  f->rows_Y.resize(dofs(), m);
   data_.coupling_rhs.resize(dofs());
   for (int k = 0; k < m; ++k) {
     data_.coupling_rhs = coupling_G_.row(k).transpose();
     solveStepMass(*f, data_.coupling_rhs, false, &data_.coupling_x);
-    f->coupling_Y.col(k) = data_.coupling_x;
+    f->rows_Y.col(k) = data_.coupling_x;
   }
   data_.coupling_GY.resize(m, m);
-  data_.coupling_GY.noalias() = coupling_G_ * f->coupling_Y;
+  data_.coupling_GY.noalias() = coupling_G_ * f->rows_Y;
   // G Y = G M⁻¹ Gᵀ is symmetric positive definite (the assembly refuses
   // redundant rows): Cholesky in place, then its inverse.
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(data_.coupling_GY);
-  f->coupling_Ainv.setIdentity(m, m);
-  llt.solveInPlace(f->coupling_Ainv);
+  f->rows_Ainv.setIdentity(m, m);
+  llt.solveInPlace(f->rows_Ainv);
+}
+
+void ArticulatedSystem::loadFramePoses(const Frames& f) const {
+  for (int i = 0; i < bodyCount(); ++i) {
+    const Frame& fr = f.bodies[i];
+    BodyData& d = data_.bodies[i];
+    d.R = fr.R;
+    d.c = fr.c;
+    d.S = fr.S;
+    d.free = fr.free;
+    d.free_u = fr.free_u;
+  }
+}
+
+void ArticulatedSystem::factorLoopRows(Frames* f) const {
+  // G at f's poses (the closures read data_'s bodies), Y = M⁻¹ Gᵀ by m
+  // solves with f's factorization, and the inverse of G Y on the rows with a
+  // pivot (pivoted_cholesky.hpp: the rows a loop repeats get none), column
+  // by column from the identity.
+  const int m = model_.closure_rows, n = dofs();
+  loadFramePoses(*f);
+  closureTerms(ClosureLevel::kJacobian);
+  f->rows_G = data_.closure_G;
+  f->rows_Y.resize(n, m);
+  data_.coupling_rhs.resize(n);
+  for (int k = 0; k < m; ++k) {
+    data_.coupling_rhs = f->rows_G.row(k).transpose();
+    solveStepMass(*f, data_.coupling_rhs, false, &data_.coupling_x);
+    f->rows_Y.col(k) = data_.coupling_x;
+  }
+  data_.closure_A.noalias() = f->rows_G * f->rows_Y;
+  const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+  f->rows_Ainv.resize(m, m);
+  for (int k = 0; k < m; ++k) {
+    data_.closure_rhs.setZero();
+    data_.closure_rhs[k] = 1.0;
+    pivotedCholeskySolve(data_.closure_A, data_.closure_perm, rank, data_.closure_rhs, data_.closure_s,
+                         &data_.closure_lambda);  // scratch: the dynamics' λ is recomputed where it is read
+    f->rows_Ainv.col(k) = data_.closure_lambda;
+  }
 }
 
 void ArticulatedSystem::solveMass(const Frames& f, const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {

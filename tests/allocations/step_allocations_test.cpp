@@ -155,6 +155,35 @@ TEST(StepAllocationsInJointCoordinates, NoneOnFreeRootsSphericalJointsDashpotsAn
   }
 }
 
+TEST(StepAllocationsInJointCoordinates, NoneForLgviOnALoop) {
+  // lgvi's loop rows (a spatial four-bar closed by a ball joint): the
+  // position rows' pose pass at q₀ ⊕ h v, G(q) and (G M⁻¹ Gᵀ)⁺ per step.
+  const Simulation sim(parseScene(R"({"name": "four-bar", "gravity": [0, 0, -9.81],
+    "bodies": [
+      {"name": "crank", "mass": 1.0, "inertia": [0.09, 0.09, 0.01], "position": [0, 0, 0.5],
+       "angular_velocity": [0, 3, 0]},
+      {"name": "coupler", "mass": 2.0, "inertia": [0.05, 0.9, 0.9], "position": [1.1, 0, 1.25]},
+      {"name": "rocker", "mass": 1.5, "inertia": [0.3, 0.3, 0.02], "position": [2.1, 0, 0.75]}],
+    "joints": [
+      {"name": "crank-pivot", "type": "revolute", "main": "ground", "secondary": "crank",
+       "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, -0.5], "axis_main": [0, 1, 0],
+       "spring": {"stiffness": 5, "rest_angle": 0.3}, "damper": {"damping": 0.2}},
+      {"name": "crank-coupler", "type": "universal", "main": "crank", "secondary": "coupler",
+       "anchor_main": [0, 0, 0.5], "anchor_secondary": [-1.1, 0, -0.25], "axis1_main": [0, 1, 0],
+       "axis2_secondary": [0, 0, 1]},
+      {"name": "rocker-pivot", "type": "revolute", "main": "ground", "secondary": "rocker",
+       "anchor_main": [2, 0, 0], "anchor_secondary": [-0.1, 0, -0.75], "axis_main": [0, 1, 0]},
+      {"name": "coupler-rocker", "type": "spherical", "main": "coupler", "secondary": "rocker",
+       "anchor_main": [1.1, 0, 0.25], "anchor_secondary": [0.1, 0, 0.75]}]})",
+                                  "four-bar.json"));
+  std::string why;
+  ASSERT_TRUE(sim.supports("lgvi", &why, "joint")) << why;
+  const bench::StepAllocations a = bench::countStepAllocations(sim, "lgvi", "joint");
+  ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
+  EXPECT_EQ(a.steps_2000, a.steps_1000)
+      << "h = " << a.dt << ": " << (a.steps_2000 - a.steps_1000) / 1000.0 << " allocations per step";
+}
+
 INSTANTIATE_TEST_SUITE_P(JointedScenes, StepAllocations, ::testing::ValuesIn(bench::jointedScenes()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
                            std::string name = info.param;
