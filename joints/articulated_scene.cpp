@@ -66,14 +66,9 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       gear_cuts.push_back(static_cast<int>(k));
       continue;
     }
-    if (j.type == "fixed") {
-      *why = label(scene, k) + " is a fixed joint: the joint-coordinate formulation has revolute, universal, "
-                               "gimbal, prismatic and spherical joints only";
-      return false;
-    }
-    // A slide, a gimbal and an offset universal joint are always tree edges
-    // (a loop is closed by a revolute, universal or spherical joint).
-    const bool tree_only = j.type == "prismatic" || j.type == "gimbal" || j.offset;
+    // A slide, a gimbal, an offset universal joint and a weld are always tree
+    // edges (a loop is closed by a revolute, universal or spherical joint).
+    const bool tree_only = j.type == "prismatic" || j.type == "gimbal" || j.type == "fixed" || j.offset;
     (tree_only ? sliding : driveOf(scene, j).empty() ? plain : driven).push_back(static_cast<int>(k));
   }
   // Kruskal: union–find over the bodies and the ground (node nb).
@@ -88,8 +83,8 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       if (ra == rb) {
         // A loop: this joint is imposed with multipliers on the tree's poses.
         if (list == &sliding) {
-          *why = label(scene, k) + " closes a loop of prismatic, gimbal or offset universal joints: in joint "
-                                   "coordinates a loop is closed by a revolute, universal or spherical joint";
+          *why = label(scene, k) + " closes a loop of prismatic, gimbal, offset universal or fixed joints: in "
+                                   "joint coordinates a loop is closed by a revolute, universal or spherical joint";
           return false;
         }
         if (list == &driven) {
@@ -147,6 +142,11 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       // A rotation-only child turns about its held centre of mass: its joint
       // may constrain only rotations (the maximal formulation's point rows
       // are then identically satisfied: both sides fixed points).
+      if (scene.bodies[c].rotation_only && j.type == "fixed") {
+        *why = label(scene, k) + " welds the rotation-only body '" + scene.bodies[c].name +
+               "' to a body that carries it: a held body turns about its own centre";
+        return false;
+      }
       if (scene.bodies[c].rotation_only) {
         const Eigen::Vector3d& own = c == a ? j.anchor_main : j.anchor_secondary;
         const Eigen::Vector3d& other = c == a ? j.anchor_secondary : j.anchor_main;
@@ -213,7 +213,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       ++ns;     // its orientation
       nq += 3;  // its centre of mass
     } else {
-      nq += type == "universal" ? 2 : type == "gimbal" ? 3 : 1;  // revolute, prismatic: 1
+      nq += type == "universal" ? 2 : type == "gimbal" ? 3 : type == "fixed" ? 0 : 1;  // revolute, prismatic: 1
     }
   }
   articulated::ArticulatedState y0;
@@ -288,12 +288,15 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       b.kind = slides                    ? JointKind::kPrismatic
                : j.type == "universal" ? JointKind::kUniversal
                : j.type == "gimbal"    ? JointKind::kGimbal
+               : j.type == "fixed"     ? JointKind::kFixed
                                        : JointKind::kRevolute;
+
       b.q_begin = b.u_begin = q_next;
       q_next += b.coordinates();
       b.axis1 = j.axis_main.normalized();
       b.axis2 = j.axis_secondary.normalized();
-      b.R_ref = slides ? M0 : Eigen::Matrix3d(rotationAbout(b.axis1, -j.initial_angles[0]) * M0);
+      b.R_ref = slides || b.kind == JointKind::kFixed ? M0
+                                                       : Eigen::Matrix3d(rotationAbout(b.axis1, -j.initial_angles[0]) * M0);
       if (b.kind == JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
       if (b.kind == JointKind::kGimbal) {
         // M0 = exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref at the initial angles.

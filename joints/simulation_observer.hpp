@@ -155,6 +155,7 @@ struct RowBuilder {
       if (o.coordinates == 3)
         row->insert(row->end(), {o.phi[0], o.phi[1], o.phi[2], o.phidot[0], o.phidot[1], o.phidot[2], o.moment[0],
                                  o.moment[1], o.moment[2]});
+      if (o.welded) row->insert(row->end(), o.reaction.begin(), o.reaction.end());
     }
     const Eigen::Vector3d L = sys.angularMomentum(t, y);
     row->insert(row->end(), {sys.energy(t, y), L.x(), L.y(), L.z(), sys.constraintError(t, y)});

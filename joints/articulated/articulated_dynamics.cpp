@@ -194,7 +194,8 @@ void ArticulatedSystem::forwardPass(double t, const State& y, bool dynamics, boo
         gimbal_a2 = g.a2;
         gimbal_a3 = g.a3;
       } else {
-        M = slides ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
+        // A slide and a weld hold R_ref (a weld has no column: V = V_p).
+        M = slides || b.kind == JointKind::kFixed ? b.R_ref : jointRotation(i, cos_phi, sin_phi);
       }
       d.R = b.parent_is_main ? Eigen::Matrix3d(Rp * M) : Eigen::Matrix3d(Rp * M.transpose());
       const Eigen::Matrix3d& R_main = b.parent_is_main ? Rp : d.R;

@@ -50,7 +50,11 @@
 namespace lieflow {
 namespace articulated {
 
-enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree, kGimbal };
+/// kFixed: a weld, no coordinate; the child moves with its parent (R_ref and
+/// the anchors held), its inertia joins the parent's articulated inertia and
+/// the force across the weld is the one the articulated-body algorithm
+/// passes (the J.fx … J.mz columns).
+enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree, kGimbal, kFixed };
 
 /// The parent of a body attached to the ground.
 constexpr int kGround = -1;

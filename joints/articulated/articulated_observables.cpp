@@ -101,12 +101,25 @@ void ArticulatedSystem::jointOutputs(double t, const State& y, std::vector<Artic
     if (b.scene_joint < 0) continue;
     ArticulatedJointOutput& o = (*out)[b.scene_joint];
     o.coordinates = b.coordinates();
-    if (o.coordinates == 0) continue;
+    if (o.coordinates == 0 && b.kind != JointKind::kFixed) continue;
     // The spatial force the parent passes to the child's subtree,
     // f = I_A a + p_A (Featherstone 2008, §7.3), as a moment about the anchor
     // (about the held centre of mass of a rotation-only child: its support
     // takes the force).
     const Vector6 f = d.IA * d.a + d.pA;
+    if (b.kind == JointKind::kFixed) {
+      // A weld: the force on the secondary body (the child's, or minus it
+      // when the child is the main body) and its moment about the anchor, in
+      // the main body's axes, as multibody_observables.cpp reports it.
+      const double sign = b.parent_is_main ? 1.0 : -1.0;
+      Eigen::Matrix3d R_main = d.R;
+      if (b.parent_is_main) R_main = b.parent == kGround ? Eigen::Matrix3d::Identity() : data_.bodies[b.parent].R;
+      const Eigen::Vector3d force = sign * (R_main.transpose() * f.tail<3>());
+      const Eigen::Vector3d moment = sign * (R_main.transpose() * (f.head<3>() - d.x.cross(f.tail<3>())));
+      o.welded = true;
+      o.reaction = {{force.x(), force.y(), force.z(), moment.x(), moment.y(), moment.z()}};
+      continue;
+    }
     const Eigen::Vector3d& point = b.rotation_only ? d.c : d.x;
     const Eigen::Vector3d moment_on_child = f.head<3>() - point.cross(f.tail<3>());
     // On the main body: −(that) when the child is the secondary.

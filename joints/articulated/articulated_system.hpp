@@ -67,6 +67,10 @@ namespace articulated {
 struct ArticulatedJointOutput {
   int coordinates = 0;
   std::array<double, 3> phi{{0.0, 0.0, 0.0}}, phidot{{0.0, 0.0, 0.0}}, moment{{0.0, 0.0, 0.0}};
+  /// A weld's reaction on its secondary body (the maximal formulation's
+  /// J.fx … J.mz): the force and its moment about the anchor, main body's axes.
+  bool welded = false;
+  std::array<double, 6> reaction{{0.0, 0.0, 0.0, 0.0, 0.0, 0.0}};
 };
 
 class ArticulatedSystem {

@@ -104,6 +104,14 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
     fr.c = b.rotation_only ? b.fixed_position : Eigen::Vector3d(x - fr.R * b.anchor_child);
     return;
   }
+  if (b.kind == JointKind::kFixed) {
+    // A weld: R_ref and the anchors held, no column (the child is never
+    // rotation-only: articulated_scene.cpp).
+    fr.R = b.parent_is_main ? Eigen::Matrix3d(Rp * b.R_ref) : Eigen::Matrix3d(Rp * b.R_ref.transpose());
+    fr.free = 0;
+    fr.c = x - fr.R * b.anchor_child;
+    return;
+  }
   if (b.kind == JointKind::kPrismatic) {
     // The relative rotation R_ref held; the child's anchor at x + σ φ A, the
     // column σ (0, A), A = R_main a.
@@ -209,7 +217,11 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
     // D = Sᵀ I_A S plus the dashpots' weight × c per coordinate (an armature:
     // M + w D_c, the end kick's matrix; articulated_system.hpp, frames()).
     const std::array<multibody::CoordinateDrive, 3>& drive = model_.drives[i];
-    if (fr.free == 3) {
+    if (fr.free == 0) {
+      // A weld: its inertia joins the parent's whole.
+      if (b.parent == kGround) continue;
+      Ia = I;
+    } else if (fr.free == 3) {
       fr.U.noalias() = I * fr.S;
       Eigen::Matrix3d D = fr.S.transpose() * fr.U;
       for (int k = 0; k < 3; ++k) D(k, k) += damping_weight * drive[k].damping;
@@ -327,7 +339,9 @@ void ArticulatedSystem::solveStepMass(const Frames& f, const Eigen::VectorXd& rh
     // u = τ − Sᵀ p_A, kept in x for pass 3; p_a = p_A + U D⁻¹ u to the parent
     // (formed in the sum: storing it first stalled store-to-load forwarding).
     Vector6 Ug;
-    if (fr.free == 3) {
+    if (fr.free == 0) {
+      Ug.setZero();  // a weld
+    } else if (fr.free == 3) {
       Eigen::Vector3d u = rhs.segment<3>(fr.free_u[0]);
       u.noalias() -= fr.S.transpose() * pA;
       x->segment<3>(fr.free_u[0]) = u;
@@ -378,7 +392,9 @@ void ArticulatedSystem::solveStepMass(const Frames& f, const Eigen::VectorXd& rh
     } else {
       a = data_.twist[b.parent];
     }
-    if (fr.free == 3) {
+    if (fr.free == 0) {
+      // A weld: a = the parent's.
+    } else if (fr.free == 3) {
       Eigen::Vector3d r = x->segment<3>(fr.free_u[0]);
       r.noalias() -= fr.U.transpose() * a;
       const Eigen::Vector3d qdd = fr.Dinv * r;
@@ -450,6 +466,8 @@ void ArticulatedSystem::momentumBack(const Frames& f, const Eigen::VectorXd& v, 
       if (b.kind == JointKind::kSpherical) {
         // A spherical joint: all three columns turn the subtree from V_p.
         for (int k = 0; k < 3; ++k) (*dTdq)[fr.free_u[k]] = crossMotion(data_.before[i], fr.S.col(k)).dot(H);
+      } else if (fr.free == 0) {
+        // A weld: no coordinate.
       } else if (fr.free == 1) {
         (*dTdq)[fr.free_u[0]] = crossMotion(data_.before[i], fr.S.col(0)).dot(H);
       } else if (fr.free == 2) {

@@ -99,8 +99,9 @@ TEST(HostileRuns, RefusedRunsLeaveNothingBehind) {
     expectReadableMessage(s.err);
   }
   const std::string dir = testFile("_study/sub");
-  for (const char* bad : {"pendulum --integrators bogus", "slider-crank --formulation joint", "pendulum --max-steps 5",
-                          "pendulum --options bogus=1"}) {
+  const std::string upside_down = std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/scenes/gimbal-upside-down.json";
+  for (const std::string bad : {std::string("pendulum --integrators bogus"), upside_down + " --formulation joint",
+                                std::string("pendulum --max-steps 5"), std::string("pendulum --options bogus=1")}) {
     const Outcome o = runLieflow(std::string("study ") + bad + " --t-end 0.05 --no-plots --out " + dir);
     EXPECT_EQ(o.status, 2) << bad << o.err;
     EXPECT_FALSE(std::filesystem::exists(testFile("_study"))) << bad << ": an empty output directory was left";
@@ -111,9 +112,9 @@ TEST(HostileRuns, RefusedRunsLeaveNothingBehind) {
 }
 
 TEST(HostileRuns, AStudyNoIntegratorCanRunIsRefusedBeforeItsReference) {
-  // (slider-crank's weld: a fixed joint is not a joint-coordinate tree joint;
-  // rack-pinion, whose rack floats held by gear rows, now is represented.)
-  for (const char* s : {"slider-crank"}) {
+  // (a gimbal hung from its secondary body, tests/data/scenes: every
+  // built-in scene now has joint coordinates, slider-crank's weld among them.)
+  for (const std::string s : {std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/scenes/gimbal-upside-down.json"}) {
     const Outcome o = runLieflow(std::string("study ") + s + " --formulation joint --t-end 0.05 --no-plots --out " +
                                  testFile("_out"));
     EXPECT_EQ(o.status, 2) << s << o.err;

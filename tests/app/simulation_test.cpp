@@ -63,8 +63,11 @@ TEST(Simulation, TheDefaultFormulationIsJointCoordinatesWhereverTheyRunTheScene)
   for (const Case& c : {Case{"chain-10", "rkmk4", "joint"}, Case{"double-pendulum", "lgvi", "joint"},
                         Case{"double-pendulum", "genalpha", "joint"}, Case{"cardan-shaft", "rkmk4", "joint"},
                         Case{"cardan-shaft", "lgvi", "maximal"}, Case{"rack-pinion", "rkmk4", "joint"},
-                        Case{"slider-crank", "cf4", "maximal"}, Case{"heavy-top", "splitting", "joint"}}) {
-    const Simulation sim(loadScene(c.scene));
+                        Case{"slider-crank", "cf4", "joint"}, Case{"slider-crank", "genalpha", "maximal"},
+                        Case{"gimbal-upside-down", "cf4", "maximal"}, Case{"heavy-top", "splitting", "joint"}}) {
+    const Simulation sim(std::string(c.scene) == "gimbal-upside-down"
+                             ? loadScene(std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/scenes/gimbal-upside-down.json")
+                             : loadScene(c.scene));
     EXPECT_EQ(sim.defaultFormulation(c.integrator), c.expected) << c.scene << " " << c.integrator;
   }
   // On every built-in scene and integrator: the default is joint exactly

@@ -419,10 +419,15 @@ TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {
   EXPECT_NE(refusal(Simulation(loadScene("cardan-shaft")), "joint", "genalpha", &field).find("loop"),
             std::string::npos);
   EXPECT_EQ(field, "--integrator");
-  // A fixed joint has no coordinates to be a tree joint of.
-  EXPECT_NE(refusal(Simulation(loadScene("slider-crank")), "joint", "rkmk4", &field).find("fixed joint"),
+  // A gimbal hung from its secondary body (joint coordinates take it from
+  // its main body; a weld is a tree joint now, slider-crank's among them).
+  EXPECT_NE(refusal(Simulation(loadScene(std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/scenes/gimbal-upside-down.json")),
+                    "joint", "rkmk4", &field)
+                .find("from their main body"),
             std::string::npos);
   EXPECT_EQ(field, "--formulation");
+  EXPECT_NE(refusal(Simulation(loadScene("slider-crank")), "joint", "genalpha", &field).find("loop"),
+            std::string::npos);
   // An integrator written for maximal coordinates.
   const Simulation pendulum(loadScene("double-pendulum"));
   EXPECT_NE(refusal(pendulum, "joint", "splitting", &field).find("not available in joint coordinates"),
