@@ -1,8 +1,8 @@
 // ArticulatedSystem: the coordinates of lgvi's step beyond the joint
 // angles (integrators/joint_space_variational.hpp; articulated_system.hpp
 // states the equations): the rotations' discrete Lagrangian on SO(3), each
-// free tree's centre of mass as its translation, and the coupling rows'
-// multipliers.
+// free tree's centre of mass as its translation, and the constraint rows'
+// multipliers (coupling rows, loops, gear rows: RATTLE).
 #include <algorithm>
 #include <cmath>
 #include <limits>

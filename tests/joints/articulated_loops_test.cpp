@@ -78,6 +78,18 @@ double largestDifference(const RunEnds& a, const RunEnds& b, const std::vector<s
   return worst;
 }
 
+/// A run's last row and summary, with the largest value of one column over
+/// its rows in *worst (the loop's constraint_error).
+RunEnds runWatching(const Simulation& sim, const SimulationOptions& o, std::size_t column, double* worst) {
+  RunEnds run;
+  run.columns = sim.columns();
+  run.result = sim.run(o, [&](const std::vector<double>& row) {
+    *worst = std::max(*worst, row[column]);
+    run.last = row;
+  });
+  return run;
+}
+
 TEST(ArticulatedLoops, CardanShaftFollowsItsClosedForm) {
   // Input at ω = 10 rad/s prescribed, shafts bent by β = 30°, the input angle
   // φ from the plane of the shafts: tan ψ = tan φ / cos β, ψ̇ = ω cos β /
@@ -244,13 +256,8 @@ TEST(ArticulatedLoops, AdaptiveStepsKeepTheLoopClosed) {
     for (double rtol : {1e-5, 1e-7, 1e-9, 1e-11}) {
       SimulationOptions o = scene_testing::runOptions("rkmk45", formulation, 0.01, 1.0);
       o.integrator_options = {{"rtol", rtol}, {"atol", 1e-2 * rtol}};
-      RunEnds run;
-      run.columns = sim.columns();
       double worst_row = 0.0;
-      run.result = sim.run(o, [&](const std::vector<double>& row) {
-        worst_row = std::max(worst_row, row[error_column]);
-        run.last = row;
-      });
+      const RunEnds run = runWatching(sim, o, error_column, &worst_row);
       ASSERT_FALSE(run.result.failed) << run.result.failure;
       const double error = largestDifference(run, reference, {".x", ".y", ".z"});
       std::printf("%s rkmk45 rtol %.0e: %ld steps (%ld rejected), position error %.2g m, max |Phi| %.2g\n",
@@ -280,13 +287,8 @@ TEST(ArticulatedLoops, LgviClosesTheLoopAndConvergesAtOrderTwo) {
   for (double dt : {4e-3, 2e-3, 1e-3}) {
     SimulationOptions o = scene_testing::runOptions("lgvi", "joint", dt, 1.0);
     o.check_every = 1;
-    RunEnds run;
-    run.columns = sim.columns();
     double worst_row = 0.0;
-    run.result = sim.run(o, [&](const std::vector<double>& row) {
-      worst_row = std::max(worst_row, row[error_column]);
-      run.last = row;
-    });
+    const RunEnds run = runWatching(sim, o, error_column, &worst_row);
     ASSERT_FALSE(run.result.failed) << run.result.failure;
     EXPECT_EQ(run.result.substepped_steps, 0) << "h = " << dt;
     h.push_back(dt);
