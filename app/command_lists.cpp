@@ -24,10 +24,12 @@ std::string jointColumns(const std::string& integrator) {
                              std::make_pair(SystemKind::kJointCoupled, "coupling rows"),
                              std::make_pair(SystemKind::kJointLoops, "closed loops and gear rows")}) {
     const std::string none = stepperUnavailable(integrator, column.first);
-    if (none.empty())
+    if (none.empty()) {
       held += std::string(held.empty() ? " " : ", ") + column.second;
-    else if (why.empty())
+      if (!notDefaultReason(integrator, column.first).empty()) held += " (when asked for: --formulation joint)";
+    } else if (why.empty()) {
       why = none;
+    }
   }
   if (held.empty()) return " no (" + why + ")";
   return held + (why.empty() ? "" : " (not: " + why + ")");

@@ -398,6 +398,9 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   }
   sys.projectVelocities(0.0, omega, v, &y0);
   sys.projectVelocities(0.0, &y0, &why);
+  if (sys.hasClosures())
+    sys.setClosureRowsIndependent(static_cast<int>(sys.independentClosureRows(0.0, y0).size()) ==
+                                  sys.model().closure_rows);
   out->y0 = std::move(y0);
   return out;
 }

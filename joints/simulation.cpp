@@ -204,8 +204,15 @@ std::string Simulation::defaultFormulation(const std::string& integrator) const 
   // KKT matrix (turning at ω = (0.5, 1, 2) rad/s, joint against maximal:
   // Solo12 33 / 151 µs, ANYmal 33 / 148, Talos 120 / 711, Talos full
   // 655 / 2383, MuJoCo's humanoid 67 / 235).
+  // A cell that runs only when asked for (stepper_table.hpp, notDefaultReason).
   if (!model_->multibody) return "joint";
-  return supports(integrator, nullptr, "joint") ? "joint" : "maximal";
+  if (!supports(integrator, nullptr, "joint")) return "maximal";
+  return jointOnlyWhenAskedFor(integrator).empty() ? "joint" : "maximal";
+}
+
+std::string Simulation::jointOnlyWhenAskedFor(const std::string& integrator) const {
+  if (!model_->multibody || !model_->articulated || !findIntegrator(integrator)) return "";
+  return notDefaultReason(integrator, kindOf(*model_, "joint"));
 }
 
 bool Simulation::supports(const std::string& integrator, std::string* why, const std::string& formulation_in) const {

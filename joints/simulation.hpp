@@ -143,6 +143,10 @@ class Simulation {
   /// genalpha too, simulation.cpp has the figures), else "maximal". A scene
   /// without joints has one formulation, "joint".
   std::string defaultFormulation(const std::string& integrator) const;
+  /// Why `integrator` runs this scene in joint coordinates only when asked
+  /// for (its cell of the table of steppers says so: genalpha on loops);
+  /// empty where the default may be joint coordinates.
+  std::string jointOnlyWhenAskedFor(const std::string& integrator) const;
 
   /// Whether the scene is a mechanism, whose maximal formulation imposes
   /// constraints with multipliers (a single body, free or on the reduced

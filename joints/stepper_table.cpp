@@ -46,6 +46,33 @@ std::string stepperUnavailable(const std::string& integrator, SystemKind kind) {
   return "";
 }
 
+namespace {
+
+template <typename K>
+std::string notDefaultIn(const std::string& integrator) {
+  std::string why;
+  stepper_table::forEachRow([&](const auto& row) {
+    using Row = std::decay_t<decltype(row)>;
+    if constexpr (stepper_table::HasNotDefault<Row, K>::value)
+      if (integrator == row.name) why = row.notDefault(K{});
+  });
+  return why;
+}
+
+}  // namespace
+
+std::string notDefaultReason(const std::string& integrator, SystemKind kind) {
+  using namespace stepper_table;
+  switch (kind) {
+    case SystemKind::kSingleBody: return notDefaultIn<SingleBody>(integrator);
+    case SystemKind::kMaximal: return notDefaultIn<Maximal>(integrator);
+    case SystemKind::kJointTree: return notDefaultIn<JointTree>(integrator);
+    case SystemKind::kJointCoupled: return notDefaultIn<JointCoupled>(integrator);
+    case SystemKind::kJointLoops: return notDefaultIn<JointLoops>(integrator);
+  }
+  return "";
+}
+
 std::vector<std::string> steppersFor(SystemKind kind) {
   std::vector<std::string> names;
   stepper_table::forEachRow([&](const auto& row) {

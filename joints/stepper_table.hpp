@@ -39,4 +39,9 @@ std::string stepperUnavailable(const std::string& integrator, SystemKind kind);
 /// "available:" lists of the error messages).
 std::vector<std::string> steppersFor(SystemKind kind);
 
+/// Empty if the integrator's stepper for `kind` may be the default
+/// formulation's, else why it runs there only when asked for
+/// (`--formulation joint`): a cell whose row says `notDefault(K)`.
+std::string notDefaultReason(const std::string& integrator, SystemKind kind);
+
 }  // namespace lieflow

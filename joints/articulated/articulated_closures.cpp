@@ -15,6 +15,7 @@
 // rotation-only body below it: W P = [W_ω + W_v [c]×, 0].
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -376,6 +377,33 @@ void ArticulatedSystem::closureOutputs(double t, std::vector<ArticulatedJointOut
     const Eigen::Vector3d moment = sign * (n - cross3(anchor, f));
     for (int k = 0; k < o.coordinates; ++k) o.moment[k] = moment.dot(axes[k]);
   }
+}
+
+void ArticulatedSystem::closureRowsAt(double t, const State& y, Eigen::MatrixXd* G, Eigen::VectorXd* phi) const {
+  forwardPass(t, y, false, false);
+  closureTerms(ClosureLevel::kPosition);
+  *G = data_.closure_G;
+  *phi = data_.closure_r;
+}
+
+std::vector<int> ArticulatedSystem::independentClosureRows(double t, const State& y) const {
+  std::vector<int> rows;
+  if (!hasClosures()) return rows;
+  forwardPass(t, y, true, false);
+  solve(Vector6::Zero(), &data_.udot);  // the factorization of M(q)
+  closureTerms(ClosureLevel::kJacobian);
+  closureInverseMass();
+  data_.closure_A.noalias() = data_.closure_G * data_.closure_Y;
+  const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+  rows.assign(data_.closure_perm.begin(), data_.closure_perm.begin() + rank);
+  return rows;
+}
+
+double ArticulatedSystem::achievablePositionTolerance(const State& y, double tolerance) const {
+  forwardPass(0.0, y, false, false);
+  double extent = 1.0;
+  for (int i = 0; i < bodyCount(); ++i) extent = std::max(extent, data_.bodies[i].c.lpNorm<Eigen::Infinity>());
+  return std::max(tolerance, kPositionRoundoffUlps * std::numeric_limits<double>::epsilon() * extent);
 }
 
 }  // namespace articulated

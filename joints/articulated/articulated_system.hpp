@@ -196,6 +196,26 @@ class ArticulatedSystem {
   const std::vector<std::vector<int>>& independentBlocks() const { return independent_blocks_; }
   /// max |Φ| over the closing joints' rows at (t, y) (metres, radians).
   double constraintError(double t, const State& y) const;
+  /// The closures' rows G (m × dofs) and Φ (gear rows: 0) at (t, y), for
+  /// genalpha's assembly (articulated_kkt_assembly.hpp).
+  void closureRowsAt(double t, const State& y, Eigen::MatrixXd* G, Eigen::VectorXd* phi) const;
+  /// The closure rows with a pivot in G M⁻¹ Gᵀ at (t, y), in pivot order
+  /// (the rows a loop repeats left out; pivoted_cholesky.hpp).
+  std::vector<int> independentClosureRows(double t, const State& y) const;
+  /// Whether the closures' rows were independent (G M⁻¹ Gᵀ of full rank) at
+  /// the scene's start (set by the assembly, articulated_scene.cpp): genalpha's
+  /// iteration matrix in joint coordinates needs them so.
+  bool closureRowsIndependent() const { return closure_rows_independent_; }
+  void setClosureRowsIndependent(bool independent) { closure_rows_independent_ = independent; }
+  /// The multipliers of the last accelerations() (+Gᵀλ on the rates' side).
+  const Eigen::VectorXd& lastClosureMultipliers() const { return data_.closure_lambda; }
+  /// Whether closure row k is a loop's position row (else a gear row, on velocities).
+  bool isPositionRow(int k) const { return position_rows_[k] != 0.0; }
+  /// `tolerance` raised to the rounding of the bodies' positions at y
+  /// (kPositionRoundoffUlps ε times the farthest centre, at least 1 m), as
+  /// MultibodySystem's: what genalpha can ask of the loops' rows.
+  double achievablePositionTolerance(const State& y, double tolerance) const;
+  static constexpr double kPositionRoundoffUlps = 16.0;
   /// Moves y's coordinates onto Φ = 0 by Gauss–Newton steps in the mass
   /// metric, δ = Y λ with G Y λ = −Φ, until max |Φ| ≤ tolerance (false with `why`
   /// after max_iterations, or if a step does not reduce Φ).
@@ -247,6 +267,9 @@ class ArticulatedSystem {
   /// or gear row on a floating tree (whose step coordinates are its centre of
   /// mass). If not, `why` names the joint or body and the reason.
   bool variationalCovers(std::string* why) const;
+  /// Whether a coordinate's motion is prescribed (`why` names the body and
+  /// says that `integrator` does not take it in joint coordinates).
+  bool hasPrescribedCoordinate(const std::string& integrator, std::string* why) const;
   /// The frames at the configuration of y (factored when `factor`: M, or
   /// M + damping_weight · D_c with D_c the joints' dashpot constants on
   /// their coordinates, an armature in the articulated-body factorization —
@@ -466,6 +489,7 @@ class ArticulatedSystem {
   Eigen::MatrixXd coupling_G_;
   /// Whether every closure is a coupling row.
   bool onlyCouplings() const;
+  bool closure_rows_independent_ = true;
   /// independentBlocks(), computed at construction.
   std::vector<std::vector<int>> independent_blocks_;
   void findIndependentBlocks();

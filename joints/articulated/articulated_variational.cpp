@@ -39,18 +39,21 @@ bool ArticulatedSystem::variationalCovers(std::string* why) const {
       return false;
     }
   }
+  return !hasPrescribedCoordinate("lgvi", why);
+}
+
+bool ArticulatedSystem::hasPrescribedCoordinate(const std::string& integrator, std::string* why) const {
   for (int i = 0; i < bodyCount(); ++i) {
     const ArticulatedBody& b = model_.bodies[i];
     for (int k = 0; k < b.coordinates(); ++k) {
       if (!b.prescribed(k)) continue;
       if (why)
-        *why = "body '" + model_.names[i] +
-               "' has a prescribed joint angle, a time-dependent constraint, which lgvi in joint coordinates does "
-               "not take";
-      return false;
+        *why = "body '" + model_.names[i] + "' has a prescribed joint angle, a time-dependent constraint, which " +
+               integrator + " in joint coordinates does not take";
+      return true;
     }
   }
-  return true;
+  return false;
 }
 
 bool ArticulatedSystem::onlyCouplings() const {

@@ -155,9 +155,10 @@ TEST(StepAllocationsInJointCoordinates, NoneOnFreeRootsSphericalJointsDashpotsAn
   }
 }
 
-TEST(StepAllocationsInJointCoordinates, NoneForLgviOnALoop) {
-  // lgvi's loop rows (a spatial four-bar closed by a ball joint): the
-  // position rows' pose pass at q₀ ⊕ h v, G(q) and (G M⁻¹ Gᵀ)⁺ per step.
+TEST(StepAllocationsInJointCoordinates, NoneForLgviAndGenalphaOnALoop) {
+  // The loop rows of a spatial four-bar closed by a ball joint: lgvi's pose
+  // pass at q₀ ⊕ h v, G(q) and (G M⁻¹ Gᵀ)⁺ per step; genalpha's dense
+  // iteration matrix and its differences.
   const Simulation sim(parseScene(R"({"name": "four-bar", "gravity": [0, 0, -9.81],
     "bodies": [
       {"name": "crank", "mass": 1.0, "inertia": [0.09, 0.09, 0.01], "position": [0, 0, 0.5],
@@ -176,12 +177,15 @@ TEST(StepAllocationsInJointCoordinates, NoneForLgviOnALoop) {
       {"name": "coupler-rocker", "type": "spherical", "main": "coupler", "secondary": "rocker",
        "anchor_main": [1.1, 0, 0.25], "anchor_secondary": [0.1, 0, 0.75]}]})",
                                   "four-bar.json"));
-  std::string why;
-  ASSERT_TRUE(sim.supports("lgvi", &why, "joint")) << why;
-  const bench::StepAllocations a = bench::countStepAllocations(sim, "lgvi", "joint");
-  ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
-  EXPECT_EQ(a.steps_2000, a.steps_1000)
-      << "h = " << a.dt << ": " << (a.steps_2000 - a.steps_1000) / 1000.0 << " allocations per step";
+  for (const char* integrator : {"lgvi", "genalpha"}) {
+    SCOPED_TRACE(integrator);
+    std::string why;
+    ASSERT_TRUE(sim.supports(integrator, &why, "joint")) << why;
+    const bench::StepAllocations a = bench::countStepAllocations(sim, integrator, "joint");
+    ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
+    EXPECT_EQ(a.steps_2000, a.steps_1000)
+        << "h = " << a.dt << ": " << (a.steps_2000 - a.steps_1000) / 1000.0 << " allocations per step";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(JointedScenes, StepAllocations, ::testing::ValuesIn(bench::jointedScenes()),
