@@ -35,15 +35,7 @@ const char* systemKindName(SystemKind kind) {
 }
 
 std::string stepperUnavailable(const std::string& integrator, SystemKind kind) {
-  using namespace stepper_table;
-  switch (kind) {
-    case SystemKind::kSingleBody: return emptyCellReason<SingleBody>(integrator);
-    case SystemKind::kMaximal: return emptyCellReason<Maximal>(integrator);
-    case SystemKind::kJointTree: return emptyCellReason<JointTree>(integrator);
-    case SystemKind::kJointCoupled: return emptyCellReason<JointCoupled>(integrator);
-    case SystemKind::kJointLoops: return emptyCellReason<JointLoops>(integrator);
-  }
-  return "";
+  return stepper_table::withColumn(kind, [&](auto column) { return emptyCellReason<decltype(column)>(integrator); });
 }
 
 namespace {
@@ -62,15 +54,7 @@ std::string notDefaultIn(const std::string& integrator) {
 }  // namespace
 
 std::string notDefaultReason(const std::string& integrator, SystemKind kind) {
-  using namespace stepper_table;
-  switch (kind) {
-    case SystemKind::kSingleBody: return notDefaultIn<SingleBody>(integrator);
-    case SystemKind::kMaximal: return notDefaultIn<Maximal>(integrator);
-    case SystemKind::kJointTree: return notDefaultIn<JointTree>(integrator);
-    case SystemKind::kJointCoupled: return notDefaultIn<JointCoupled>(integrator);
-    case SystemKind::kJointLoops: return notDefaultIn<JointLoops>(integrator);
-  }
-  return "";
+  return stepper_table::withColumn(kind, [&](auto column) { return notDefaultIn<decltype(column)>(integrator); });
 }
 
 std::vector<std::string> steppersFor(SystemKind kind) {

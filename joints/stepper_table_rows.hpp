@@ -66,6 +66,19 @@ using JointTree = Column<SystemKind::kJointTree>;
 using JointCoupled = Column<SystemKind::kJointCoupled>;
 using JointLoops = Column<SystemKind::kJointLoops>;
 
+/// f(Column{}) for the column of `kind`: the one switch from a kind to its type.
+template <typename F>
+auto withColumn(SystemKind kind, F&& f) {
+  switch (kind) {
+    case SystemKind::kSingleBody: return f(SingleBody{});
+    case SystemKind::kMaximal: return f(Maximal{});
+    case SystemKind::kJointTree: return f(JointTree{});
+    case SystemKind::kJointCoupled: return f(JointCoupled{});
+    case SystemKind::kJointLoops: break;
+  }
+  return f(JointLoops{});
+}
+
 /// A cell without a stepper, and why.
 struct NoStepper {
   const char* why;
@@ -235,7 +248,7 @@ struct GenalphaRow {
     return ConstrainedGeneralizedAlphaStepper<articulated::ArticulatedSystem>(constrainedOptions(o));
   }
   /// Measured: the four-bar converges at order 2 with 1-2 Newton iterations
-  /// per step (6x faster than maximal coordinates), but the built-in
+  /// per step (3.2x faster than maximal coordinates), but the built-in
   /// slider-crank at index 2 stops at t = 5-12 s (h = 2e-3 … 5e-4; index 3
   /// at rho_inf = 0.9 runs it): the default keeps maximal coordinates there.
   const char* notDefault(JointLoops) const {

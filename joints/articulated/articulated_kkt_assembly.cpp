@@ -3,7 +3,6 @@
 #include "joints/articulated/articulated_kkt_assembly.hpp"
 
 #include <algorithm>
-#include <sstream>
 
 namespace lieflow {
 namespace articulated {
@@ -12,8 +11,8 @@ bool ArticulatedKktAssembly::bind(const ArticulatedSystem& system) {
   if (system_ == &system) return false;
   system_ = &system;
   n_ = system.dofs();
-  // Until accelerations() chooses the rows at the start: all of them,
-  // position rows first.
+  // The system's closure rows in the stepper's order: a loop's position
+  // rows first, then the gear rows.
   rows_.clear();
   const int m = system.model().closure_rows;
   for (int k = 0; k < m; ++k)

@@ -96,9 +96,9 @@ class ArticulatedKktAssembly {
                                             double stiffness_factor, const Eigen::VectorXd& lambda);
 
  private:
-  /// Sizes the matrix for the kept rows (a full pattern).
+  /// Sizes the matrix for the rows (a full pattern).
   void shapeMatrix();
-  /// G and Φ of the kept rows at y into G_, phi_ (stepper order).
+  /// G and Φ of the rows at y into G_, phi_ (stepper order).
   void rowsAt(double t, const State& y);
   /// ∂r/∂q, ∂r/∂u (r = M u̇ + g + Gᵀλ at the last residual()'s iterate) and
   /// ∂(G u)/∂q at y by forward differences into Kfull_, Cfull_, dGu_.
@@ -107,7 +107,7 @@ class ArticulatedKktAssembly {
   const ArticulatedSystem* system_ = nullptr;
   bool stabilized_ = false;
   int n_ = 0, m_ = 0, mp_ = 0;
-  /// The system's closure rows the run keeps, stepper order (position, then gear rows).
+  /// The system's closure rows in stepper order (position, then gear rows).
   std::vector<int> rows_;
   double t_ = 0.0;  ///< the time of the last residual()
   Eigen::MatrixXd M_, T_, G_, G_all_, dense_;
@@ -120,7 +120,9 @@ class ArticulatedKktAssembly {
   /// Stabilized: G_p(q_n), Ḡ_p, M(q_n) factored (SPD: no prescribed
   /// coordinate), P = M(q_n)⁻¹ Ḡ_pᵀ.
   Eigen::MatrixXd Gp_start_, Gp_mid_, M_start_, P_, MP_;
-  Eigen::LLT<Eigen::MatrixXd> M_start_llt_;
+  /// Constructed factored (of a 1 × 1 identity): Eigen's default-constructed
+  /// LLT leaves its info unset, and copying the stepper read it (UBSan).
+  Eigen::LLT<Eigen::MatrixXd> M_start_llt_{Eigen::MatrixXd::Identity(1, 1)};
   bool mid_fixed_ = false;
   Eigen::SparseMatrix<double> A_;
 };

@@ -85,30 +85,6 @@ def model_difference(log_path):
     return None
 
 
-def equal_time_rows(name, s, floor):
-    """mech.equal_time_rows with the levels within MODEL_FLOOR_FACTOR of the
-    engines' model difference `floor` left out (rows saying so)."""
-    rows, ratios = [], []
-    for level in mech.LEVELS:
-        if floor is not None and level < MODEL_FLOOR_FACTOR * floor:
-            rows.append(f"| {name} | {level:.0e} | not compared: within {MODEL_FLOOR_FACTOR:g}x of the engines' "
-                        f"model difference ({floor:.2g} rad) | | | |")
-            continue
-        t, who = mech.fastest_mujoco(s, level)
-        if t is None:
-            rows.append(f"| {name} | {level:.0e} | not reached | | | |")
-            continue
-        e, lf, bound = mech.best_lieflow(s, t)
-        if e is None:
-            rows.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | no lieflow run that short | | n/a |")
-            continue
-        ratios.append(level / e)
-        rows.append(f"| {name} | {level:.0e} | {who} ({t:.3g} s) | {lf}" +
-                    (" (its longest run, shorter)" if bound else "") +
-                    f" | {e:.3g} | {'≥ ' if bound else ''}{level / e:.3g} |")
-    return rows, ratios
-
-
 def main(out_dir, paper_dir):
     formulations = {}
     with open(os.path.join(out_dir, "formulations.csv")) as f:
@@ -139,7 +115,7 @@ def main(out_dir, paper_dir):
         ax.set_ylabel("max rotation from the reference at T [rad]", fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6)
-        level_rows, ratios = equal_time_rows(name, s, floor)
+        level_rows, ratios = mech.equal_time_rows(name, s, floor, MODEL_FLOOR_FACTOR)
         table += level_rows
         lgvi = next((key for key in s if key.startswith("lieflow lgvi")), None)
         if lgvi:
