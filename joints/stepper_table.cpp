@@ -21,6 +21,18 @@ std::string emptyCellReason(const std::string& integrator) {
   return why;
 }
 
+/// Why the row's cell of column K runs only when asked for (empty: it may be the default).
+template <typename K>
+std::string notDefaultIn(const std::string& integrator) {
+  std::string why;
+  stepper_table::forEachRow([&](const auto& row) {
+    using Row = std::decay_t<decltype(row)>;
+    if constexpr (stepper_table::HasNotDefault<Row, K>::value)
+      if (integrator == row.name) why = row.notDefault(K{});
+  });
+  return why;
+}
+
 }  // namespace
 
 const char* systemKindName(SystemKind kind) {
@@ -37,21 +49,6 @@ const char* systemKindName(SystemKind kind) {
 std::string stepperUnavailable(const std::string& integrator, SystemKind kind) {
   return stepper_table::withColumn(kind, [&](auto column) { return emptyCellReason<decltype(column)>(integrator); });
 }
-
-namespace {
-
-template <typename K>
-std::string notDefaultIn(const std::string& integrator) {
-  std::string why;
-  stepper_table::forEachRow([&](const auto& row) {
-    using Row = std::decay_t<decltype(row)>;
-    if constexpr (stepper_table::HasNotDefault<Row, K>::value)
-      if (integrator == row.name) why = row.notDefault(K{});
-  });
-  return why;
-}
-
-}  // namespace
 
 std::string notDefaultReason(const std::string& integrator, SystemKind kind) {
   return stepper_table::withColumn(kind, [&](auto column) { return notDefaultIn<decltype(column)>(integrator); });

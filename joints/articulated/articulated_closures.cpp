@@ -215,12 +215,16 @@ void ArticulatedSystem::closureInverseMass() const {
   }
 }
 
-void ArticulatedSystem::closureMultipliers() const {
+int ArticulatedSystem::factorClosureRows() const {
   closureInverseMass();
   data_.closure_A.noalias() = data_.closure_G * data_.closure_Y;
+  return pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+}
+
+void ArticulatedSystem::closureMultipliers() const {
   // G Y λ = −r on the rows with a pivot (pivoted_cholesky.hpp), λ = 0 on the
   // rows a loop repeats.
-  const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+  const int rank = factorClosureRows();
   data_.closure_rhs = -data_.closure_r;
   pivotedCholeskySolve(data_.closure_A, data_.closure_perm, rank, data_.closure_rhs, data_.closure_s,
                        &data_.closure_lambda);
@@ -392,9 +396,7 @@ std::vector<int> ArticulatedSystem::independentClosureRows(double t, const State
   forwardPass(t, y, true, false);
   solve(Vector6::Zero(), &data_.udot);  // the factorization of M(q)
   closureTerms(ClosureLevel::kJacobian);
-  closureInverseMass();
-  data_.closure_A.noalias() = data_.closure_G * data_.closure_Y;
-  const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
+  const int rank = factorClosureRows();
   rows.assign(data_.closure_perm.begin(), data_.closure_perm.begin() + rank);
   return rows;
 }

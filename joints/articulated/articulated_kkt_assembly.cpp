@@ -135,7 +135,7 @@ void ArticulatedKktAssembly::tangents(const State& y) {
 
 const Eigen::SparseMatrix<double>& ArticulatedKktAssembly::matrix(const State& y, const Eigen::VectorXd& dq,
                                                                   double damping_factor, double stiffness_factor,
-                                                                  const Eigen::VectorXd& lambda) {
+                                                                  const Eigen::VectorXd& /*lambda: residual()'s*/) {
   SecondOrderStateTraits<ArticulatedState>::tangentOperatorInto(y, dq, &T_);
   tangents(y);
   Eigen::MatrixXd& D = dense_;

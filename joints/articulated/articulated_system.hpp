@@ -408,6 +408,9 @@ class ArticulatedSystem {
   /// data_.closure_Y = M⁻¹ Gᵀ with the factorization of the last solve() (all
   /// m columns in one pass down and one up the tree).
   void closureInverseMass() const;
+  /// closureInverseMass(), then G Y factored by pivoted Cholesky into
+  /// data_.closure_A and closure_perm; returns its rank.
+  int factorClosureRows() const;
   /// The closing joints' constraint forces W_aᵀ λ, W_bᵀ λ taken off the bias
   /// forces p_A of their bodies (as external forces), before solve().
   void applyClosureForces() const;
@@ -504,6 +507,8 @@ class ArticulatedSystem {
   void loadFramePoses(const Frames& f) const;
   /// With loops: G, Y = M⁻¹ Gᵀ and the inverse of G Y at f's configuration.
   void factorLoopRows(Frames* f) const;
+  /// Y = M⁻¹ Gᵀ (step's coordinates), column by column with f's factorization.
+  void inverseMassColumns(const Frames& f, const Eigen::MatrixXd& G, Eigen::MatrixXd* Y) const;
   /// projectIncrement's configuration q₀ ⊕ h v and its frames.
   mutable State loop_end_;
   mutable Frames loop_frames_;

@@ -262,13 +262,7 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
   if (coupling_G_.size() == 0) return;
   // Y = M⁻¹ Gᵀ column by column, and G Y factored.
   const int m = static_cast<int>(coupling_G_.rows());
-  f->rows_Y.resize(dofs(), m);
-  data_.coupling_rhs.resize(dofs());
-  for (int k = 0; k < m; ++k) {
-    data_.coupling_rhs = coupling_G_.row(k).transpose();
-    solveStepMass(*f, data_.coupling_rhs, false, &data_.coupling_x);
-    f->rows_Y.col(k) = data_.coupling_x;
-  }
+  inverseMassColumns(*f, coupling_G_, &f->rows_Y);
   data_.coupling_GY.resize(m, m);
   data_.coupling_GY.noalias() = coupling_G_ * f->rows_Y;
   // G Y = G M⁻¹ Gᵀ is symmetric positive definite (the assembly refuses
@@ -276,6 +270,17 @@ void ArticulatedSystem::factorMassAndCouplings(Frames* f, double damping_weight)
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(data_.coupling_GY);
   f->rows_Ainv.setIdentity(m, m);
   llt.solveInPlace(f->rows_Ainv);
+}
+
+void ArticulatedSystem::inverseMassColumns(const Frames& f, const Eigen::MatrixXd& G, Eigen::MatrixXd* Y) const {
+  const int m = static_cast<int>(G.rows());
+  Y->resize(dofs(), m);
+  data_.coupling_rhs.resize(dofs());
+  for (int k = 0; k < m; ++k) {
+    data_.coupling_rhs = G.row(k).transpose();
+    solveStepMass(f, data_.coupling_rhs, false, &data_.coupling_x);
+    Y->col(k) = data_.coupling_x;
+  }
 }
 
 void ArticulatedSystem::loadFramePoses(const Frames& f) const {
@@ -295,17 +300,11 @@ void ArticulatedSystem::factorLoopRows(Frames* f) const {
   // solves with f's factorization, and the inverse of G Y on the rows with a
   // pivot (pivoted_cholesky.hpp: the rows a loop repeats get none), column
   // by column from the identity.
-  const int m = model_.closure_rows, n = dofs();
+  const int m = model_.closure_rows;
   loadFramePoses(*f);
   closureTerms(ClosureLevel::kJacobian);
   f->rows_G = data_.closure_G;
-  f->rows_Y.resize(n, m);
-  data_.coupling_rhs.resize(n);
-  for (int k = 0; k < m; ++k) {
-    data_.coupling_rhs = f->rows_G.row(k).transpose();
-    solveStepMass(*f, data_.coupling_rhs, false, &data_.coupling_x);
-    f->rows_Y.col(k) = data_.coupling_x;
-  }
+  inverseMassColumns(*f, f->rows_G, &f->rows_Y);
   data_.closure_A.noalias() = f->rows_G * f->rows_Y;
   const int rank = pivotedCholesky(data_.closure_A, data_.closure_perm, kClosureRankTolerance);
   f->rows_Ainv.resize(m, m);
