@@ -15,10 +15,12 @@
 #include "app/output_files.hpp"
 #include "app/progress.hpp"
 #include "app/recording_noise.hpp"
+#include "app/replay_output.hpp"
 #include "app/run_setup.hpp"
 #include "app/simulate_request.hpp"
 #include "joints/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/number_text.hpp"
 
 namespace lieflow {
 namespace app {
@@ -26,7 +28,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: lieflow simulate SCENE [--integrator NAME] [--dt H] [--t-end T] [--out FILE.csv]\n"
-    "                        [--every N] [--stats] [--options KEY=VALUE,...]\n"
+    "                        [--every N] [--stats] [--options KEY=VALUE,...] [--view FILE.html]\n"
     "                        [--formulation maximal|joint]\n"
     "                        [--noise-gyro S] [--noise-angle S] [--noise-quat S] [--seed N]\n"
     "                        [--imu] [--noise-acc S] [--bias-gyro S]\n"
@@ -52,6 +54,8 @@ constexpr const char* kUsage =
     "                     rkmk3, rkmk4, cg3, cf4) or in maximal coordinates (bodies' poses, the\n"
     "                     joints as constraints). Default: joint wherever it represents the scene\n"
     "                     and runs the integrator (2-3x faster per step), else maximal\n"
+    "  --view FILE.html   also write a replay of the run there (lieflow view --help); no CSV on\n"
+    "                     stdout then unless --out\n"
     "  --out FILE.csv     write the trajectory CSV there (default: stdout, unless --stats); it is\n"
     "                     written as FILE.csv.partial and renamed when the run succeeded\n"
     "  --every N          write every N-th step (first and last rows always)\n"
@@ -104,18 +108,30 @@ int runSimulate(int argc, char** argv) {
   // unwritable place is found before any work is done.
   std::unique_ptr<AtomicOutputFile> file;
   if (args.has("--out")) file = std::make_unique<AtomicOutputFile>(args.value("--out", ""), "--out");
-  std::ostream* csv_stream = file ? &file->stream() : (stats ? nullptr : &std::cout);
+  // --view: the replay's frames are kept as the rows go by (O(budget) memory).
+  const bool view = args.has("--view");
+  std::unique_ptr<AtomicOutputFile> view_file;
+  if (view) view_file = std::make_unique<AtomicOutputFile>(args.value("--view", ""), "--view");
+  replay::FrameDecimator frames(replay::kDefaultFrameBudget);
+  std::ostream* csv_stream = file ? &file->stream() : (stats || view ? nullptr : &std::cout);
   RecordingNoise noisy(simulation.columns(options.imu), noise);
   std::function<void(const std::vector<double>&)> sink;
   std::unique_ptr<CsvWriter> csv;
   if (csv_stream) {
     csv = std::make_unique<CsvWriter>(*csv_stream);
     csv->header(simulation.columns(options.imu));
-    sink = [&](const std::vector<double>& row) {
-      if (!noise.any()) return csv->row(row);
-      std::vector<double> r = row;
-      noisy.apply(&r);
-      csv->row(r);
+  }
+  if (csv_stream || view) {
+    std::vector<double> r;
+    sink = [&, r](const std::vector<double>& row) mutable {
+      const std::vector<double>* written = &row;
+      if (noise.any()) {
+        r = row;
+        noisy.apply(&r);
+        written = &r;
+      }
+      if (csv) csv->row(*written);
+      if (view) frames.offer(*written);
     };
   }
   SimulationResult result;
@@ -137,6 +153,18 @@ int runSimulate(int argc, char** argv) {
     return kComputationFailed;
   }
   if (file) file->commit();
+  if (view) {
+    view_file.reset();  // (writeReplayFile opens its own PATH.partial)
+    replay::RunTable run;
+    run.source = "the run of " + simulation.scene().source;
+    run.columns = simulation.columns(options.imu);
+    run.rows = frames.frames();
+    run.total_rows = frames.offered();
+    run.stride = frames.stride();
+    replay::ReplayOptions replay_options;
+    replay_options.title = simulation.scene().name + ": " + options.integrator + ", h = " + formatNumber(options.dt);
+    writeReplayFile(args.value("--view", ""), "--view", simulation.scene(), run, replay_options, args.has("--quiet"));
+  }
   if (stats) std::cout << jsonLine(statsJson(result)) << "\n";
   return kSuccess;
 }

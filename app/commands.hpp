@@ -15,6 +15,7 @@ int runLiegroup(int argc, char** argv);
 int runStabilityCommand(int argc, char** argv);
 /// `lieflow import MODEL`: a model file as a scene file (app/command_import.cpp).
 int runImport(int argc, char** argv);
+int runView(int argc, char** argv);
 /// `lieflow calibrate`: defined in app/command_calibrate.cpp, linked
 /// only when the build has Ceres (LIEFLOW_HAVE_CERES).
 int runCalibrate(int argc, char** argv);

@@ -27,6 +27,7 @@ constexpr const char* kUsage =
     "  scenes           list the built-in scenes\n"
     "  import MODEL     a MuJoCo MJCF (.xml) or URDF (.urdf) model as a scene file; simulate,\n"
     "                   study and stability also take model files as SCENE\n"
+    "  view RUN.csv --scene SCENE  a run as a self-contained HTML replay (opens offline)\n"
     "  liegroup         precision and speed tables of the SO(3)/SE(3) library\n"
     "  calibrate hinge|universal RECORDING.csv  fit joint axes to a recording (needs Ceres)\n"
     "  calibrate spring RECORDING.csv --scene SCENE  fit a joint's stiffness, damping\n"
@@ -53,6 +54,7 @@ int dispatch(int argc, char** argv) {
   if (command == "scenes") return runScenes(rest_argc, rest_argv);
   if (command == "liegroup") return runLiegroup(rest_argc, rest_argv);
   if (command == "import") return runImport(rest_argc, rest_argv);
+  if (command == "view") return runView(rest_argc, rest_argv);
 #ifdef LIEFLOW_HAVE_CERES
   if (command == "calibrate") return runCalibrate(rest_argc, rest_argv);
 #else

@@ -46,7 +46,7 @@ const std::set<std::string>& simulateValueFlags() {
   static const std::set<std::string> flags = [] {
     std::set<std::string> f = {"--integrator", "--dt",         "--t-end",       "--out",        "--every",
                                "--check-every", "--options",    "--formulation", "--noise-gyro", "--noise-angle", "--noise-quat", "--seed",
-                               "--noise-acc",  "--bias-gyro"};
+                               "--noise-acc",  "--bias-gyro", "--view"};
     f.insert(runLimitFlags().begin(), runLimitFlags().end());
     return f;
   }();

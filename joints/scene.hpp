@@ -20,6 +20,7 @@
 #include "joints/import/import_options.hpp"
 #include "joints/multibody/time_function.hpp"
 #include "joints/resource_limits.hpp"
+#include "joints/visual_shape.hpp"
 
 namespace lieflow {
 
@@ -45,6 +46,9 @@ struct BodyDescription {
   /// mass: where `simulate --imu` evaluates the specific force B.ax, B.ay, B.az.
   Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
   Eigen::Quaterniond spring_rest = Eigen::Quaterniond::Identity();
+  /// What it looks like (model files; body axes from the centre of mass):
+  /// only the replay reads it.
+  std::vector<VisualShape> visuals;
 };
 
 /// Force elements and drive of one joint coordinate (revolute φ, universal
@@ -166,6 +170,8 @@ struct SceneDescription {
   /// limit of joint 'elbow' (line 6)" for what --ignore let it leave out,
   /// "renamed joint ..."); the commands print them to stderr.
   std::vector<std::string> import_notes;
+  /// Shapes fixed to the world (a model file's base or floor geoms), world frame.
+  std::vector<VisualShape> ground_visuals;
 
   /// Index of the body with this name, or -1 (a linear search; code that
   /// looks up every joint's bodies builds bodyIndices() once instead).

@@ -511,6 +511,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
                                  ", wind " + formatNumbers(vec3(m->opt.wind)));
   unsupported.resolve(options, &model);
 
+  model.ground_visuals = mjcfBodyShapes(m.get(), d.get(), 0);
   // Links: every body but the world (body 0), at qpos0.
   for (int b = 1; b < m->nbody; ++b) {
     ModelLink l;
@@ -531,6 +532,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     mj_objectVelocity(m.get(), d.get(), mjOBJ_BODY, b, velocity, 0);
     l.angular_velocity_world = vec3(velocity);
     l.velocity_world = vec3(velocity + 3);
+    l.visuals = mjcfBodyShapes(m.get(), d.get(), b);
     model.links.push_back(l);
   }
   auto link = [](int body) { return body - 1; };  // the world is −1

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "joints/import/import_options.hpp"
+#include "joints/visual_shape.hpp"
 
 struct mjModel_;
 struct mjData_;
@@ -107,6 +108,11 @@ int keyframeIndex(const mjModel_* m, const std::string& path, const std::string&
 /// friction loss, armature, tendons' springs and dashpots, and the
 /// equalities lieflow does not represent.
 void switchOffIgnored(mjModel_* m, const ModelImportOptions& options);
+
+/// The shapes of MuJoCo body `body` (geoms of groups 0-2, meshes as the
+/// compiler's triangles), placed in the world at `d`'s kinematics
+/// (mj_kinematics done): mjcf_visuals.cpp.
+std::vector<VisualShape> mjcfBodyShapes(const mjModel_* m, const mjData_* d, int body);
 
 }  // namespace model_import
 }  // namespace lieflow

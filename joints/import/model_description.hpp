@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "joints/multibody/time_function.hpp"
+#include "joints/visual_shape.hpp"
 
 namespace lieflow {
 namespace model_import {
@@ -35,6 +36,8 @@ struct ModelLink {
   /// Initial velocities (world; ω in world axes); zero unless the model sets them.
   Eigen::Vector3d angular_velocity_world = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_world = Eigen::Vector3d::Zero();
+  /// Its shapes, placed in the world at the reference configuration.
+  std::vector<VisualShape> visuals;
 };
 
 /// The joint types a model file maps to (DESIGN.md Additions; issue 15).
@@ -98,6 +101,8 @@ struct ModelDescription {
   std::vector<ModelJoint> joints;
   std::vector<ModelCoupling> couplings;
   std::vector<ModelClosure> closures;
+  /// Shapes fixed to the world (a URDF's fixed root, MJCF world geoms), world frame.
+  std::vector<VisualShape> ground_visuals;
   /// What the reader left out because the user allowed it (--ignore), one
   /// line each ("ignored contacts: geom 'floor' (line 12)").
   std::vector<std::string> ignored;

@@ -145,6 +145,12 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
   try {
     SceneDescription scene = parseScene(sceneToJson(built), path, limits.max_bodies);
     scene.import_notes = built.import_notes;
+    // The shapes, which the scene file does not hold (only the replay reads
+    // them); the reader keeps the bodies, their names and their frames.
+    scene.ground_visuals = std::move(built.ground_visuals);
+    const auto index = scene.bodyIndices();
+    for (BodyDescription& b : built.bodies)
+      if (const auto it = index.find(b.name); it != index.end()) scene.bodies[it->second].visuals = std::move(b.visuals);
     return scene;
   } catch (const InvalidInput& e) {
     throw InvalidInput(modelElementOf(model, built, e.field()), e.reason());

@@ -207,9 +207,17 @@ SceneDescription sceneFromModel(const ModelDescription& model) {
     // The centre's velocity: v_root + ω × (c − c_root), a rigid group.
     b.velocity = r.velocity_world + r.angular_velocity_world.cross(c - r.com_world);
     b.has_velocity = true;
+    for (int i : members)
+      for (const VisualShape& v : model.links[i].visuals) b.visuals.push_back(shapeInFrame(v, c, b.orientation));
     body_of_group[root] = static_cast<int>(scene.bodies.size());
     scene.bodies.push_back(b);
   }
+  // What is welded to the world stays where it is drawn.
+  scene.ground_visuals = model.ground_visuals;
+  for (int i = 0; i < nl; ++i)
+    if (groups.find(i) == kGroundGroup)
+      scene.ground_visuals.insert(scene.ground_visuals.end(), model.links[i].visuals.begin(),
+                                  model.links[i].visuals.end());
   auto bodyOf = [&](int link) { return link < 0 ? -1 : body_of_group.count(groups.find(link)) ? body_of_group[groups.find(link)] : -1; };
   auto bodyName = [&](int body) { return body < 0 ? std::string("ground") : scene.bodies[body].name; };
   auto rotation = [&](int body) {

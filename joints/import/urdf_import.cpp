@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "joints/import/model_to_scene.hpp"
+#include "joints/import/urdf_visuals.hpp"
 #include "joints/import/xml_lines.hpp"
 #endif
 
@@ -300,6 +301,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       throw InvalidInput(path + ": " + elementLabel("link", l.name, l.line),
                          "'ground' is lieflow's name for the world: rename the link");
     l.orientation = Eigen::Quaterniond(T.linear());
+    l.visuals = urdfLinkShapes(*link, T, path);
     if (const urdf::InertialSharedPtr& in = link->inertial) {
       const Eigen::Isometry3d Ti = T * isometry(in->origin);
       Eigen::Matrix3d I;
@@ -336,6 +338,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
     free.child = 0;
     model.joints.push_back(free);
   } else {
+    model.ground_visuals = urdfLinkShapes(*root, Eigen::Isometry3d::Identity(), path);
     model.notes.push_back("the root link '" + root->name +
                           "' is fixed to the world (a URDF's base; --floating-base frees it)");
   }
