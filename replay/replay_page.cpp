@@ -127,7 +127,7 @@ std::string replayPage(const SceneDescription& scene, const RunTable& run, const
   const std::size_t most = std::max(kMinFrames, kValueBudget / kept.source.size());
   // Every `every`-th row and the last: ⌈n/every⌉ + 1 ≤ cap.
   const std::size_t cap = std::max<std::size_t>(2, std::min(most, options.frame_budget)), n = run.rows.size();
-  const std::size_t every = n > cap - 1 ? (n + cap - 2) / (cap - 1) : 1;
+  const std::size_t every = n <= cap ? 1 : (n + cap - 2) / (cap - 1);
   std::vector<std::size_t> frames;
   for (std::size_t r = 0; r < run.rows.size(); r += every) frames.push_back(r);
   if (frames.back() != run.rows.size() - 1) frames.push_back(run.rows.size() - 1);

@@ -19,8 +19,8 @@ void FrameDecimator::offer(const std::vector<double>& row) {
     kept_.push_back(row);
     if (kept_.size() > 2 * budget_) {
       // Keep rows 0, 2, 4, ... of the kept ones: the stride doubles.
-      std::size_t w = 0;
-      for (std::size_t r = 0; r < kept_.size(); r += 2) kept_[w++] = std::move(kept_[r]);
+      std::size_t w = 1;  // (row 0 stays where it is: no self-move)
+      for (std::size_t r = 2; r < kept_.size(); r += 2) kept_[w++] = std::move(kept_[r]);
       kept_.resize(w);
       stride_ *= 2;
     }
@@ -29,23 +29,24 @@ void FrameDecimator::offer(const std::vector<double>& row) {
   ++offered_;
 }
 
-namespace {
-/// Down to the budget: every extra-th of n kept rows, with the last
-/// offered row after them, makes at most `budget` rows.
-std::size_t extraStride(std::size_t n, std::size_t budget) {
-  return n > budget - 1 ? (n + budget - 2) / (budget - 1) : 1;
+std::size_t FrameDecimator::extra() const {
+  // Every extra-th of the n kept rows, then the last offered row when it is
+  // not among them: at most `budget` rows.
+  const std::size_t n = kept_.size();
+  const bool last_kept = offered_ > 0 && (offered_ - 1) % stride_ == 0;
+  if (n + (last_kept ? 0 : 1) <= budget_) return 1;
+  return (n + budget_ - 2) / (budget_ - 1);
 }
-}  // namespace
 
 std::vector<std::vector<double>> FrameDecimator::frames() const {
-  const std::size_t extra = extraStride(kept_.size(), budget_);
+  const std::size_t extra = this->extra();
   std::vector<std::vector<double>> out;
   for (std::size_t r = 0; r < kept_.size(); r += extra) out.push_back(kept_[r]);
   if (offered_ > 0 && (offered_ - 1) % (stride_ * extra) != 0) out.push_back(last_);
   return out;
 }
 
-std::size_t FrameDecimator::stride() const { return stride_ * extraStride(kept_.size(), budget_); }
+std::size_t FrameDecimator::stride() const { return stride_ * extra(); }
 
 int RunTable::column(const std::string& name) const {
   for (std::size_t i = 0; i < columns.size(); ++i)

@@ -28,6 +28,7 @@ class FrameDecimator {
   std::size_t offered() const { return offered_; }
 
  private:
+  std::size_t extra() const;
   std::size_t budget_;
   std::size_t stride_ = 1;
   std::size_t offered_ = 0;

@@ -17,6 +17,8 @@ packages=(
   python3-pytest python3-distributed            # its tests; sweeps on Dask (lieflow.sweep)
   libmujoco-dev libmujoco-samples               # MJCF models (joints/import/) and the MuJoCo peer of bench/
   liburdfdom-dev libtinyxml2-dev                # URDF models; element lines for both importers
+  libjs-three                                   # three.js, inlined in replay pages (lieflow view)
+  chromium                                      # the replay's browser test (headless)
 )
 
 missing=()
