@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/arguments.hpp"
+#include "app/commands.hpp"
 #include "app/cli.hpp"
 #include "app/output_files.hpp"
 #include "app/recording_noise.hpp"
@@ -310,6 +311,14 @@ void defineCommands(py::module_& m) {
         py::arg("torques") = py::dict(), py::arg("moments") = py::dict());
   m.def("study", &study, py::arg("tokens"), py::arg("scene_json") = py::none());
   m.def("stability", &stability, py::arg("tokens"), py::arg("scene_jsons"));
+  // lieflow.view: the command itself (its tokens built by commands.py).
+  m.def(
+      "view",
+      [](std::vector<std::string> tokens) {
+        Argv argv(std::move(tokens));
+        return app::runView(argv.argc(), argv.argv());
+      },
+      py::arg("tokens"));
 #ifdef LIEFLOW_HAVE_CERES
   m.def("calibrate", &calibrate, py::arg("tokens"));
   m.attr("have_calibration") = true;

@@ -8,6 +8,7 @@ The Python face of the C++ library and of the ``lieflow`` command:
   (lieflow.commands);
 - ``calibrate_hinge``, ``calibrate_universal``, ``calibrate_spherical``,
   ``calibrate_spring``: the fits (in builds with Ceres);
+- ``view``: a run as a self-contained HTML replay (lieflow view);
 - ``sweep``: many runs at once on a Dask cluster (lieflow.sweep).
 
 Bad input raises ``InputError`` (a ValueError) with the command's message; a
@@ -39,6 +40,7 @@ from .commands import (  # noqa: E402
     simulate,
     stability,
     study,
+    view,
 )
 
 
@@ -54,4 +56,5 @@ def __getattr__(name):
 __all__ = [
     "ComputationError", "InputError", "SE3", "SO3", "SimulationResult", "__version__", "calibrate_hinge",
     "calibrate_spring", "calibrate_universal", "import_model", "scenes", "simulate", "stability", "study", "sweep",
+    "view",
 ]

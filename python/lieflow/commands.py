@@ -29,7 +29,10 @@ class SimulationResult:
              (t, B.qw, ..., J.phi, ...), one entry per output row;
     stats:   dict with the keys of ``lieflow simulate --stats``;
     failed, failure: whether the run failed and why (only seen with
-             ``partial=True``; otherwise a failure raises ComputationError).
+             ``partial=True``; otherwise a failure raises ComputationError);
+    source, model_options: the scene as given to ``simulate`` and how a
+             model file was read (ignore, keyframe, floating_base, spin), for
+             ``view``.
     """
 
     def __init__(self, scene, columns, stats, failed, failure):
@@ -346,6 +349,9 @@ def simulate(scene, integrator=None, dt=None, t_end=None, every=1, options=None,
     data = raw["data"]
     columns = {name: data[:, i].copy() for i, name in enumerate(raw["columns"])}
     result = SimulationResult(raw["scene"], columns, json.loads(raw["stats"]), raw["failed"], raw["failure"])
+    # What view() needs to read the scene again as this run read it.
+    result.source = scene
+    result.model_options = {"ignore": ignore, "keyframe": keyframe, "floating_base": floating_base, "spin": spin}
     if result.failed and not partial:
         error = ComputationError(f"simulation of {raw['scene']} with {result.stats.get('integrator')} failed: "
                                  f"{result.failure}")
@@ -394,6 +400,59 @@ class _OutputDirectory:
     def __exit__(self, *exc):
         if not self.given:
             shutil.rmtree(self.path, ignore_errors=True)
+
+
+def view(run, scene=None, out="replay.html", frames=None, ignore=None, keyframe=None, floating_base=False,
+         spin=None):
+    """Writes a replay of a run, as ``lieflow view RUN.csv --scene SCENE --out OUT``:
+    one self-contained HTML file that opens offline in any browser.
+
+    run:    a SimulationResult (what ``simulate`` returns) or a trajectory
+            CSV file (``lieflow simulate --out``);
+    scene:  the scene the run is of, as ``simulate`` takes it (None: the
+            SimulationResult's own);
+    out:    the HTML file to write;
+    frames: most frames the page holds (--frames; default 2000);
+    ignore, keyframe, floating_base, spin: how a model file is read (None:
+            as the SimulationResult's run read it).
+    Returns the path written. Raises InputError when the run's columns do
+    not fit the scene, ComputationError when three.js (Debian's libjs-three)
+    is missing."""
+    given = {"ignore": ignore, "keyframe": keyframe, "floating_base": floating_base or None, "spin": spin}
+    if isinstance(run, SimulationResult):
+        for key, value in getattr(run, "model_options", {}).items():
+            if given[key] is None and (scene is None or scene is run.source):
+                given[key] = value
+    if scene is None:
+        if not isinstance(run, SimulationResult):
+            raise InputError("scene: needed when run is a CSV file (the scene or model file the run is of)")
+        scene = getattr(run, "source", run.scene)
+    if not isinstance(out, (str, os.PathLike)):
+        raise InputError(f"out: expected a path, got {type(out).__name__}")
+    positional, scene_json = _scene(scene)
+    with tempfile.TemporaryDirectory(prefix="lieflow-view-") as tmp:
+        if scene_json is not None:
+            scene_path = os.path.join(tmp, "scene.json")
+            with open(scene_path, "w") as f:
+                f.write(scene_json)
+        else:
+            scene_path = positional[0]
+        if isinstance(run, SimulationResult):
+            run_path = os.path.join(tmp, "run.csv")
+            names = list(run.columns)
+            table = np.column_stack([np.asarray(run.columns[n], dtype=float) for n in names])
+            with open(run_path, "w") as f:
+                f.write(",".join(names) + "\n")
+                np.savetxt(f, table, delimiter=",", fmt="%.17g")
+        elif isinstance(run, (str, os.PathLike)):
+            run_path = os.fspath(run)
+        else:
+            raise InputError(f"run: expected a SimulationResult or a CSV path, got {type(run).__name__}")
+        spec = {"frames": ("--frames", _integer), **_LIMITS}
+        tokens = [run_path, "--scene", scene_path, "--out", os.fspath(out), "--quiet"]
+        tokens += _flags(spec, {"frames": frames, **given})
+        _lieflow.view(tokens)
+    return os.fspath(out)
 
 
 def study(scene, integrators=None, dt=None, t_end=None, out=None, min_time=None, options=None, plots=False,
