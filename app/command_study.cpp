@@ -6,6 +6,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/output_files.hpp"
+#include "app/replay_output.hpp"
 #include "app/run_setup.hpp"
 #include "app/study.hpp"
 #include "app/study_request.hpp"
@@ -16,7 +17,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: lieflow study SCENE [--integrators a,b,...] [--dt h1,h2,...] [--t-end T] [--out DIR]\n"
-    "                     [--min-time SECONDS] [--options KEY=VALUE,...] [--no-plots]\n"
+    "                     [--min-time SECONDS] [--options KEY=VALUE,...] [--no-plots] [--view]\n"
     "                     [--formulation maximal|joint] [--with-mujoco]\n"
     "                     [--ignore LIST] [--keyframe K] [--floating-base] [--spin WX,WY,WZ]\n"
     "                     [--max-steps N] [--max-input-mb N] [--max-bodies N]\n"
@@ -38,11 +39,15 @@ constexpr const char* kUsage =
     "RK4 at the reference's step checks; without MuJoCo in the build the rows say so.\n"
     "Writes DIR/study.csv, DIR/drift.csv and the plots DIR/work_precision.png,\n"
     "DIR/energy_drift.png, DIR/momentum_drift.png (default DIR: study-SCENENAME);\n"
-    "DIR is created and checked writable before the study starts.\n"
+    "DIR is created and checked writable before the study starts. --view also writes\n"
+    "DIR/replay.html, a replay of the reference run (lieflow view --help).\n"
     "Progress goes to stderr; the table to stdout.\n";
 
-int studyAndReport(const Simulation& sim, double t_end, StudyOptions options) {
+int studyAndReport(const Simulation& sim, double t_end, StudyOptions options, bool view = false) {
   OutputDirectory out(options.out_dir);
+  // --view: the reference run's rows, kept within the replay's frame budget.
+  replay::FrameDecimator frames(replay::kDefaultFrameBudget);
+  if (view) options.replay_sink = [&frames](const std::vector<double>& row) { frames.offer(row); };
   const StudyResult result = runStudy(sim, t_end, options);
   writeStudyFiles(result, options.out_dir);
   out.keep();
@@ -54,6 +59,19 @@ int studyAndReport(const Simulation& sim, double t_end, StudyOptions options) {
       std::cout << "plots: " << options.out_dir << "/work_precision.png, energy_drift.png, momentum_drift.png\n";
     else
       std::cerr << "lieflow: plots skipped: " << why << "\n";
+  }
+  if (view) {
+    replay::RunTable run;
+    run.source = "the study's reference run";
+    run.columns = sim.columns();
+    run.rows = frames.frames();
+    run.total_rows = frames.offered();
+    run.stride = frames.stride();
+    replay::ReplayOptions replay_options;
+    replay_options.title = sim.scene().name + ": the study's reference (" + result.reference + ")";
+    writeReplayFile(options.out_dir + "/replay.html", "--view", sim.scene(), run, replay_options, true);
+    std::cout << "replay: " << options.out_dir << "/replay.html (the reference run, " << run.rows.size()
+              << " frames)\n";
   }
   for (const StudyRow& r : result.rows)
     if (r.failed) std::cout << "note: " << r.integrator << " at dt = " << r.dt << " failed: " << r.failure << "\n";
@@ -74,7 +92,7 @@ int runStudy(int argc, char** argv) {
   }
   StudyRequest request = studyRequestFrom(args);
   request.options.progress = &std::cerr;
-  return studyAndReport(*request.simulation, request.t_end, request.options);
+  return studyAndReport(*request.simulation, request.t_end, request.options, args.has("--view"));
 }
 
 int runMainJob(int, char**) {

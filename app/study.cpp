@@ -95,9 +95,14 @@ void withHeartbeat(const std::function<void()>& heartbeat, SimulationOptions* o)
   o->progress = [heartbeat](double, long) { heartbeat(); };
 }
 
+/// Output intervals of the replay of a reference that gives no rows of its
+/// own (one exact step, or an adaptive run's single output interval).
+constexpr int kReplayIntervals = 1000;
+
 std::vector<double> referenceRow(const Simulation& sim, double t_end, const std::string& integrator,
                                  double rtol, double atol, double dt, long max_steps,
-                                 const std::function<void()>& heartbeat) {
+                                 const std::function<void()>& heartbeat,
+                                 const std::function<void(const std::vector<double>&)>& rows = {}) {
   SimulationOptions o;
   withHeartbeat(heartbeat, &o);
   o.max_steps = max_steps;
@@ -105,7 +110,8 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   o.dt = dt;
   o.t_end = t_end;
   o.dt_source = "the study's reference step";
-  o.diagnostics = false;
+  // (Rows are observed only with diagnostics: the replay's run has them.)
+  o.diagnostics = static_cast<bool>(rows);
   // Scenes with joints: maximal coordinates, whatever the runs use by
   // default (joint coordinates where they can), so that the reference is
   // computed by other equations than the runs it judges.
@@ -115,7 +121,7 @@ std::vector<double> referenceRow(const Simulation& sim, double t_end, const std:
   if (adaptive) o.integrator_options = {{"rtol", rtol}, {"atol", atol}};
   SimulationResult r;
   try {
-    r = sim.run(o);
+    r = sim.run(o, rows);
   } catch (const InvalidInput& e) {
     // Its step is the study's, not one the user gave: say whose it is.
     throw InvalidInput(e.field(), e.reason() + " (in the study's reference run, " + integrator +
@@ -314,6 +320,9 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   const bool exact_reference = sim.supports("exact", &why);
   if (exact_reference) {
     ref = referenceRow(sim, t_end, "exact", 0, 0, t_end, options.max_steps, options.heartbeat);
+    if (options.replay_sink)
+      referenceRow(sim, t_end, "exact", 0, 0, t_end / kReplayIntervals, options.max_steps, options.heartbeat,
+                   options.replay_sink);
     result.reference = "exact flow (Jacobi elliptic functions)";
     result.reference_error = 0.0;
   } else if (sim.hasConstraints()) {
@@ -325,7 +334,7 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     // with here, and of any integrator the study compares.)
     const double h_ref = dts.back() / 32.0;
     if (options.progress) *options.progress << "study: computing the reference (projected rkmk4, h " << h_ref << ")\n";
-    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps, options.heartbeat);
+    ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps, options.heartbeat, options.replay_sink);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps, options.heartbeat);
     result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) / 15.0;
@@ -337,6 +346,9 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
     ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end, options.max_steps,
                        options.heartbeat);
+    if (options.replay_sink)
+      referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end / kReplayIntervals, options.max_steps,
+                   options.heartbeat, options.replay_sink);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps, options.heartbeat);
     result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) * (kReferenceRtol / kCheckRtol);

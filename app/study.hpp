@@ -45,6 +45,11 @@ struct StudyOptions {
   /// then run beside lieflow's at the same steps. Empty: no MuJoCo rows.
   std::string mujoco_model;
   ModelImportOptions mujoco_import;
+  /// --view: the reference run's rows go here as it runs (the replay's
+  /// frames); a reference computed in one step (the exact flow) or with
+  /// adaptive steps is run once more for it at t_end/kReplayIntervals
+  /// output intervals. Empty: no replay.
+  std::function<void(const std::vector<double>&)> replay_sink;
   /// Where progress goes (nullptr: silent).
   std::ostream* progress = nullptr;
   /// Called before every run and about every 0.25 s within one

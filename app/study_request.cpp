@@ -30,7 +30,7 @@ const std::set<std::string>& studyValueFlags() {
 }
 
 const std::set<std::string>& studySwitches() {
-  static const std::set<std::string> switches = withModelSwitches({"--no-plots", "--with-mujoco"});
+  static const std::set<std::string> switches = withModelSwitches({"--no-plots", "--with-mujoco", "--view"});
   return switches;
 }
 

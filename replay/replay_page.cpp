@@ -75,6 +75,8 @@ struct KeptColumns {
 std::string replayPage(const SceneDescription& scene, const RunTable& run, const ReplayOptions& options,
                        ReplaySummary* summary) {
   ReplaySummary s;
+  if (run.rows.empty() || run.columns.empty() || run.columns.front() != "t")
+    throw InvalidInput(run.source, "has no rows (or no t column): nothing to replay");
   s.rows = run.total_rows;
   std::set<std::string> body_names;
   for (const BodyDescription& b : scene.bodies) body_names.insert(b.name);

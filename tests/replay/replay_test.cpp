@@ -179,5 +179,17 @@ TEST(ReplayCommand, WritesAPageThatHoldsTheRunAndRefusesARunOfAnotherScene) {
   EXPECT_FALSE(std::ifstream(dir + "/replay-test-none.html").good());
 }
 
+TEST(ReplayCommand, StudyViewReplaysTheReferenceRunBesideThePlots) {
+  const std::string dir = std::string(LIEFLOW_BINARY_DIR) + "/replay-test-study";
+  const auto o = runLieflow("study heavy-top --integrators rkmk4 --dt 0.01 --t-end 0.5 --min-time 0.001 --no-plots "
+                            "--view --out " + dir);
+  if (o.status == 1 && o.err.find("libjs-three") != std::string::npos) GTEST_SKIP() << o.err;
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.out.find("replay: " + dir + "/replay.html (the reference run, 1001 frames)"), std::string::npos) << o.out;
+  std::stringstream text;
+  text << std::ifstream(dir + "/replay.html").rdbuf();
+  EXPECT_NE(text.str().find("the study's reference (converged rkmk45"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace lieflow
