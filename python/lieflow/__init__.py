@@ -25,7 +25,11 @@ InputError.__module__ = ComputationError.__module__ = __name__
 # C++ side at PREFIX/share/lieflow/scripts.
 _installed_scripts = _os.path.normpath(
     _os.path.join(_os.path.dirname(__file__), "..", "..", "..", "..", "share", "lieflow", "scripts"))
-if "LIEFLOW_SCRIPTS_DIR" not in _os.environ and _os.path.isdir(_installed_scripts):
+# A pip-installed package holds them itself (setup.py).
+_package_scripts = _os.path.join(_os.path.dirname(__file__), "scripts")
+if "LIEFLOW_SCRIPTS_DIR" not in _os.environ and _os.path.isdir(_package_scripts):
+    _os.environ["LIEFLOW_SCRIPTS_DIR"] = _package_scripts
+elif "LIEFLOW_SCRIPTS_DIR" not in _os.environ and _os.path.isdir(_installed_scripts):
     _os.environ["LIEFLOW_SCRIPTS_DIR"] = _installed_scripts
 
 from .groups import SE3, SO3  # noqa: E402

@@ -13,6 +13,13 @@
 #   test_package.sh command PREFIX WORK_DIR
 #       the installed `lieflow` runs a scene and draws its study plots from
 #       PREFIX/share/lieflow, away from the source tree
+#   test_package.sh pip SOURCE_DIR BUILD_DIR WORK_DIR
+#       `pip install --no-build-isolation --no-index SOURCE_DIR` into a fresh
+#       virtual environment (offline, Debian's setuptools), reusing BUILD_DIR's
+#       CMake build (LIEFLOW_CMAKE_BUILD_DIR): `import lieflow` without
+#       PYTHONPATH, the `lieflow` command on the venv's PATH, a replay page and
+#       a study's plots from the package's own scripts; exits 77 (skipped) without
+#       python3-venv or python3-setuptools
 set -euo pipefail
 mode=$1
 shift
@@ -107,6 +114,44 @@ study = lieflow.study("heavy-top", integrators=["rkmk4"], dt=[0.002, 0.001], t_e
 assert "plot_problem" not in study, study.get("plot_problem")
 assert os.path.exists("study/work_precision.png")
 print("lieflow imported from", os.path.dirname(lieflow.__file__), "ran a scene and drew a study's plots")
+PY
+  ;;
+pip)
+  source_dir=$1 build=$2 work=$3
+  if ! /usr/bin/python3 -c "import venv, ensurepip, setuptools, wheel" 2>/dev/null; then
+    echo "skipped: pip install needs python3-venv, python3-setuptools and python3-wheel" >&2
+    exit 77
+  fi
+  rm -rf "$work"
+  mkdir -p "$work"
+  cd "$work"
+  # --system-site-packages: NumPy (and matplotlib) from Debian, offline.
+  /usr/bin/python3 -m venv --system-site-packages venv
+  LIEFLOW_CMAKE_BUILD_DIR="$build" venv/bin/pip install --no-build-isolation --no-index -q "$source_dir"
+  [ -x venv/bin/lieflow ] || { echo "pip installed no lieflow command" >&2; exit 1; }
+  env -u PYTHONPATH -u LIEFLOW_SCRIPTS_DIR -u LIEFLOW_BIN PATH="$work/venv/bin:$PATH" \
+    venv/bin/python - "$work/venv" <<'PY'
+import os, shutil, subprocess, sys
+import lieflow
+venv = os.path.realpath(sys.argv[1])
+assert os.path.realpath(lieflow.__file__).startswith(venv), lieflow.__file__
+assert os.path.realpath(shutil.which("lieflow")) == os.path.join(venv, "bin", "lieflow"), shutil.which("lieflow")
+stats = subprocess.run(["lieflow", "simulate", "pendulum", "--t-end", "0.5", "--stats"], capture_output=True,
+                       text=True, check=True).stdout
+assert '"integrator"' in stats, stats
+run = lieflow.simulate("pendulum", dt=0.01, t_end=0.5)
+assert len(run.columns["t"]) == 51 and not run.failed
+if os.path.exists("/usr/share/javascript/three/build/three.min.js"):
+    assert os.path.getsize(lieflow.view(run, out="replay.html")) > 100000
+study = subprocess.run(["lieflow", "study", "heavy-top", "--integrators", "rkmk4", "--dt", "0.002,0.001",
+                        "--t-end", "0.5", "--min-time", "0.001", "--out", "study"], capture_output=True, text=True)
+assert study.returncode == 0, study.stderr
+try:
+    import matplotlib  # noqa: F401
+    assert os.path.exists("study/work_precision.png"), study.stderr
+except ImportError:
+    pass
+print("pip installed lieflow into", venv, ": import, the command, a replay and a study's plots")
 PY
   ;;
 *)
