@@ -28,7 +28,7 @@ cmake --build "$out" -- -j"$(nproc)"
 
 # The targets this build has (fuzz_mjcf and fuzz_urdf need MuJoCo and
 # urdfdom; fuzz/CMakeLists.txt leaves them out without).
-targets=(scene recording cli)
+targets=(scene recording run cli)
 for t in mjcf urdf; do [ -x "$out/fuzz_$t" ] && targets+=("$t"); done
 
 # Seed corpora (copied, so that the committed seeds stay as they are).
@@ -47,6 +47,7 @@ fi
 if [ -x "$root/build/app/lieflow" ]; then
   "$root/build/app/lieflow" simulate hinge-pair --every 100 --t-end 0.5 --out "$out/corpus-recording/hinge-pair.csv" >/dev/null
   "$root/build/app/lieflow" simulate spring-hinge --every 100 --t-end 0.5 --out "$out/corpus-recording/spring-hinge.csv" >/dev/null
+  "$root/build/app/lieflow" simulate double-pendulum --every 50 --t-end 0.5 --out "$out/corpus-run/double-pendulum.csv" >/dev/null
 fi
 
 status=0

@@ -11,6 +11,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <sys/stat.h>
+
 namespace lieflow {
 namespace replay {
 
@@ -123,14 +125,20 @@ nlohmann::json shapeData(const VisualShape& s, MeshBudget* budget, std::vector<s
     notes->push_back(s.origin + ": mesh '" + s.mesh_file + "' is not STL, COLLADA or OBJ; not drawn");
     return nullptr;
   }
-  std::ifstream in(s.mesh_file, std::ios::binary);
-  if (!in) {
+  struct stat st {};
+  if (::stat(s.mesh_file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
     notes->push_back(s.origin + ": mesh '" + s.mesh_file + "' not found; not drawn");
     return nullptr;
   }
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (data.size() > budget->left) {
+  // Its size first: a file past the budget is not read at all.
+  if (static_cast<std::uint64_t>(st.st_size) > budget->left) {
     notes->push_back(s.origin + ": mesh '" + s.mesh_file + "' is past the page's mesh budget; not drawn");
+    return nullptr;
+  }
+  std::ifstream in(s.mesh_file, std::ios::binary);
+  std::string data(static_cast<std::size_t>(st.st_size), '\0');
+  if (!in.read(&data[0], st.st_size)) {
+    notes->push_back(s.origin + ": mesh '" + s.mesh_file + "' could not be read; not drawn");
     return nullptr;
   }
   budget->left -= data.size();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <istream>
 
 #include "liegroup/invalid_input.hpp"
 
@@ -78,6 +79,10 @@ RunTable readRunTable(const std::string& path, std::size_t frame_budget, const R
                         "--max-input-mb");
   std::ifstream in(path);
   if (!in) throw InvalidInput(path, "cannot be opened");
+  return parseRunTable(in, path, frame_budget, limits.max_rows);
+}
+
+RunTable parseRunTable(std::istream& in, const std::string& path, std::size_t frame_budget, long max_rows) {
   RunTable table;
   table.source = path;
   std::string line;
@@ -97,9 +102,8 @@ RunTable readRunTable(const std::string& path, std::size_t frame_budget, const R
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    if (static_cast<long>(decimator.offered()) >= limits.max_rows)
-      throw limitExceeded(path, "rows", static_cast<double>(limits.max_rows) + 1, static_cast<double>(limits.max_rows),
-                          "--max-rows");
+    if (static_cast<long>(decimator.offered()) >= max_rows)
+      throw limitExceeded(path, "rows", static_cast<double>(max_rows) + 1, static_cast<double>(max_rows), "--max-rows");
     const std::vector<std::string> cells = splitCsv(line);
     const std::string where = path + ": line " + std::to_string(line_number);
     if (cells.size() != table.columns.size())

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,10 @@ struct RunTable {
 /// does not increase, or no data rows; the file's size is held to
 /// `limits.max_input_bytes` and its rows to `limits.max_rows`.
 RunTable readRunTable(const std::string& path, std::size_t frame_budget, const ResourceLimits& limits);
+
+/// The same from a stream (`source` names it in messages), at most
+/// `max_rows` data rows.
+RunTable parseRunTable(std::istream& in, const std::string& source, std::size_t frame_budget, long max_rows);
 
 }  // namespace replay
 }  // namespace lieflow
