@@ -87,8 +87,14 @@
       object = new THREE.Mesh(g, m);
     } else {
       const text = new TextDecoder().decode(bytes(shape.data));
-      if (shape.format === 'dae') object = new THREE.ColladaLoader().parse(text, '').scene;
-      else object = new THREE.OBJLoader().parse(text);
+      if (shape.format === 'dae') {
+        // A URDF mesh's coordinates are the link frame's (z up, as the
+        // model is): the turn three.js gives a Z_UP file to make it y-up
+        // is undone (this world keeps z up); the file's unit is kept.
+        object = new THREE.ColladaLoader().parse(text, '').scene;
+        object.quaternion.set(0, 0, 0, 1);
+      }
+      if (shape.format === 'obj') object = new THREE.OBJLoader().parse(text);
     }
     const wrapper = new THREE.Group();
     wrapper.scale.set(shape.scale[0], shape.scale[1], shape.scale[2]);
