@@ -80,7 +80,15 @@ def calibrate_case(rng, tmp):
 
 
 def other_case(rng, tmp):
-    choice = rng.randrange(6)
+    choice = rng.randrange(7)
+    if choice == 5:
+        args = ["view", rng.choice([os.path.join(tmp, "rec.csv"), os.path.join(tmp, "decay.csv"), "/dev/null",
+                                    os.path.join(tmp, "missing.csv"), os.path.join(tmp, "scene.json")]),
+                "--scene", rng.choice(["hinge-pair", "spring-hinge", "heavy-top", os.path.join(tmp, "scene.json")]),
+                "--out", os.path.join(tmp, "view.html")]
+        if maybe(rng, 0.3):
+            args += ["--frames", value(rng)]
+        return args
     if choice == 0:
         return ["study", rng.choice(SCENES[:6]), "--integrators", rng.choice(INTEGRATORS), "--dt",
                 rng.choice(["0.01", value(rng)]), "--t-end", rng.choice(["0.05", value(rng)]), "--min-time", "0.001",
