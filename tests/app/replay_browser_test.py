@@ -120,10 +120,11 @@ def changed_pixels(a, b):
     return n
 
 
-def check_page(work, name, page, run_csv):
+def check_page(work, name, page, run_csv, full=True):
+    """full: three times and two screenshots; else the last time alone."""
     header, rows = read_csv(run_csv)
     times = [r[0] for r in rows]
-    wanted = [times[0], times[len(times) // 2], times[-1]]
+    wanted = [times[0], times[len(times) // 2], times[-1]] if full else [times[-1]]
     for t in wanted:
         p = browser(work, page, "#t=%.17g" % t, "--dump-dom")
         dom = p.stdout
@@ -145,6 +146,8 @@ def check_page(work, name, page, run_csv):
                 dx = max(abs(u - v) for u, v in zip(x, b["position"]))
                 assert dx <= POSE_TOLERANCE, "%s: body %s at t = %r: position off by %g" % (name, b["name"], t, dx)
         print("%s: t = %.6g: %d bodies drawn at the CSV's poses" % (name, state["t"], len(state["bodies"])))
+    if not full:
+        return
     shots = []
     for label, t in (("start", times[0]), ("end", times[-1])):
         shot = os.path.join(work, "%s-%s.png" % (name, label))
@@ -189,7 +192,7 @@ def main():
     direct = os.path.join(work, "direct.html")
     run([lieflow, "simulate", "double-pendulum", "--t-end", "2", "--every", "5", "--quiet", "--view", direct,
          "--out", os.path.join(work, "direct.csv")])
-    check_page(work, "simulate-view", direct, os.path.join(work, "direct.csv"))
+    check_page(work, "simulate-view", direct, os.path.join(work, "direct.csv"), full=False)
     print("all replay pages passed")
     return 0
 
