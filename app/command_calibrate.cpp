@@ -81,10 +81,13 @@ constexpr const char* kUsage =
     "                            the joint centre)\n"
     "  --loss none|huber|cauchy  robust loss per sample (default none); under a robust loss\n"
     "                            sigma is the larger of Gauss-Newton and a sandwich (sigma_method)\n"
-    "  --estimator constraint|likelihood\n"
-    "                            hinge from gyroscopes: Seel's constraint (default, fast) or\n"
-    "                            maximum likelihood over the joint angle (sigma at the\n"
+    "  --estimator auto|constraint|likelihood\n"
+    "                            hinge: maximum likelihood over the joint angle (sigma at the\n"
     "                            Cramer-Rao bound; constraint_axis_*_sigma_deg for comparison)\n"
+    "                            or Seel's constraint (fast; also takes orientations,\n"
+    "                            accelerometers and filtered rates). Default auto: likelihood on\n"
+    "                            gyroscopes alone without --low-pass, else constraint; the JSON's\n"
+    "                            estimator and estimator_reason say which and why\n"
     "  --fit-gyro-bias           hinge, universal: estimate each gyroscope's constant bias\n"
     "                            (gyro_bias_main, gyro_bias_secondary [rad/s] and _sigma; axis\n"
     "                            sigmas marginal)\n"
@@ -151,7 +154,7 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.max_iterations = args.positiveInt("--max-iterations", o.max_iterations);
   o.max_sigma_deg = args.positiveNumber("--max-sigma-deg", o.max_sigma_deg);
   o.min_samples = args.positiveInt("--min-samples", o.min_samples);
-  o.estimator = calibration::parseHingeEstimator(args.value("--estimator", "constraint"), "--estimator");
+  o.estimator = calibration::parseHingeEstimator(args.value("--estimator", "auto"), "--estimator");
   o.fit_gyro_bias = args.has("--fit-gyro-bias");
   o.fit_time_offset = args.has("--fit-time-offset");
   if (args.has("--low-pass")) o.low_pass_hz = args.positiveNumber("--low-pass", 0.0);
@@ -619,8 +622,9 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
                 : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
                   "axis: reported 0)";
       }
-      if (options.estimator == calibration::HingeEstimator::kLikelihood) {
-        j["estimator"] = "likelihood";
+      j["estimator"] = calibration::hingeEstimatorName(fit.estimator);
+      j["estimator_reason"] = fit.estimator_reason;
+      if (fit.estimator == calibration::HingeEstimator::kLikelihood) {
         j["constraint_axis_main_sigma_deg"] = fit.constraint_sigma_main_deg;
         j["constraint_axis_secondary_sigma_deg"] = fit.constraint_sigma_secondary_deg;
         j["likelihood_noise_sigma"] = fit.likelihood.noise_sigma;

@@ -33,13 +33,18 @@ const char* dataUseName(DataUse use) {
 }
 
 const char* hingeEstimatorName(HingeEstimator e) {
-  return e == HingeEstimator::kLikelihood ? "likelihood" : "constraint";
+  switch (e) {
+    case HingeEstimator::kConstraint: return "constraint";
+    case HingeEstimator::kLikelihood: return "likelihood";
+    case HingeEstimator::kAuto: break;
+  }
+  return "auto";
 }
 
 HingeEstimator parseHingeEstimator(const std::string& text, const std::string& field) {
-  for (HingeEstimator e : {HingeEstimator::kConstraint, HingeEstimator::kLikelihood})
+  for (HingeEstimator e : {HingeEstimator::kAuto, HingeEstimator::kConstraint, HingeEstimator::kLikelihood})
     if (text == hingeEstimatorName(e)) return e;
-  throw InvalidInput(field, "unknown estimator '" + text + "' (constraint, likelihood)");
+  throw InvalidInput(field, "unknown estimator '" + text + "' (auto, constraint, likelihood)");
 }
 
 DataUse parseDataUse(const std::string& text, const std::string& field) {

@@ -48,9 +48,11 @@ struct AxisPair {
 
 /// The hinge fit's estimator from gyroscopes: Seel's constraint (fast; the
 /// lengths of the perpendicular rates) or maximum likelihood over the joint
-/// angle (hinge_likelihood.hpp; their phase too, σ at the Cramér–Rao bound).
-enum class HingeEstimator { kConstraint, kLikelihood };
-/// "constraint", "likelihood" and back (InvalidInput naming `field`).
+/// angle (hinge_likelihood.hpp; their phase too, σ at the Cramér–Rao bound);
+/// kAuto: the best the recording supports (hinge_estimator.hpp says which
+/// and why).
+enum class HingeEstimator { kAuto, kConstraint, kLikelihood };
+/// "auto", "constraint", "likelihood" and back (InvalidInput naming `field`).
 const char* hingeEstimatorName(HingeEstimator e);
 HingeEstimator parseHingeEstimator(const std::string& text, const std::string& field);
 
@@ -62,7 +64,7 @@ constexpr double kMaxLossScale = 1e6;
 
 struct AxisFitOptions {
   DataUse use = DataUse::kAuto;
-  HingeEstimator estimator = HingeEstimator::kConstraint;
+  HingeEstimator estimator = HingeEstimator::kAuto;
   RobustLoss loss = RobustLoss::kNone;
   /// Threshold of the robust loss in units of the estimated noise σ̂.
   double loss_scale = 3.0;

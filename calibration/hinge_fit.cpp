@@ -1,5 +1,7 @@
 #include "calibration/hinge_fit.hpp"
 
+#include "calibration/hinge_estimator.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <map>
@@ -454,7 +456,10 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
                          " rad/s), and axes fitted without it can be many sigma off; rerun with --fit-gyro-bias";
 }
 
-HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+namespace {
+
+/// fitHinge with options.estimator chosen (not kAuto).
+HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions& options) {
   const bool likelihood = options.estimator == HingeEstimator::kLikelihood;
   if (options.low_pass_hz > 0.0) {
     // The likelihood fit and the clock offset model white gyroscope noise
@@ -541,6 +546,18 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
     refineByLikelihood(samples, options, shift, &refined);
   }
   return refined;
+}
+
+}  // namespace
+
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  const HingeEstimatorChoice choice = chooseHingeEstimator(samples, options);
+  AxisFitOptions chosen = options;
+  chosen.estimator = choice.estimator;
+  HingeFit fit = fitHingeWithEstimator(samples, chosen);
+  fit.estimator = choice.estimator;
+  fit.estimator_reason = choice.reason;
+  return fit;
 }
 
 }  // namespace calibration

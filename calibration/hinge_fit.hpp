@@ -75,6 +75,9 @@ struct HingeFit : SensorNuisanceEstimate {
   double low_pass_noise_gain = 0.0;
   AxisInformation information;
   AxisFitSummary summary;
+  /// The estimator used (never kAuto) and why (hinge_estimator.hpp).
+  HingeEstimator estimator = HingeEstimator::kConstraint;
+  std::string estimator_reason;
 
   /// The larger of the two axes' σ: the `axis_sigma_deg` of the JSON output.
   double axisSigmaDeg() const { return sigma_main_deg > sigma_secondary_deg ? sigma_main_deg : sigma_secondary_deg; }

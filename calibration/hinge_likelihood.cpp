@@ -23,6 +23,9 @@ namespace {
 /// Solver limits: far below any gyroscope's noise.
 constexpr int kMaxIterations = 100;
 constexpr double kTolerance = 1e-12;
+/// Levenberg–Marquardt's first trust region (Ceres' default 1e4): the start
+/// is the constraint fit's, close enough for Gauss–Newton steps.
+constexpr double kInitialTrustRegion = 1e8;
 /// Samples of the five-point difference on either side.
 constexpr int kHalfStencil = 2;
 /// Largest relative spread of the sampling interval (φ̇ by a fixed stencil).
@@ -302,22 +305,21 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
 
   LikelihoodProblem lp(&p, m1, m2, h, 1.0, options_in.fit_gyro_bias, offset, slopes);
   ceres::Solver::Options options;
-  options.linear_solver_type = ceres::SPARSE_SCHUR;
+  // Sparse Cholesky of the whole normal equations (banded: each sample's
+  // unknowns meet its stencil's angles only) costs less per iteration than
+  // the Schur complement over the ω₁,k, whose reduced system is as banded;
+  // a wide first trust region lets Levenberg–Marquardt take Gauss–Newton
+  // steps from the constraint fit's start at once. Measured on 1000 samples
+  // (the command, whole fit): 11 iterations in 61–64 ms, against 19 in
+  // 121–126 ms with the Schur complement and Ceres' first radius.
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  options.initial_trust_region_radius = kInitialTrustRegion;
   options.max_num_iterations = kMaxIterations;
   options.function_tolerance = kTolerance;
   options.gradient_tolerance = kTolerance;
   options.parameter_tolerance = kTolerance;
   options.logging_type = ceres::SILENT;
   options.num_threads = 1;
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (Eigen::Vector3d& w : p.w1) ordering->AddElementToGroup(w.data(), 0);
-  for (double& phi : p.phi) ordering->AddElementToGroup(&phi, 1);
-  ordering->AddElementToGroup(p.j1, 1);
-  ordering->AddElementToGroup(p.q, 1);
-  ordering->AddElementToGroup(p.b1, 1);
-  ordering->AddElementToGroup(p.b2, 1);
-  ordering->AddElementToGroup(&p.nu, 1);
-  options.linear_solver_ordering = ordering;
   FitProgressCallback progress(options_in.progress, options_in.interrupt);
   options.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;

@@ -218,8 +218,8 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
 }  // namespace
 
 UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
-  if (options.estimator != HingeEstimator::kConstraint)
-    throw InvalidInput(samples.source, "--estimator is an option of the hinge fit");
+  if (options.estimator == HingeEstimator::kLikelihood)
+    throw InvalidInput(samples.source, "--estimator likelihood is an option of the hinge fit");
   if (options.low_pass_hz > 0.0)
     throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
                                        "gyroscope residual by the rates' white noise, which a filter colours)");

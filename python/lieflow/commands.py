@@ -626,7 +626,10 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
     "failed" and "failure" added instead. fit_gyro_bias / fit_time_offset
     estimate the gyroscopes' biases and the secondary sensor's clock offset
     (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma);
-    estimator="likelihood" fits by maximum likelihood over the joint angle;
+    estimator: None or "auto" (the default: maximum likelihood over the joint
+    angle on gyroscopes alone, else the constraint fit; the result's
+    "estimator" and "estimator_reason" say which and why), "likelihood" or
+    "constraint";
     low_pass=HZ low-passes the gyroscopes and accelerometers first (sensors
     wobbling on soft tissue; gyro_misfit says how well a hinge explains them)."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,

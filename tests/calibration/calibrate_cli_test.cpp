@@ -111,6 +111,45 @@ TEST(CalibCli, HingeFromGyroscopesPrintsTheDesignKeys) {
   EXPECT_LE(test::lineErrorDeg(vector3(k["axis_main"]), m.axisSecondary()), 0.1);
 }
 
+/// The defaults are the best estimator the recording supports (issue 31):
+/// gyroscopes alone at 0.01 and 0.1 rad/s, 1000 samples, no flag: the
+/// likelihood fit, saying so, every axis within 0.1 and 0.5 degrees, and its
+/// sigma honest; with orientations in the recording the constraint fit,
+/// saying why. (50 recordings of each in hinge_likelihood_test.cpp.)
+TEST(CalibCli, HingeDefaultsAreTheBestEstimatorAndSayWhy) {
+  std::mt19937 gen(73);
+  for (const double noise : {0.01, 0.1}) {
+    double ratio = 0.0;
+    constexpr int kRecordings = 8;
+    for (int r = 0; r < kRecordings; ++r) {
+      const HingeMotion m = randomHingeMotion(gen);
+      const std::string path =
+          writeRecording(recordMotion(m, 1000, 100.0, RecordingNoise{noise, 0.0, false, true}, gen));
+      const Outcome o = run("calibrate hinge " + path);
+      ASSERT_EQ(o.status, 0) << o.err;
+      const nlohmann::json j = nlohmann::json::parse(o.out);
+      EXPECT_EQ(j["estimator"], "likelihood");
+      EXPECT_NE(j["estimator_reason"].get<std::string>().find("gyroscopes alone"), std::string::npos);
+      const double e1 = test::lineErrorDeg(vector3(j["axis_main"]), m.axis_main);
+      const double e2 = test::lineErrorDeg(vector3(j["axis_secondary"]), m.axisSecondary());
+      EXPECT_LE(std::max(e1, e2), noise == 0.01 ? 0.1 : 0.5) << "noise " << noise << " recording " << r;
+      const double s1 = j["axis_main_sigma_deg"], s2 = j["axis_secondary_sigma_deg"];
+      ratio += (e1 * e1 / (s1 * s1) + e2 * e2 / (s2 * s2)) / 2.0;
+    }
+    // Eight recordings: a loose band around 1 (the 50-recording test holds 0.7-1.5).
+    EXPECT_GT(ratio / kRecordings, 0.2) << noise;
+    EXPECT_LT(ratio / kRecordings, 2.5) << noise;
+  }
+  std::mt19937 gen2(74);
+  const HingeMotion m = randomHingeMotion(gen2);
+  const std::string both = writeRecording(recordMotion(m, 500, 100.0, RecordingNoise{0.01, 0.01, true, true}, gen2));
+  const nlohmann::json j = nlohmann::json::parse(run("calibrate hinge " + both).out);
+  EXPECT_EQ(j["estimator"], "constraint");
+  EXPECT_NE(j["estimator_reason"].get<std::string>().find("orientations"), std::string::npos);
+  const nlohmann::json asked = nlohmann::json::parse(run("calibrate hinge " + both + " --estimator constraint").out);
+  EXPECT_EQ(asked["estimator_reason"], "asked for (--estimator constraint)");
+}
+
 TEST(CalibCli, UniversalFromOrientationsAndGyroscopes) {
   std::mt19937 gen(72);
   const UniversalMotion m = randomUniversalMotion(gen);

@@ -52,6 +52,7 @@ Outcome fitOnce(std::mt19937& gen, double sigma, const Eigen::Vector3d& b1, cons
   n.gyro_bias_secondary = b2;
   n.secondary_clock_offset = offset;
   AxisFitOptions o;
+  o.estimator = HingeEstimator::kConstraint;  // the constraint fit's nuisance models (the likelihood's: hinge_likelihood_test.cpp)
   o.fit_gyro_bias = fit_bias;
   o.fit_time_offset = fit_offset;
   const HingeFit f = fitHinge(recordMotion(m, kSamples, kRateHz, n, gen), o);

@@ -38,6 +38,13 @@ using test::simulatedJoint;
 
 constexpr int kSamples = 1000;
 constexpr double kRateHz = 100.0;
+
+/// This file tests Seel's constraint fit (the likelihood fit, the default on
+/// gyroscopes alone: hinge_likelihood_test.cpp).
+HingeFit fitSeel(const JointSamples& s, AxisFitOptions options = AxisFitOptions()) {
+  if (options.estimator == HingeEstimator::kAuto) options.estimator = HingeEstimator::kConstraint;
+  return fitHinge(s, options);
+}
 constexpr double kDeg = 1.0 / kRadToDeg;
 
 RecordingNoise gyroscopes(double sigma) { return {sigma, 0.0, false, true}; }
@@ -109,7 +116,7 @@ TEST(CalibHinge, GyroscopesLowNoiseWithinATenthOfADegree) {
   for (unsigned seed : {1u, 2u, 3u}) {
     std::mt19937 gen(seed);
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeFit fit = fitHinge(recordMotion(m, kSamples, kRateHz, gyroscopes(0.01), gen));
+    const HingeFit fit = fitSeel(recordMotion(m, kSamples, kRateHz, gyroscopes(0.01), gen));
     SCOPED_TRACE(seed);
     expectHinge(fit, m, 0.1);
     EXPECT_EQ(fit.summary.data, "gyroscopes");
@@ -122,7 +129,7 @@ TEST(CalibHinge, GyroscopesHighNoiseWithinHalfADegree) {
   for (unsigned seed : {4u, 5u, 6u}) {
     std::mt19937 gen(seed);
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeFit fit = fitHinge(recordMotion(m, kSamples, kRateHz, gyroscopes(0.1), gen));
+    const HingeFit fit = fitSeel(recordMotion(m, kSamples, kRateHz, gyroscopes(0.1), gen));
     SCOPED_TRACE(seed);
     expectHinge(fit, m, 0.5);
     EXPECT_NEAR(fit.summary.rms_residual, 0.1, 0.02);
@@ -133,13 +140,13 @@ TEST(CalibHinge, AnyStartGivesTheSameAnswer) {
   std::mt19937 gen(7);
   const HingeMotion m = randomHingeMotion(gen);
   const JointSamples samples = recordMotion(m, 500, kRateHz, gyroscopes(0.1), gen);
-  const HingeFit reference = fitHinge(samples);
+  const HingeFit reference = fitSeel(samples);
   std::normal_distribution<double> normal;
   for (int trial = 0; trial < 8; ++trial) {
     AxisFitOptions options;
     options.extra_starts.push_back({Eigen::Vector3d(normal(gen), normal(gen), normal(gen)),
                                     Eigen::Vector3d(normal(gen), normal(gen), normal(gen))});
-    const HingeFit fit = fitHinge(samples, options);
+    const HingeFit fit = fitSeel(samples, options);
     EXPECT_EQ(fit.summary.starts, reference.summary.starts + 1);
     EXPECT_LE(errorDeg(fit.axis_main, reference.axis_main), 1e-4) << trial;
     EXPECT_LE(errorDeg(fit.axis_secondary, reference.axis_secondary), 1e-4) << trial;
@@ -170,7 +177,7 @@ TEST(CalibHinge, ClosedFormStartsAreExactOnExactDataAndCloseOnNoisyData) {
 TEST(CalibHinge, OrientationsOnly) {
   std::mt19937 gen(9);
   const HingeMotion m = randomHingeMotion(gen);
-  const HingeFit fit = fitHinge(recordMotion(m, kSamples, kRateHz, orientations(0.5 * kDeg), gen));
+  const HingeFit fit = fitSeel(recordMotion(m, kSamples, kRateHz, orientations(0.5 * kDeg), gen));
   expectHinge(fit, m, 0.1);
   EXPECT_EQ(fit.summary.data, "orientations");
   EXPECT_EQ(fit.summary.residuals.front().unit, "rad");
@@ -182,7 +189,7 @@ TEST(CalibHinge, OrientationsAndGyroscopes) {
   std::mt19937 gen(10);
   const HingeMotion m = randomHingeMotion(gen);
   const HingeFit fit =
-      fitHinge(recordMotion(m, kSamples, kRateHz, RecordingNoise{0.01, 0.5 * kDeg, true, true}, gen));
+      fitSeel(recordMotion(m, kSamples, kRateHz, RecordingNoise{0.01, 0.5 * kDeg, true, true}, gen));
   expectHinge(fit, m, 0.1);
   EXPECT_EQ(fit.summary.data, "orientations+gyroscopes");
   ASSERT_EQ(fit.summary.residuals.size(), 2u);
@@ -195,21 +202,21 @@ TEST(CalibHinge, DataSelectionFollowsTheOption) {
   const JointSamples samples = recordMotion(m, 400, kRateHz, RecordingNoise{0.01, 0.5 * kDeg, true, true}, gen);
   AxisFitOptions options;
   options.use = DataUse::kAngularVelocities;
-  EXPECT_EQ(fitHinge(samples, options).summary.data, "gyroscopes");
+  EXPECT_EQ(fitSeel(samples, options).summary.data, "gyroscopes");
   options.use = DataUse::kOrientations;
-  EXPECT_EQ(fitHinge(samples, options).summary.data, "orientations");
+  EXPECT_EQ(fitSeel(samples, options).summary.data, "orientations");
   JointSamples gyro_only = samples;
   gyro_only.main.orientation.clear();
-  EXPECT_THROW(fitHinge(gyro_only, options), InvalidInput);  // orientations asked for, main has none
+  EXPECT_THROW(fitSeel(gyro_only, options), InvalidInput);  // orientations asked for, main has none
   gyro_only.secondary.angular_velocity.clear();
-  EXPECT_THROW(fitHinge(gyro_only), InvalidInput);  // nothing usable
+  EXPECT_THROW(fitSeel(gyro_only), InvalidInput);  // nothing usable
 }
 
 TEST(CalibHinge, ReportedSignsFollowTheConvention) {
   for (unsigned seed : {12u, 13u, 14u, 15u}) {
     std::mt19937 gen(seed);
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeFit fit = fitHinge(recordMotion(m, 500, kRateHz, gyroscopes(0.01), gen));
+    const HingeFit fit = fitSeel(recordMotion(m, 500, kRateHz, gyroscopes(0.01), gen));
     Eigen::Index i;
     fit.axis_main.cwiseAbs().maxCoeff(&i);
     EXPECT_GT(fit.axis_main[i], 0.0) << seed;
@@ -245,12 +252,12 @@ TEST(CalibHinge, RobustLossRejectsOutliers) {
   std::uniform_real_distribution<double> garbage(-3.0, 3.0);
   for (int k = 0; k < kSamples; k += 20)
     samples.secondary.angular_velocity[k] = Eigen::Vector3d(garbage(gen), garbage(gen), garbage(gen));
-  const HingeFit plain = fitHinge(samples);
+  const HingeFit plain = fitSeel(samples);
   EXPECT_GT(lineErrorDeg(plain.axis_main, m.axis_main), 0.3);  // the outliers do hurt
   for (RobustLoss loss : {RobustLoss::kHuber, RobustLoss::kCauchy}) {
     AxisFitOptions options;
     options.loss = loss;
-    const HingeFit fit = fitHinge(samples, options);
+    const HingeFit fit = fitSeel(samples, options);
     SCOPED_TRACE(robustLossName(loss));
     expectHinge(fit, m, 0.1);
   }
@@ -266,7 +273,7 @@ TEST(CalibHinge, ShortRecordingsEndInTheGlobalMinimum) {
     std::mt19937 gen(seed);
     const HingeMotion m = randomHingeMotion(gen);
     const JointSamples s = recordMotion(m, 50, kRateHz, gyroscopes(0.01), gen);
-    const HingeFit fit = fitHinge(s);
+    const HingeFit fit = fitSeel(s);
     EXPECT_TRUE(fit.summary.converged) << fit.summary.message;
     // No lower minimum around the truth: the fit's cost is at most the true axes'.
     const auto& w1 = s.main.angular_velocity;
@@ -296,7 +303,7 @@ TEST(CalibHinge, TwoSecondsOfHingePairEndInTheGlobalMinimum) {
     ASSERT_EQ(s.size(), 200);
     AxisFitOptions options;
     options.use = DataUse::kAngularVelocities;
-    const HingeFit fit = fitHinge(s, options);
+    const HingeFit fit = fitSeel(s, options);
     EXPECT_TRUE(fit.summary.converged) << fit.summary.message;
     EXPECT_LE(lineErrorDeg(fit.axis_main, j1), std::min(0.5, 3.0 * fit.sigma_main_deg));
     EXPECT_LE(lineErrorDeg(fit.axis_secondary, j2), std::min(0.5, 3.0 * fit.sigma_secondary_deg));
@@ -314,7 +321,7 @@ TEST(CalibHinge, ResidualFarAboveTheGyroscopeNoiseIsNotConverged) {
   std::mt19937 gen(18);
   const HingeMotion m = randomHingeMotion(gen);
   JointSamples s = recordMotion(m, kSamples, kRateHz, gyroscopes(0.01), gen);
-  const HingeFit honest = fitHinge(s);
+  const HingeFit honest = fitSeel(s);
   EXPECT_TRUE(honest.summary.converged);
   EXPECT_NEAR(honest.summary.residuals.front().independent_noise, 0.01, 0.0007);
   EXPECT_NEAR(honest.summary.residuals.front().residual_to_noise, 1.0, 0.1);
@@ -322,14 +329,14 @@ TEST(CalibHinge, ResidualFarAboveTheGyroscopeNoiseIsNotConverged) {
   // The residual check alone (the bias check, next test, would name the cause).
   AxisFitOptions residual_only;
   residual_only.check_gyro_bias = false;
-  const HingeFit biased = fitHinge(s, residual_only);
+  const HingeFit biased = fitSeel(s, residual_only);
   EXPECT_FALSE(biased.summary.converged);
   EXPECT_GT(biased.summary.residuals.front().residual_to_noise, 4.0);
   EXPECT_NE(biased.summary.message.find("times the noise estimated independently"), std::string::npos)
       << biased.summary.message;
   AxisFitOptions off = residual_only;
   off.max_residual_to_noise = 0.0;
-  EXPECT_TRUE(fitHinge(s, off).summary.converged);
+  EXPECT_TRUE(fitSeel(s, off).summary.converged);
 }
 
 /// The bias check (AxisFitOptions::check_gyro_bias): the same biased
@@ -341,9 +348,9 @@ TEST(CalibHinge, BiasCheckNamesTheBias) {
   std::mt19937 gen(18);
   const HingeMotion m = randomHingeMotion(gen);
   JointSamples s = recordMotion(m, kSamples, kRateHz, gyroscopes(0.01), gen);
-  EXPECT_LT(fitHinge(s).summary.bias_check_delta_chi_square, 30.0);
+  EXPECT_LT(fitSeel(s).summary.bias_check_delta_chi_square, 30.0);
   for (Eigen::Vector3d& w : s.secondary.angular_velocity) w += Eigen::Vector3d(0.05, -0.05, 0.025);
-  const HingeFit biased = fitHinge(s);
+  const HingeFit biased = fitSeel(s);
   EXPECT_FALSE(biased.summary.converged);
   EXPECT_NE(biased.summary.message.find("--fit-gyro-bias"), std::string::npos) << biased.summary.message;
   std::normal_distribution<double> normal;
@@ -355,8 +362,8 @@ TEST(CalibHinge, BiasCheckNamesTheBias) {
     n.gyro_bias_main = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
     n.gyro_bias_secondary = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
     const JointSamples dirty = recordMotion(motion, kSamples, kRateHz, n, gen);
-    flagged_clean += fitHinge(clean).summary.bias_check_delta_chi_square > 30.0;
-    flagged_biased += fitHinge(dirty).summary.bias_check_delta_chi_square > 30.0;
+    flagged_clean += fitSeel(clean).summary.bias_check_delta_chi_square > 30.0;
+    flagged_biased += fitSeel(dirty).summary.bias_check_delta_chi_square > 30.0;
   }
   std::printf("bias check: %d of 50 biased recordings flagged, %d of 50 clean\n", flagged_biased, flagged_clean);
   EXPECT_GE(flagged_biased, 45);

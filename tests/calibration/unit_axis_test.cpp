@@ -44,7 +44,9 @@ TEST(CalibUnitAxis, SigmaAgreesWithAFiniteDifferenceCovarianceInAxisAngles) {
   std::mt19937 gen(62);
   const HingeMotion m = randomHingeMotion(gen);
   const JointSamples s = recordMotion(m, 1000, 100.0, RecordingNoise{0.05, 0.0, false, true}, gen);
-  const HingeFit fit = fitHinge(s);
+  AxisFitOptions constraint;  // Seel's cost, whose covariance this checks
+  constraint.estimator = HingeEstimator::kConstraint;
+  const HingeFit fit = fitHinge(s, constraint);
 
   // The same residuals, whitened by the fit's noise scale, differentiated by
   // central differences with respect to turning each axis by an angle about
