@@ -18,8 +18,9 @@
 #       virtual environment (offline, Debian's setuptools), reusing BUILD_DIR's
 #       CMake build (LIEFLOW_CMAKE_BUILD_DIR): `import lieflow` without
 #       PYTHONPATH, the `lieflow` command on the venv's PATH, a replay page and
-#       a study's plots from the package's own scripts; exits 77 (skipped) without
-#       python3-venv or python3-setuptools
+#       a study's plots from the package's own scripts; then with Debian's pip
+#       into the system's layout under a staging --root; exits 77 (skipped)
+#       without python3-venv or python3-setuptools
 set -euo pipefail
 mode=$1
 shift
@@ -153,6 +154,20 @@ except ImportError:
     pass
 print("pip installed lieflow into", venv, ": import, the command, a replay and a study's plots")
 PY
+  # Into the system's layout (Debian's /usr/local/lib/python3.X/dist-packages
+  # and /usr/local/bin, under a staging root so that the test leaves the
+  # machine as it was), with Debian's own pip.
+  if /usr/bin/python3 -m pip --version >/dev/null 2>&1; then
+    LIEFLOW_CMAKE_BUILD_DIR="$build" /usr/bin/python3 -m pip install --no-build-isolation --no-index -q \
+      --break-system-packages --root "$work/root" "$source_dir"
+    site=$(find "$work/root" -type d -name dist-packages -path "*python3*" | head -n 1)
+    [ -n "$site" ] && [ -x "$work/root/usr/local/bin/lieflow" ] || { echo "no system-layout install under $work/root" >&2; exit 1; }
+    env -u LIEFLOW_SCRIPTS_DIR PYTHONPATH="$site" /usr/bin/python3 -c \
+      "import lieflow, sys; assert lieflow.__file__.startswith('$site'), lieflow.__file__; print('and into the system layout:', lieflow.__file__)"
+    env -u LIEFLOW_SCRIPTS_DIR PYTHONPATH="$site" "$work/root/usr/local/bin/lieflow" scenes >/dev/null
+  else
+    echo "system install not checked: no pip for /usr/bin/python3 (python3-pip)"
+  fi
   ;;
 *)
   echo "unknown mode $mode" >&2
