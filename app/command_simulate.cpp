@@ -155,12 +155,8 @@ int runSimulate(int argc, char** argv) {
   if (file) file->commit();
   if (view) {
     view_file.reset();  // (writeReplayFile opens its own PATH.partial)
-    replay::RunTable run;
-    run.source = "the run of " + simulation.scene().source;
-    run.columns = simulation.columns(options.imu);
-    run.rows = frames.frames();
-    run.total_rows = frames.offered();
-    run.stride = frames.stride();
+    const replay::RunTable run =
+        replay::tableOf(frames, simulation.columns(options.imu), "the run of " + simulation.scene().source);
     replay::ReplayOptions replay_options;
     replay_options.title = simulation.scene().name + ": " + options.integrator + ", h = " + formatNumber(options.dt);
     writeReplayFile(args.value("--view", ""), "--view", simulation.scene(), run, replay_options, args.has("--quiet"));

@@ -61,12 +61,7 @@ int studyAndReport(const Simulation& sim, double t_end, StudyOptions options, bo
       std::cerr << "lieflow: plots skipped: " << why << "\n";
   }
   if (view) {
-    replay::RunTable run;
-    run.source = "the study's reference run";
-    run.columns = sim.columns();
-    run.rows = frames.frames();
-    run.total_rows = frames.offered();
-    run.stride = frames.stride();
+    const replay::RunTable run = replay::tableOf(frames, sim.columns(), "the study's reference run");
     replay::ReplayOptions replay_options;
     replay_options.title = sim.scene().name + ": the study's reference (" + result.reference + ")";
     writeReplayFile(options.out_dir + "/replay.html", "--view", sim.scene(), run, replay_options, true);

@@ -49,6 +49,16 @@ std::vector<std::vector<double>> FrameDecimator::frames() const {
 
 std::size_t FrameDecimator::stride() const { return stride_ * extra(); }
 
+RunTable tableOf(const FrameDecimator& frames, const std::vector<std::string>& columns, const std::string& source) {
+  RunTable run;
+  run.source = source;
+  run.columns = columns;
+  run.rows = frames.frames();
+  run.total_rows = frames.offered();
+  run.stride = frames.stride();
+  return run;
+}
+
 int RunTable::column(const std::string& name) const {
   for (std::size_t i = 0; i < columns.size(); ++i)
     if (columns[i] == name) return static_cast<int>(i);

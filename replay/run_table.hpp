@@ -48,6 +48,9 @@ struct RunTable {
   int column(const std::string& name) const;
 };
 
+/// The rows a decimator kept, as the replay's table of `columns`.
+RunTable tableOf(const FrameDecimator& frames, const std::vector<std::string>& columns, const std::string& source);
+
 /// Reads the CSV at `path`, keeping at most `frame_budget` rows. Throws
 /// InvalidInput naming the file, the line and the column for a missing,
 /// non-numeric or non-finite value, a header without `t` first, a `t` that
