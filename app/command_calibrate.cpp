@@ -94,10 +94,13 @@ constexpr const char* kUsage =
     "  --fit-time-offset         hinge (gyroscopes), universal: estimate the secondary sensor's\n"
     "                            clock offset (time_offset [s]: its sample stamped t was taken\n"
     "                            at t + offset)\n"
-    "  --low-pass HZ             hinge, spherical: low-pass the gyroscopes and accelerometers at\n"
+    "  --low-pass auto|none|HZ   hinge, spherical: low-pass the gyroscopes and accelerometers at\n"
     "                            HZ before fitting (zero-phase Butterworth; sensors wobbling on\n"
     "                            soft tissue); sigma accounts for the filter, gyro_misfit says\n"
-    "                            how well a hinge explains the filtered rates\n"
+    "                            how well a hinge explains the filtered rates. Default auto (hinge):\n"
+    "                            filtered when a gyroscope wobbles (power above 7 Hz far above\n"
+    "                            its white noise's), at the cutoff that keeps the motion's band;\n"
+    "                            low_pass_hz (null: unfiltered) and low_pass_reason say so\n"
     "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
     "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
     "                            an extra starting point (the closed-form one is always tried)\n"
@@ -157,7 +160,13 @@ AxisFitOptions fitOptions(const Arguments& args) {
   o.estimator = calibration::parseHingeEstimator(args.value("--estimator", "auto"), "--estimator");
   o.fit_gyro_bias = args.has("--fit-gyro-bias");
   o.fit_time_offset = args.has("--fit-time-offset");
-  if (args.has("--low-pass")) o.low_pass_hz = args.positiveNumber("--low-pass", 0.0);
+  if (args.has("--low-pass")) {
+    const std::string v = args.value("--low-pass", "");
+    if (v == "none")
+      o.low_pass_auto = false;
+    else if (v != "auto")
+      o.low_pass_hz = args.positiveNumber("--low-pass", 0.0);
+  }
   if (args.has("--start-main") != args.has("--start-secondary"))
     throw UsageError("--start-main and --start-secondary go together");
   if (args.has("--start-main"))
@@ -636,8 +645,9 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       }
       if (fit.gyro_misfit >= 0.0) j["gyro_misfit"] = fit.gyro_misfit;
       if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;
+      j["low_pass_hz"] = fit.low_pass_hz > 0.0 ? Json(fit.low_pass_hz) : Json(nullptr);
+      j["low_pass_reason"] = fit.low_pass_reason;
       if (fit.low_pass_hz > 0.0) {
-        j["low_pass_hz"] = fit.low_pass_hz;
         j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
         calibration::LowPassFilter filter;
         const calibration::JointSamples filtered = calibration::lowPassed(joint, fit.low_pass_hz, "--low-pass", &filter);

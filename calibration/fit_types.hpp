@@ -100,6 +100,10 @@ struct AxisFitOptions {
   /// is not made (third differences no longer measure the noise), and the
   /// misfit is reported relative to the signal (HingeFit::gyro_misfit).
   double low_pass_hz = 0.0;
+  /// With low_pass_hz = 0, the hinge fit checks the gyroscopes for a wobble
+  /// and low-passes by itself at a cutoff it chooses (wobble_check.hpp);
+  /// false: unfiltered (`--low-pass none`).
+  bool low_pass_auto = true;
 
   /// Starts tried besides the closed-form one (which is always tried); the
   /// solution of lowest cost wins.

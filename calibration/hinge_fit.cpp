@@ -1,6 +1,7 @@
 #include "calibration/hinge_fit.hpp"
 
 #include "calibration/hinge_estimator.hpp"
+#include "calibration/wobble_check.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -551,12 +552,31 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
 }  // namespace
 
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
-  const HingeEstimatorChoice choice = chooseHingeEstimator(samples, options);
+  // The filter first (a filtered fit takes the constraint estimator), then the estimator.
   AxisFitOptions chosen = options;
+  std::string low_pass_reason;
+  if (options.low_pass_hz > 0.0) {
+    low_pass_reason = "asked for (--low-pass " + formatNumber(options.low_pass_hz) + ")";
+  } else if (!options.low_pass_auto) {
+    low_pass_reason = "no filter: asked for (--low-pass none)";
+  } else {
+    const LowPassChoice wobble = chooseLowPass(samples);
+    const bool white = options.estimator == HingeEstimator::kLikelihood || options.fit_time_offset;
+    if (wobble.cutoff_hz > 0.0 && white) {
+      low_pass_reason = "no filter although " + wobble.reason.substr(0, wobble.reason.find("; low-passed")) + ": " +
+                        (options.fit_time_offset ? "--fit-time-offset" : "--estimator likelihood") +
+                        " models white gyroscope noise, which a filter colours";
+    } else {
+      chosen.low_pass_hz = wobble.cutoff_hz;
+      low_pass_reason = wobble.reason;
+    }
+  }
+  const HingeEstimatorChoice choice = chooseHingeEstimator(samples, chosen);
   chosen.estimator = choice.estimator;
   HingeFit fit = fitHingeWithEstimator(samples, chosen);
   fit.estimator = choice.estimator;
   fit.estimator_reason = choice.reason;
+  fit.low_pass_reason = low_pass_reason;
   return fit;
 }
 

@@ -73,6 +73,8 @@ struct HingeFit : SensorNuisanceEstimate {
   /// power gain (low_pass.hpp); 0 without a filter.
   double low_pass_hz = 0.0;
   double low_pass_noise_gain = 0.0;
+  /// Why that filter, or none (asked for, or the wobble check's finding).
+  std::string low_pass_reason;
   AxisInformation information;
   AxisFitSummary summary;
   /// The estimator used (never kAuto) and why (hinge_estimator.hpp).

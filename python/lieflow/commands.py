@@ -112,6 +112,13 @@ def _numbers(flag, values):
     return ",".join(_number(flag, v) for v in items)
 
 
+def _low_pass(flag, value):
+    """--low-pass: "none", "auto" or a cutoff [Hz]."""
+    if isinstance(value, str) and value in ("none", "auto"):
+        return value
+    return _number(flag, value)
+
+
 def _keyframe(flag, value):
     if isinstance(value, numbers.Integral) and not isinstance(value, bool):
         return str(value)
@@ -610,7 +617,7 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
 _UNIVERSAL_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None))
 _HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
-                  estimator=("--estimator", _text), low_pass=("--low-pass", _number))
+                  estimator=("--estimator", _text), low_pass=("--low-pass", _low_pass))
 
 
 def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None, start_main=None,
@@ -630,7 +637,9 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
     angle on gyroscopes alone, else the constraint fit; the result's
     "estimator" and "estimator_reason" say which and why), "likelihood" or
     "constraint";
-    low_pass=HZ low-passes the gyroscopes and accelerometers first (sensors
+    low_pass=None (auto: the hinge fit filters by itself when a gyroscope
+    wobbles, saying so in "low_pass_hz" and "low_pass_reason"), "none", or
+    HZ low-passes the gyroscopes and accelerometers first (sensors
     wobbling on soft tissue; gyro_misfit says how well a hinge explains them)."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
@@ -658,7 +667,7 @@ def calibrate_universal(recording, main=None, secondary=None, use=None, loss=Non
 _CENTRE_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text),
                "max_iterations": ("--max-iterations", _integer), "min_samples": ("--min-samples", _integer),
                "max_input_mb": ("--max-input-mb", _integer), "max_rows": ("--max-rows", _integer),
-               "verbose": ("--verbose", None), "low_pass": ("--low-pass", _number)}
+               "verbose": ("--verbose", None), "low_pass": ("--low-pass", _low_pass)}
 
 
 def calibrate_spherical(recording, main=None, secondary=None, max_input_mb=None, max_rows=None, verbose=False,

@@ -112,7 +112,8 @@ Tally wobbleTrials(double low_pass_hz, int trials) {
     noise.wobble_rate = 1.0;  // a sensor on soft tissue, 10–20 Hz
     const JointSamples s = recordMotion(m, 1000, kRateHz, noise, gen);
     AxisFitOptions o;
-    o.low_pass_hz = low_pass_hz;
+    o.low_pass_hz = low_pass_hz > 0.0 ? low_pass_hz : 0.0;
+    o.low_pass_auto = low_pass_hz < 0.0;  // < 0: the wobble check chooses; 0: unfiltered
     ++t.trials;
     try {
       const HingeFit f = fitHinge(s, o);
@@ -155,6 +156,27 @@ TEST(CalibLowPass, WobblingSensorsFittedHonestlyAfterTheFilter) {
   EXPECT_GE(filtered.within3, 2 * filtered.trials - (test::kSanitized ? 1 : 3));
   EXPECT_GT(filtered.mean_ratio2, 0.5);
   EXPECT_LT(filtered.mean_ratio2, test::kSanitized ? 2.5 : 1.6);
+}
+
+/// The same recordings with no flag: the wobble check filters every one (at
+/// kWobbleCutoffHz), and the answers are as honest as with --low-pass 5.
+TEST(CalibLowPass, DefaultsFilterWobblingSensorsByThemselves) {
+  constexpr int kTrials = test::kSanitized ? 10 : 50;
+  const Tally t = wobbleTrials(-1.0, kTrials);
+  std::printf("wobble 1 rad/s at 10-20 Hz, no flag: answered %d/%d, converged %d, within 3 sigma %d/%d axes, mean "
+              "(e/s)^2 %.2f, median error %.3f deg\n",
+              t.answered, t.trials, t.converged, t.within3, 2 * t.answered, t.mean_ratio2, t.median_error);
+  EXPECT_EQ(t.answered, t.trials);
+  EXPECT_EQ(t.converged, t.trials);
+  EXPECT_GE(t.within3, 2 * t.trials - (test::kSanitized ? 1 : 3));
+  EXPECT_GT(t.mean_ratio2, 0.5);
+  EXPECT_LT(t.mean_ratio2, test::kSanitized ? 2.5 : 1.6);
+  // And recordings without a wobble stay unfiltered, saying why.
+  std::mt19937 gen(7);
+  const JointSamples plain = recordMotion(randomHingeMotion(gen), 1000, kRateHz, test::gyroscopeNoise(0.05), gen);
+  const HingeFit f = fitHinge(plain, AxisFitOptions());
+  EXPECT_EQ(f.low_pass_hz, 0.0);
+  EXPECT_NE(f.low_pass_reason.find("no gyroscope wobbles"), std::string::npos) << f.low_pass_reason;
 }
 
 }  // namespace
