@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -42,6 +43,29 @@ namespace {
 using calibration::AxisFitOptions;
 using calibration::AxisFitSummary;
 using Json = nlohmann::ordered_json;
+
+/// The hinge fit's check across segments (calibration/hinge_segments.hpp):
+/// model_spread_deg (null when not checked), model_check, segments.
+void addModelCheck(Json& j, const calibration::ModelCheck& check) {
+  j["model_spread_deg"] = check.ran ? Json(std::max(check.spread_main_deg, check.spread_secondary_deg)) : Json(nullptr);
+  j["model_check"] = check.note;
+  Json segments = Json::array();
+  for (const calibration::SegmentFit& s : check.segments) {
+    Json seg = {{"t_start", s.t_start}, {"t_end", s.t_end}};
+    if (s.answered) {
+      seg["axis_main"] = {s.axis_main.x(), s.axis_main.y(), s.axis_main.z()};
+      seg["axis_secondary"] = {s.axis_secondary.x(), s.axis_secondary.y(), s.axis_secondary.z()};
+      seg["axis_main_sigma_deg"] = s.sigma_main_deg;
+      seg["axis_secondary_sigma_deg"] = s.sigma_secondary_deg;
+      seg["axis_main_apart_deg"] = s.apart_main_deg;
+      seg["axis_secondary_apart_deg"] = s.apart_secondary_deg;
+    } else {
+      seg["not_answered"] = s.why;
+    }
+    segments.push_back(seg);
+  }
+  j["segments"] = segments;
+}
 
 constexpr const char* kUsage =
     "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
@@ -647,6 +671,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;
       j["low_pass_hz"] = fit.low_pass_hz > 0.0 ? Json(fit.low_pass_hz) : Json(nullptr);
       j["low_pass_reason"] = fit.low_pass_reason;
+      addModelCheck(j, fit.model_check);
       if (fit.low_pass_hz > 0.0) {
         j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
         calibration::LowPassFilter filter;

@@ -104,6 +104,9 @@ struct AxisFitOptions {
   /// and low-passes by itself at a cutoff it chooses (wobble_check.hpp);
   /// false: unfiltered (`--low-pass none`).
   bool low_pass_auto = true;
+  /// The hinge fit checks its model across segments of the recording
+  /// (hinge_segments.hpp); off for the segments' own fits.
+  bool check_segments = true;
 
   /// Starts tried besides the closed-form one (which is always tried); the
   /// solution of lowest cost wins.

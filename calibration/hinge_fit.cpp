@@ -577,6 +577,17 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   fit.estimator = choice.estimator;
   fit.estimator_reason = choice.reason;
   fit.low_pass_reason = low_pass_reason;
+  if (!options.check_segments) return fit;
+  if (options.fit_time_offset) {
+    fit.model_check.note = "not checked across segments: each segment would profile its own clock offset";
+    return fit;
+  }
+  fit.model_check = checkHingeAcrossSegments(samples, chosen, fit.axis_main, fit.axis_secondary);
+  if (fit.model_check.disagree) {
+    // σ of the recording: the whole fit's and the spread one hinge leaves (hinge_segments.hpp).
+    fit.sigma_main_deg = std::hypot(fit.sigma_main_deg, fit.model_check.spread_main_deg);
+    fit.sigma_secondary_deg = std::hypot(fit.sigma_secondary_deg, fit.model_check.spread_secondary_deg);
+  }
   return fit;
 }
 

@@ -40,6 +40,7 @@
 
 #include "calibration/fit_types.hpp"
 #include "calibration/hinge_likelihood.hpp"
+#include "calibration/hinge_segments.hpp"
 #include "calibration/identifiability.hpp"
 #include "calibration/joint_samples.hpp"
 
@@ -75,6 +76,9 @@ struct HingeFit : SensorNuisanceEstimate {
   double low_pass_noise_gain = 0.0;
   /// Why that filter, or none (asked for, or the wobble check's finding).
   std::string low_pass_reason;
+  /// The model checked across segments of the recording (hinge_segments.hpp):
+  /// when they disagree, sigma_*_deg above include their spread.
+  ModelCheck model_check;
   AxisInformation information;
   AxisFitSummary summary;
   /// The estimator used (never kAuto) and why (hinge_estimator.hpp).
