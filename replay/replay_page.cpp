@@ -70,18 +70,12 @@ struct KeptColumns {
   std::vector<int> scalars;  ///< page indices of the columns offered in the chooser
 };
 
-}  // namespace
-
-std::string replayPage(const SceneDescription& scene, const RunTable& run, const ReplayOptions& options,
-                       ReplaySummary* summary) {
-  ReplaySummary s;
-  if (run.rows.empty() || run.columns.empty() || run.columns.front() != "t")
-    throw InvalidInput(run.source, "has no rows (or no t column): nothing to replay");
-  s.rows = run.total_rows;
+/// The kept columns of `run` and each body's entry of the page (its pose
+/// columns' page indices, its fixed centre); InvalidInput naming the run and
+/// the column when a body's pose columns are missing.
+KeptColumns keptColumns(const SceneDescription& scene, const RunTable& run, nlohmann::json* bodies_out) {
   std::set<std::string> body_names;
   for (const BodyDescription& b : scene.bodies) body_names.insert(b.name);
-
-  // Columns.
   KeptColumns kept;
   std::map<std::string, int> page_index;
   auto keep = [&](int c) {
@@ -90,7 +84,8 @@ std::string replayPage(const SceneDescription& scene, const RunTable& run, const
     kept.names.push_back(run.columns[c]);
   };
   keep(0);
-  nlohmann::json bodies = nlohmann::json::array();
+  nlohmann::json& bodies = *bodies_out;
+  bodies = nlohmann::json::array();
   for (const BodyDescription& b : scene.bodies) {
     nlohmann::json q = nlohmann::json::array(), x = nullptr;
     for (const char* part : {"qw", "qx", "qy", "qz"}) {
@@ -122,6 +117,68 @@ std::string replayPage(const SceneDescription& scene, const RunTable& run, const
     kept.scalars.push_back(static_cast<int>(kept.source.size()));
     keep(static_cast<int>(c));
   }
+  return kept;
+}
+
+/// three.js, its orbit controls and the mesh loaders `formats` need, as
+/// the text between one <script> element's tags (each file in its own).
+std::string inlinedScripts(const ReplayOptions& options, const std::set<std::string>& formats) {
+  std::string dir = options.three_dir;
+  if (dir.empty()) dir = std::getenv("LIEFLOW_THREE_DIR") ? std::getenv("LIEFLOW_THREE_DIR") : kThreeDir;
+  std::string scripts = readWhole(dir + "/build/three.min.js");
+  scripts += "\n</script>\n<script>\n" + scriptSafe(readWhole(dir + "/examples/js/controls/OrbitControls.js"));
+  const std::map<std::string, std::string> loaders = {
+      {"stl", "STLLoader.js"}, {"dae", "ColladaLoader.js"}, {"obj", "OBJLoader.js"}};
+  for (const std::string& format : formats)
+    scripts += "\n</script>\n<script>\n" + scriptSafe(readWhole(dir + "/examples/js/loaders/" + loaders.at(format)));
+
+  return scripts;
+}
+
+/// The page around the run's data and the scripts.
+std::string pageHtml(const std::string& title_text, const std::vector<std::string>& notes, const nlohmann::json& data,
+                     const std::string& scripts) {
+  const std::string title = htmlEscape(title_text);
+  std::string notes_html;
+  for (const std::string& n : notes) notes_html += "<li>" + htmlEscape(n) + "</li>";
+  std::ostringstream page;
+  page << "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>lieflow replay: " << title
+       << "</title>\n<style>\n" << kPlayerCss << "</style>\n</head>\n<body>\n"
+       << "<pre id=\"lieflow-errors\" hidden></pre>\n<pre id=\"lieflow-state\" hidden></pre>\n"
+       // Console errors and uncaught exceptions, kept where a test can read them.
+       << "<script>\nwindow.lieflowErrors = [];\n(function () {\n"
+          "  const keep = (m) => { window.lieflowErrors.push(m); "
+          "document.getElementById('lieflow-errors').textContent = window.lieflowErrors.join('\\n'); };\n"
+          "  const original = console.error;\n"
+          "  console.error = function (...a) { keep('console.error: ' + a.join(' ')); original.apply(console, a); };\n"
+          "  window.addEventListener('error', (e) => keep('uncaught: ' + e.message));\n})();\n</script>\n"
+       << "<header><strong>" << title << "</strong> <span class=\"dim\">lieflow replay</span>"
+       << "<details><summary>notes</summary><ul id=\"notes\">" << notes_html << "</ul></details></header>\n"
+       << "<div id=\"view\"></div>\n"
+       << "<footer><button id=\"play\">play</button>"
+          "<label>speed <select id=\"speed\"><option>0.1</option><option>0.25</option><option>0.5</option>"
+          "<option selected>1</option><option>2</option><option>5</option><option>10</option></select></label>"
+          "<input id=\"slider\" type=\"range\" min=\"0\" value=\"0\" step=\"1\">"
+          "<span id=\"clock\"></span>"
+          "<label>column <select id=\"column\"></select></label><span id=\"reading\"></span>"
+          "<label><input id=\"trails\" type=\"checkbox\"> trails</label>"
+          "<label><input id=\"joints\" type=\"checkbox\" checked> joints</label></footer>\n"
+       << "<script id=\"lieflow-run\" type=\"application/json\">" << scriptSafe(data.dump()) << "</script>\n"
+       << "<script>\n" << scripts << "\n</script>\n<script>\n" << scriptSafe(kPlayerJs) << "\n</script>\n"
+       << "</body>\n</html>\n";
+  return page.str();
+}
+
+}  // namespace
+
+std::string replayPage(const SceneDescription& scene, const RunTable& run, const ReplayOptions& options,
+                       ReplaySummary* summary) {
+  ReplaySummary s;
+  if (run.rows.empty() || run.columns.empty() || run.columns.front() != "t")
+    throw InvalidInput(run.source, "has no rows (or no t column): nothing to replay");
+  s.rows = run.total_rows;
+  nlohmann::json bodies;
+  const KeptColumns kept = keptColumns(scene, run, &bodies);
   s.columns = kept.source.size();
   s.left_out = run.columns.size() - kept.source.size();
 
@@ -185,45 +242,9 @@ std::string replayPage(const SceneDescription& scene, const RunTable& run, const
                                {"centre", {centre.x(), centre.y(), centre.z()}},
                                {"grid", {{"size", grid}, {"divisions", 20}}}};
 
-  std::string dir = options.three_dir;
-  if (dir.empty()) dir = std::getenv("LIEFLOW_THREE_DIR") ? std::getenv("LIEFLOW_THREE_DIR") : kThreeDir;
-  std::string scripts = readWhole(dir + "/build/three.min.js");
-  scripts += "\n</script>\n<script>\n" + scriptSafe(readWhole(dir + "/examples/js/controls/OrbitControls.js"));
-  const std::map<std::string, std::string> loaders = {
-      {"stl", "STLLoader.js"}, {"dae", "ColladaLoader.js"}, {"obj", "OBJLoader.js"}};
-  for (const std::string& format : budget.formats)
-    scripts += "\n</script>\n<script>\n" + scriptSafe(readWhole(dir + "/examples/js/loaders/" + loaders.at(format)));
-
-  const std::string title = htmlEscape(options.title.empty() ? scene.name : options.title);
-  std::string notes_html;
-  for (const std::string& n : notes) notes_html += "<li>" + htmlEscape(n) + "</li>";
-  std::ostringstream page;
-  page << "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>lieflow replay: " << title
-       << "</title>\n<style>\n" << kPlayerCss << "</style>\n</head>\n<body>\n"
-       << "<pre id=\"lieflow-errors\" hidden></pre>\n<pre id=\"lieflow-state\" hidden></pre>\n"
-       // Console errors and uncaught exceptions, kept where a test can read them.
-       << "<script>\nwindow.lieflowErrors = [];\n(function () {\n"
-          "  const keep = (m) => { window.lieflowErrors.push(m); "
-          "document.getElementById('lieflow-errors').textContent = window.lieflowErrors.join('\\n'); };\n"
-          "  const original = console.error;\n"
-          "  console.error = function (...a) { keep('console.error: ' + a.join(' ')); original.apply(console, a); };\n"
-          "  window.addEventListener('error', (e) => keep('uncaught: ' + e.message));\n})();\n</script>\n"
-       << "<header><strong>" << title << "</strong> <span class=\"dim\">lieflow replay</span>"
-       << "<details><summary>notes</summary><ul id=\"notes\">" << notes_html << "</ul></details></header>\n"
-       << "<div id=\"view\"></div>\n"
-       << "<footer><button id=\"play\">play</button>"
-          "<label>speed <select id=\"speed\"><option>0.1</option><option>0.25</option><option>0.5</option>"
-          "<option selected>1</option><option>2</option><option>5</option><option>10</option></select></label>"
-          "<input id=\"slider\" type=\"range\" min=\"0\" value=\"0\" step=\"1\">"
-          "<span id=\"clock\"></span>"
-          "<label>column <select id=\"column\"></select></label><span id=\"reading\"></span>"
-          "<label><input id=\"trails\" type=\"checkbox\"> trails</label>"
-          "<label><input id=\"joints\" type=\"checkbox\" checked> joints</label></footer>\n"
-       << "<script id=\"lieflow-run\" type=\"application/json\">" << scriptSafe(data.dump()) << "</script>\n"
-       << "<script>\n" << scripts << "\n</script>\n<script>\n" << scriptSafe(kPlayerJs) << "\n</script>\n"
-       << "</body>\n</html>\n";
+  const std::string scripts = inlinedScripts(options, budget.formats);
+  std::string out = pageHtml(options.title.empty() ? scene.name : options.title, notes, data, scripts);
   s.notes = notes;
-  std::string out = page.str();
   s.bytes = out.size();
   if (summary) *summary = s;
   return out;
