@@ -5,6 +5,7 @@
 
 #include "calibration/hinge_fit.hpp"
 #include "calibration/identifiability.hpp"
+#include "calibration/unit_axis.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/number_text.hpp"
 
@@ -12,12 +13,6 @@ namespace lieflow {
 namespace calibration {
 
 namespace {
-
-constexpr double kDeg = 180.0 / 3.14159265358979323846;
-
-double lineAngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), std::abs(a.dot(b))) * kDeg;
-}
 
 template <class T>
 std::vector<T> slice(const std::vector<T>& v, int begin, int end) {
@@ -68,8 +63,8 @@ ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOp
       seg.axis_secondary = f.axis_secondary;
       seg.sigma_main_deg = f.sigma_main_deg;
       seg.sigma_secondary_deg = f.sigma_secondary_deg;
-      seg.apart_main_deg = lineAngleDeg(f.axis_main, axis_main);
-      seg.apart_secondary_deg = lineAngleDeg(f.axis_secondary, axis_secondary);
+      seg.apart_main_deg = angleBetweenLines(f.axis_main, axis_main) * kRadToDeg;
+      seg.apart_secondary_deg = angleBetweenLines(f.axis_secondary, axis_secondary) * kRadToDeg;
       const double d[2] = {seg.apart_main_deg, seg.apart_secondary_deg};
       const double s[2] = {seg.sigma_main_deg, seg.sigma_secondary_deg};
       for (int a = 0; a < 2; ++a) {

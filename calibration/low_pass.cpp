@@ -122,6 +122,14 @@ JointSamples slice(const JointSamples& s, int from, int to) {
 
 }  // namespace
 
+int firstUnevenInterval(const std::vector<double>& t) {
+  if (t.size() < 2) return -1;
+  const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    if (!(std::abs(t[k + 1] - t[k] - h) <= kLowPassUniformSampling * h)) return static_cast<int>(k);
+  return -1;
+}
+
 JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field, LowPassFilter* filter_out,
                        JointSamples* unfiltered) {
   const std::vector<double>& t = samples.time;
@@ -129,12 +137,11 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
     throw InvalidInput(samples.source, std::string(field) + ": the cutoff must be a positive frequency in Hz");
   if (t.size() < 4) throw InvalidInput(samples.source, std::string(field) + " needs at least 4 samples");
   const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
-  for (std::size_t k = 0; k + 1 < t.size(); ++k)
-    if (std::abs(t[k + 1] - t[k] - h) > kLowPassUniformSampling * h)
-      throw InvalidInput(samples.source, std::string(field) + " needs uniformly sampled times: t[" +
-                                             std::to_string(k + 1) + "] - t[" + std::to_string(k) +
-                                             "] differs from the mean interval by more than " +
-                                             formatNumber(kLowPassUniformSampling) + " of it");
+  if (const int k = firstUnevenInterval(t); k >= 0)
+    throw InvalidInput(samples.source, std::string(field) + " needs uniformly sampled times: t[" +
+                                           std::to_string(k + 1) + "] - t[" + std::to_string(k) +
+                                           "] differs from the mean interval by more than " +
+                                           formatNumber(kLowPassUniformSampling) + " of it");
   const double rate = 1.0 / h;
   if (cutoff_hz >= kMaxLowPassNyquistFraction * 0.5 * rate)
     throw InvalidInput(samples.source, std::string(field) + " " + formatNumber(cutoff_hz) +

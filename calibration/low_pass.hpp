@@ -40,6 +40,10 @@ constexpr double kMaxLowPassNyquistFraction = 0.8;
 /// Largest relative spread of the sampling interval a filtered recording may have.
 constexpr double kLowPassUniformSampling = 1e-3;
 
+/// The first k whose interval t[k+1] − t[k] differs from the mean interval by
+/// more than kLowPassUniformSampling of it, or −1 (uniformly sampled).
+int firstUnevenInterval(const std::vector<double>& t);
+
 /// The cascade of two biquads y_k = b₀x_k + b₁x_{k−1} + b₂x_{k−2} − a₁y_{k−1} − a₂y_{k−2}.
 struct LowPassFilter {
   struct Section {

@@ -36,11 +36,10 @@ LowPassChoice chooseLowPass(const JointSamples& samples) {
   }
   const std::vector<double>& t = samples.time;
   const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
-  for (std::size_t k = 0; k + 1 < t.size(); ++k)
-    if (!(std::abs(t[k + 1] - t[k] - h) <= kLowPassUniformSampling * h)) {
-      none.reason = "no filter: the sampling is not uniform, so the wobble check cannot run";
-      return none;
-    }
+  if (firstUnevenInterval(t) >= 0) {
+    none.reason = "no filter: the sampling is not uniform, so the wobble check cannot run";
+    return none;
+  }
   const double rate = 1.0 / h;
   const std::size_t trim = static_cast<std::size_t>(std::ceil(kLowPassTrimPeriods * rate / kWobbleCutoffHz));
   if (!(kWobbleSplitHz < kMaxLowPassNyquistFraction * rate / 2.0) || samples.size() < static_cast<int>(4 * trim + 20)) {

@@ -57,13 +57,6 @@ class MessageCapture : public console_bridge::OutputHandler {
   std::string errors;
 };
 
-Eigen::Isometry3d isometry(const urdf::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return T;
-}
-
 /// What lieflow does not represent, from the elements themselves: <collision>
 /// (contacts), <limit lower upper> of revolute and prismatic joints and
 /// <safety_controller> (limits), <dynamics friction> (friction),
@@ -303,7 +296,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
     l.orientation = Eigen::Quaterniond(T.linear());
     l.visuals = urdfLinkShapes(*link, T, path);
     if (const urdf::InertialSharedPtr& in = link->inertial) {
-      const Eigen::Isometry3d Ti = T * isometry(in->origin);
+      const Eigen::Isometry3d Ti = T * urdfIsometry(in->origin);
       Eigen::Matrix3d I;
       I << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
       if (!(std::isfinite(in->mass) && in->mass >= 0.0) || !I.allFinite())
@@ -350,7 +343,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       const urdf::LinkConstSharedPtr child = robot->getLink(j->child_link_name);
       const int jline = xml.line("joint", j->name);
       if (!child) throw InvalidInput(path + ": " + elementLabel("joint", j->name, jline), "has no child link");
-      const Eigen::Isometry3d T = frame[link->name] * isometry(j->parent_to_joint_origin_transform);
+      const Eigen::Isometry3d T = frame[link->name] * urdfIsometry(j->parent_to_joint_origin_transform);
       frame[child->name] = T;
       index[child->name] = static_cast<int>(model.links.size());
       model.links.push_back(linkAt(child, T));

@@ -23,19 +23,12 @@ std::string folderOf(const std::string& path) {
   return slash == std::string::npos ? std::string(".") : slash == 0 ? std::string("/") : path.substr(0, slash);
 }
 
-Eigen::Isometry3d isometryOf(const urdf::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return T;
-}
-
 /// One <visual> or <collision> element's shape, or false when its geometry
 /// is missing or not finite.
 template <class Element>
 bool shapeOf(const Element& e, const Eigen::Isometry3d& T, const std::string& urdf_path, VisualShape* s) {
   if (!e.geometry) return false;
-  const Eigen::Isometry3d Tw = T * isometryOf(e.origin);
+  const Eigen::Isometry3d Tw = T * urdfIsometry(e.origin);
   s->position = Tw.translation();
   s->orientation = Eigen::Quaterniond(Tw.linear()).normalized();
   switch (e.geometry->type) {
@@ -71,6 +64,13 @@ bool shapeOf(const Element& e, const Eigen::Isometry3d& T, const std::string& ur
 }
 
 }  // namespace
+
+Eigen::Isometry3d urdfIsometry(const urdf::Pose& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  return T;
+}
 
 std::string resolveUrdfMesh(const std::string& filename, const std::string& urdf_path) {
   const std::string package = "package://", file = "file://";

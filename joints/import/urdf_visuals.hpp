@@ -23,6 +23,9 @@ namespace model_import {
 std::vector<VisualShape> urdfLinkShapes(const urdf::Link& link, const Eigen::Isometry3d& T,
                                         const std::string& urdf_path);
 
+/// A URDF <origin> (or urdfdom pose) as an isometry, its quaternion normalized.
+Eigen::Isometry3d urdfIsometry(const urdf::Pose& p);
+
 /// The file a URDF mesh name refers to, or "" when none exists.
 std::string resolveUrdfMesh(const std::string& filename, const std::string& urdf_path);
 
