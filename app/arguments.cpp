@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 #include "liegroup/input_number.hpp"
 
 namespace lieflow {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "joints/import/import_options.hpp"
-#include "joints/resource_limits.hpp"
-#include "joints/scene.hpp"
+#include "model/import/import_options.hpp"
+#include "model/resource_limits.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace app {
@@ -55,7 +55,7 @@ double parseNumber(const std::string& what, const std::string& text);
 /// parseNumber, and positive.
 double parsePositiveNumber(const std::string& what, const std::string& text);
 
-/// The resource limits (joints/resource_limits.hpp) raised by the options
+/// The resource limits (model/resource_limits.hpp) raised by the options
 /// --max-steps, --max-input-mb, --max-bodies, --max-rows, --max-substeps,
 /// where `args` has them.
 ResourceLimits resourceLimitsFrom(const Arguments& args);

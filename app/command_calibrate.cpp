@@ -33,8 +33,8 @@
 #include "calibration/unit_axis.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/universal_fit.hpp"
-#include "joints/grounded_joint_scene.hpp"
-#include "joints/scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace app {

@@ -1,6 +1,6 @@
 /// \file
 /// `lieflow import MODEL [--out SCENE.json] [--ignore LIST] [--keyframe K]`: a MuJoCo MJCF
-/// or URDF model as the lieflow scene it becomes (joints/import/), written so
+/// or URDF model as the lieflow scene it becomes (model/import/), written so
 /// that it can be read and edited, then run like any scene file.
 #include <iostream>
 
@@ -8,8 +8,8 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/output_files.hpp"
-#include "joints/import/model_import.hpp"
-#include "joints/scene_writer.hpp"
+#include "model/import/model_import.hpp"
+#include "model/scene_writer.hpp"
 
 namespace lieflow {
 namespace app {

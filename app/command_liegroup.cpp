@@ -5,7 +5,7 @@
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
-#include "bench/support/liegroup_measure.hpp"
+#include "liegroup_measure/liegroup_measure.hpp"
 
 namespace lieflow {
 namespace app {

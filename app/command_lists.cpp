@@ -8,8 +8,8 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "integrators/registry.hpp"
-#include "joints/scene.hpp"
-#include "joints/stepper_table.hpp"
+#include "model/scene.hpp"
+#include "simulation/stepper_table.hpp"
 
 namespace lieflow {
 namespace app {

@@ -18,7 +18,7 @@
 #include "app/replay_output.hpp"
 #include "app/run_setup.hpp"
 #include "app/simulate_request.hpp"
-#include "joints/simulation.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/number_text.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 #include "replay/replay_page.hpp"
 #include "replay/run_table.hpp"
 

@@ -10,7 +10,7 @@
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "integrators/registry.hpp"
-#include "joints/scene_time_scale.hpp"
+#include "model/scene_time_scale.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/number_text.hpp"
 
@@ -47,7 +47,7 @@ nlohmann::ordered_json statsJson(const SimulationResult& r) {
   j["constraint_error"] = r.constraint_error;
   j["newton_iterations_mean"] = r.implicit ? nlohmann::ordered_json(r.newton_iterations_mean) : nlohmann::ordered_json(nullptr);
   // Each conserved quantity of the scene with its maximal relative drift
-  // (joints/invariants.hpp); null values when the run failed.
+  // (simulation/invariants.hpp); null values when the run failed.
   nlohmann::ordered_json invariants = nlohmann::ordered_json::object();
   for (const auto& inv : r.invariants) invariants[inv.first] = r.failed ? none : nlohmann::ordered_json(inv.second);
   j["invariants"] = invariants;

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
-#include "joints/simulation.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace app {

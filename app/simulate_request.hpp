@@ -13,7 +13,7 @@
 
 #include "app/arguments.hpp"
 #include "app/recording_noise.hpp"
-#include "joints/simulation.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace app {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "joints/scene_time_scale.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene_time_scale.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace app {

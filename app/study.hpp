@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "joints/import/import_options.hpp"
-#include "joints/simulation.hpp"
+#include "model/import/import_options.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace app {
@@ -41,7 +41,7 @@ struct StudyOptions {
   std::map<std::string, double> integrator_options;
   long max_steps = kMaxSteps;
   /// --with-mujoco: the MJCF model the scene was imported from and how
-  /// (--ignore, --keyframe); MuJoCo's integrators (joints/import/mujoco_peer.hpp)
+  /// (--ignore, --keyframe); MuJoCo's integrators (peers/mujoco/mujoco_peer.hpp)
   /// then run beside lieflow's at the same steps. Empty: no MuJoCo rows.
   std::string mujoco_model;
   ModelImportOptions mujoco_import;
@@ -101,7 +101,7 @@ struct StudyResult {
   std::vector<StudyRow> rows;
   std::vector<DriftSample> drift;
   bool momentum_conserved = false;
-  /// The scene's conserved quantities (joints/invariants.hpp).
+  /// The scene's conserved quantities (simulation/invariants.hpp).
   std::vector<std::string> invariant_names;
   /// Runs whose timing hit max_repeats before min_timing_seconds were spent.
   int capped_timings = 0;

@@ -5,7 +5,7 @@
 #include "app/cli.hpp"
 #include "app/run_setup.hpp"
 #include "app/simulate_request.hpp"
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 
 namespace lieflow {
 namespace app {

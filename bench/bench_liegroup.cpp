@@ -1,7 +1,7 @@
 /// \file
 /// bench_liegroup: Google Benchmark micro-benchmarks of liegroup/, each
 /// lieflow operation registered right beside its Eigen baseline (what each
-/// baseline computes: bench/support/speed_cases.hpp and bench/README.md).
+/// baseline computes: liegroup_measure/speed_cases.hpp and bench/README.md).
 ///
 /// After Google Benchmark's own table it prints, for each lieflow operation,
 /// the ratio of its CPU time to its baseline's in this run (median over
@@ -21,9 +21,9 @@
 
 #include "bench/benchmark_support.hpp"
 
-#include "bench/support/liegroup_measure.hpp"
-#include "bench/support/markdown_table.hpp"
-#include "bench/support/speed_cases.hpp"
+#include "liegroup_measure/liegroup_measure.hpp"
+#include "liegroup_measure/markdown_table.hpp"
+#include "liegroup_measure/speed_cases.hpp"
 
 namespace {
 
@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("lieflow_build", lieflow::measure::buildDescription());
   benchmark::AddCustomContext(
       "lieflow_inputs", std::to_string(SpeedInputs::kSize) +
-                            " random elements per array, cycled (bench/support/speed_cases.hpp)");
+                            " random elements per array, cycled (liegroup_measure/speed_cases.hpp)");
   const bool color = isatty(fileno(stdout)) != 0;
   RatioReporter reporter(color ? benchmark::ConsoleReporter::OO_ColorTabular
                                : benchmark::ConsoleReporter::OO_Tabular,

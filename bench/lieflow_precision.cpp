@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/support/liegroup_measure.hpp"
+#include "liegroup_measure/liegroup_measure.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 /// ground, in joint coordinates and in any scalar (double or ceres::Jet), for
 /// the spring/dashpot fit of whole mechanisms (mechanism_spring_fit.hpp). The
 /// geometry comes from the joint formulation's model
-/// (joints/articulated/articulated_model.hpp), whose double-only
+/// (dynamics/joint_space/articulated_model.hpp), whose double-only
 /// articulated-body algorithm is the simulator's; this one is written for
 /// small trees and derivatives, and checked against it
 /// (tests/calibration/mechanism_spring_test.cpp).
@@ -44,7 +44,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
-#include "joints/articulated/articulated_model.hpp"
+#include "dynamics/joint_space/articulated_model.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/so3.hpp"
 

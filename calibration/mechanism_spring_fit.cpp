@@ -18,7 +18,7 @@
 #include "calibration/mechanism_spring_start.hpp"
 #include "calibration/spring_data.hpp"
 #include "calibration/unit_axis.hpp"
-#include "joints/articulated_scene.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/input_number.hpp"
 
@@ -121,7 +121,7 @@ MechanismSpringFit fitMechanismSprings(const SceneDescription& scene, const Reco
     const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
     const std::string& joint = scene.joints[static_cast<std::size_t>(b.scene_joint)].name;
     for (int k = 0; k < b.coordinates(); ++k) {
-      const multibody::CoordinateDrive& d = model.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+      const CoordinateDrive& d = model.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
       const int j = b.q_begin + k;
       p.scene_forces.stiffness.push_back(d.stiffness);
       p.scene_forces.damping.push_back(d.damping);

@@ -31,8 +31,8 @@
 
 #include "calibration/fit_progress.hpp"
 #include "calibration/recording.hpp"
-#include "joints/resource_limits.hpp"
-#include "joints/scene.hpp"
+#include "model/resource_limits.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace calibration {

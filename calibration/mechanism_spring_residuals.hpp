@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 
 #include "calibration/mechanism_dynamics.hpp"
-#include "joints/articulated/articulated_model.hpp"
+#include "dynamics/joint_space/articulated_model.hpp"
 
 namespace lieflow {
 namespace calibration {

@@ -27,7 +27,7 @@
 
 #include <Eigen/Core>
 
-#include "joints/articulated/articulated_model.hpp"
+#include "dynamics/joint_space/articulated_model.hpp"
 
 namespace lieflow {
 namespace calibration {

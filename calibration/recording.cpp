@@ -1,7 +1,7 @@
 #include "calibration/recording.hpp"
 
-#include "joints/input_file.hpp"
-#include "joints/scene.hpp"
+#include "model/input_file.hpp"
+#include "model/scene.hpp"
 
 #include <array>
 #include <cmath>

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "calibration/joint_samples.hpp"
-#include "joints/resource_limits.hpp"
+#include "model/resource_limits.hpp"
 
 namespace lieflow {
 namespace calibration {

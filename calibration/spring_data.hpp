@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "calibration/recording.hpp"
-#include "joints/grounded_joint_scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
 
 namespace lieflow {
 namespace calibration {

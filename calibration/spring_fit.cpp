@@ -97,7 +97,7 @@ SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& mode
   out.integrator = o.integrator;
 
   // --- Start -----------------------------------------------------------
-  const multibody::CoordinateDrive& scene = joint.drives[ic];
+  const CoordinateDrive& scene = joint.drives[ic];
   const bool need_estimate = !o.stiffness_start || (!o.damping_start && !o.hold_damping) ||
                              (o.fit_rest_angle && !o.rest_angle_start);
   const SpringStart est = need_estimate ? estimateSpringStart(joint, data, ic) : SpringStart{};

@@ -2,9 +2,9 @@
 /// `lieflow calibrate spring`: the stiffness k, damping c and optionally the
 /// rest angle φ₀ of one coordinate of a revolute or universal joint, from its
 /// recorded angle, with the rest of the mechanism taken from a scene
-/// (joints/grounded_joint_scene.hpp: one body on the joint to ground).
+/// (calibration/grounded_joint_scene.hpp: one body on the joint to ground).
 ///
-/// Model: the reduced equations of joints/grounded_joint_system.hpp, advanced
+/// Model: the reduced equations of calibration/grounded_joint_system.hpp, advanced
 /// between samples by lieflow's RKMK stepper (integrators/rkmk.hpp) with
 /// `substeps` steps per sample interval, in ceres::Jet arithmetic, so that
 /// the derivatives with respect to (k, c, φ₀) and the initial states are
@@ -29,14 +29,14 @@
 #include <optional>
 
 #include "calibration/fit_progress.hpp"
-#include "joints/resource_limits.hpp"
+#include "model/resource_limits.hpp"
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "calibration/spring_data.hpp"
-#include "joints/grounded_joint_scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
 
 namespace lieflow {
 namespace calibration {

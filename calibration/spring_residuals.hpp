@@ -18,7 +18,7 @@
 #include "calibration/spring_data.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/grounded_joint_system.hpp"
+#include "calibration/grounded_joint_system.hpp"
 
 namespace lieflow {
 namespace calibration {

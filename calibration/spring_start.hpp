@@ -20,7 +20,7 @@
 #include <string>
 
 #include "calibration/spring_data.hpp"
-#include "joints/grounded_joint_scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
 
 namespace lieflow {
 namespace calibration {

@@ -3,7 +3,7 @@
 #include <random>
 #include <vector>
 
-#include "joints/simulation.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {

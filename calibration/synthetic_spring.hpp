@@ -9,7 +9,7 @@
 #include <string>
 
 #include "calibration/spring_data.hpp"
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace calibration {

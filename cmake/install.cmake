@@ -2,15 +2,17 @@
 # as <liegroup/so3.hpp>, <integrators/rkmk.hpp>, ... exactly as inside the
 # tree), the libraries, the `lieflow` command, the built-in scenes, the plot
 # scripts and the CMake package (lieflowConfig.cmake, version file, exported
-# targets lieflow::liegroup, ::integrators, ::joints, ::calibration).
+# targets lieflow::liegroup, ::integrators, ::model, ::dynamics, ::simulation,
+# ::joints (all three), ::calibration).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(LIEFLOW_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/lieflow)
 set(LIEFLOW_INSTALL_INCLUDEDIR ${CMAKE_INSTALL_INCLUDEDIR}/lieflow)
 
-set(_lieflow_exported lieflow_liegroup lieflow_integrators lieflow_joints)
-set(_lieflow_header_dirs liegroup integrators joints)
+set(_lieflow_exported lieflow_liegroup lieflow_integrators lieflow_model lieflow_dynamics lieflow_simulation
+    lieflow_joints)
+set(_lieflow_header_dirs liegroup integrators model dynamics simulation)
 if(LIEFLOW_HAVE_CERES)
   list(APPEND _lieflow_exported lieflow_calibration)
   list(APPEND _lieflow_header_dirs calibration)

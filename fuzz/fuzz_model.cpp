@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace {

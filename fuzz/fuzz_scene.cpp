@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

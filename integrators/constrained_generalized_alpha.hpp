@@ -47,7 +47,7 @@
 ///   [ γ' B                     0  ]            [ Bu − b ]
 /// with C_t = ∂g/∂u and K_t = ∂(g + Jᵀλ)/∂δq; what the System puts into them
 /// (and what it leaves out) is documented with its assembly
-/// (joints/multibody/kkt_assembly.hpp: spring, dashpot, gyroscopic and
+/// (dynamics/maximal/kkt_assembly.hpp: spring, dashpot, gyroscopic and
 /// constraint-force terms). Conditioning (Bottasso, Bauchau & Cardona 2007,
 /// SIAM J. Sci. Comput. 29, 397–414; BCA 2012): the first block row is divided
 /// by β' and the unknown λ scaled by β', the velocity rows divided by γ':
@@ -91,7 +91,7 @@
 /// scenes for 100 s with bounded energy, where index 3 stops within seconds.
 /// Newton runs on (ΔQ, Δλ, Δν) with ΔQ = ΔΔ + M⁻¹ J̄ᵀ Δν the correction of
 /// the whole position increment; the matrix and its sparsity are documented
-/// with the assembly (joints/multibody/kkt_assembly.hpp).
+/// with the assembly (dynamics/maximal/kkt_assembly.hpp).
 ///
 /// ## Numerical damping at index 3
 /// ρ∞ < 1 damps the modes with hω ≫ 1 (stiff springs, the spurious
@@ -129,7 +129,7 @@
 /// double tolerance) const` (the tolerance raised to the round-off floor of
 /// the state's positions). A System plugs in through ConstrainedSystemTraits<System>::Assembly, a
 /// default-constructible class specialized next to the system (for
-/// multibody::MultibodySystem: joints/multibody/kkt_assembly.hpp) with
+/// multibody::MultibodySystem: dynamics/maximal/kkt_assembly.hpp) with
 ///   using State;                    // State::Scalar is double
 ///   bool bind(const System& s);    // keep a reference to s and (re)build
 ///                                  // the sparse pattern if s's topology

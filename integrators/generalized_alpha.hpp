@@ -10,9 +10,11 @@
 ///     M(q) v̇ + g(q, v, t) = 0,     q̇ = q · v   (right trivialization),
 /// with q on a Lie group G of dimension n and the velocity v ∈ ℝⁿ, on a State
 /// whose Tangent is lieflow's [δq (n); δv (n)]. A system plugs in through two
-/// traits, specialized here for RotorSystem, FreeBodySystem and
-/// LinearSecondOrderSystem (integrators/vector_state.hpp); a new system
-/// specializes them next to its own definition:
+/// traits (integrators/second_order_traits.hpp), specialized for
+/// LinearSecondOrderSystem (integrators/vector_state.hpp) there and for
+/// RotorSystem and FreeBodySystem beside them
+/// (dynamics/rigid_body/rigid_body_system.hpp); a new system specializes
+/// them next to its own definition:
 ///
 ///   SecondOrderStateTraits<State>: the geometry of the state.
 ///     using Scalar; using State; static constexpr int kDof = n;
@@ -43,7 +45,7 @@
 ///         matrix is then factored block by block, Σ nᵢ³ instead of (Σ nᵢ)³
 ///         (MuJoCo's 22 humanoids: 22 blocks of 27, not one of 594).
 ///
-/// Rigid bodies (integrators/rigid_body_system.hpp):
+/// Rigid bodies (dynamics/rigid_body/rigid_body_system.hpp):
 ///   RotorSystem (q = R, v = ω):  M = J,  g = ω × Jω − τ(t, R),
 ///     C_t = ω^ J − (Jω)^,  K_t = −∂τ/∂δθ = −torqueJacobian,  T = Jr.
 ///   FreeBodySystem (q = (p, R), v = (v_world, ω_body)): adds m v̇ − F(t) = 0,

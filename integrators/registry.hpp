@@ -2,7 +2,7 @@
 /// The integrators the `lieflow` command knows, with their order and
 /// properties (what `lieflow integrators` prints). Pure data: the stepper each
 /// one builds on each kind of system is its row of the table of steppers
-/// (joints/stepper_table_rows.hpp, in this order).
+/// (simulation/stepper_table_rows.hpp, in this order).
 #pragma once
 
 #include <cmath>
@@ -52,7 +52,7 @@ struct IntegratorInfo {
   std::string description;
   /// How it runs scenes with joints in maximal coordinates, where it does
   /// (which system kinds it runs at all is the table of steppers',
-  /// joints/stepper_table.hpp).
+  /// simulation/stepper_table.hpp).
   std::string joints_note;
 
   const IntegratorOption* option(const std::string& key) const {

@@ -3,8 +3,9 @@
 /// a state and a system — SecondOrderStateTraits<State> (the geometry) and
 /// SecondOrderSystemTraits<System> (M(q) v̇ + g(q, v, t) = 0 and its tangent
 /// matrices); their contract is in generalized_alpha.hpp's file comment — and
-/// their specializations for RotorSystem, FreeBodySystem and
-/// LinearSecondOrderSystem.
+/// their specializations for the states of integrators/ and for
+/// LinearSecondOrderSystem (the rigid-body systems specialize theirs in
+/// dynamics/rigid_body/rigid_body_system.hpp).
 #pragma once
 
 #include <algorithm>
@@ -17,7 +18,6 @@
 #include <Eigen/LU>
 
 #include "integrators/rigid_body_state.hpp"
-#include "integrators/rigid_body_system.hpp"
 #include "integrators/step_report.hpp"
 #include "integrators/vector_state.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -162,56 +162,6 @@ struct SecondOrderStateTraits<VectorState<T, N>> {
 };
 
 // ---- equations of motion -------------------------------------------------------
-
-/// J ω̇ + ω × Jω − τ(t, R) = 0.
-template <typename T>
-struct SecondOrderSystemTraits<RotorSystem<T>> {
-  using Scalar = T;
-  using State = RotorState<T>;
-  using Vector = Vector3<T>;
-  using Matrix = Matrix3<T>;
-
-  // Always inlined into the stepper's Newton loop: called there, the matrices
-  // stay in registers (out of line: heavy-top's genalpha step 5 % slower).
-  EIGEN_ALWAYS_INLINE static void evaluate(const RotorSystem<T>& s, const T& t, const State& y, Matrix* M, Vector* g,
-                                           Matrix* Ct, Matrix* Kt) {
-    const Matrix3<T>& J = s.inertia();
-    const Vector3<T> Jw = J * y.omega;
-    *M = J;
-    *g = y.omega.cross(Jw) - s.externalTorque(t, y.R);
-    // ∂(ω × Jω)/∂ω = ω^ J − (Jω)^.
-    if (Ct) *Ct = SO3<T>::hat(y.omega) * J - SO3<T>::hat(Jw);
-    if (Kt) *Kt = -s.torqueJacobian(t, y.R);
-  }
-};
-
-/// m v̇ − F(t) = 0 (world frame) and J ω̇ + ω × Jω − τ(t, R) = 0 (body frame).
-template <typename T>
-struct SecondOrderSystemTraits<FreeBodySystem<T>> {
-  using Scalar = T;
-  using State = FreeBodyState<T>;
-  using Vector = Vector6<T>;
-  using Matrix = Matrix6<T>;
-
-  EIGEN_ALWAYS_INLINE static void evaluate(const FreeBodySystem<T>& s, const T& t, const State& y, Matrix* M,
-                                           Vector* g, Matrix* Ct, Matrix* Kt) {
-    const Matrix3<T>& J = s.inertia();
-    const Vector3<T> Jw = J * y.omega;
-    M->setZero();
-    M->template topLeftCorner<3, 3>() = s.mass() * Matrix3<T>::Identity();
-    M->template bottomRightCorner<3, 3>() = J;
-    g->template head<3>() = -s.force(t);
-    g->template tail<3>() = y.omega.cross(Jw) - s.externalTorque(t, y.R);
-    if (Ct) {
-      Ct->setZero();
-      Ct->template bottomRightCorner<3, 3>() = SO3<T>::hat(y.omega) * J - SO3<T>::hat(Jw);
-    }
-    if (Kt) {
-      Kt->setZero();
-      Kt->template bottomRightCorner<3, 3>() = -s.torqueJacobian(t, y.R);
-    }
-  }
-};
 
 /// M ẍ + C ẋ + K x − f(t) = 0.
 template <typename T, int N>

@@ -4,7 +4,7 @@
 /// poses the run's CSV holds, with the joints' anchors and axes, the ground
 /// frame, trails of the centres of mass, play/pause, speed, a time slider and
 /// one chosen column's value. Bodies are drawn as the scene gives their
-/// shapes (model files: joints/visual_shape.hpp), otherwise as the box with
+/// shapes (model files: model/visual_shape.hpp), otherwise as the box with
 /// their inertia (the solid box of the same mass and principal moments).
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 #include "replay/run_table.hpp"
 
 namespace lieflow {

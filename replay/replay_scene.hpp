@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace replay {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "joints/resource_limits.hpp"
+#include "model/resource_limits.hpp"
 
 namespace lieflow {
 namespace replay {

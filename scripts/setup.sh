@@ -17,7 +17,7 @@ packages=(
   python3-pytest python3-distributed            # its tests; sweeps on Dask (lieflow.sweep)
   python3-venv python3-setuptools python3-wheel # pip install . (pyproject.toml, setup.py) and its test
   python3-pip                                   # the same into the system's layout
-  libmujoco-dev libmujoco-samples               # MJCF models (joints/import/) and the MuJoCo peer of bench/
+  libmujoco-dev libmujoco-samples               # MJCF models (model/import/) and the MuJoCo peer of bench/
   liburdfdom-dev libtinyxml2-dev                # URDF models; element lines for both importers
   libjs-three                                   # three.js, inlined in replay pages (lieflow view)
   chromium                                      # the replay's browser test (headless)

@@ -1,7 +1,7 @@
 /// Tests of the exact free rigid-body flow against independent references: a
 /// high-order Taylor-series integrator of the equations of motion written here, the
 /// closed-form Abaqus benchmark, conservation laws and the group property of the flow.
-#include "integrators/exact_free_body.hpp"
+#include "dynamics/rigid_body/exact_free_body.hpp"
 
 #include <gtest/gtest.h>
 

@@ -17,8 +17,8 @@
 #include "bench/benchmark_support.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/synthetic_spring.hpp"
-#include "joints/grounded_joint_scene.hpp"
-#include "joints/scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
+#include "model/scene.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 /// from the initial state every kStepsPerRestart = 1000 steps (1 s of motion
 /// at h = 1e-3) so that no run drifts far from the scene; the restart costs
 /// a state copy per 1000 steps. "simulate_1000/…" times Simulation::run
-/// (joints/simulation.hpp) of the same body as a scene for 1000 steps with
+/// (simulation/simulation.hpp) of the same body as a scene for 1000 steps with
 /// diagnostics off: the driver path the `lieflow` command uses.
 ///
 /// After Google Benchmark's table it prints ns/step per stepper and the
@@ -38,15 +38,15 @@
 
 #include "bench/integrators/free_body_scene.hpp"
 #include "bench/integrators/mujoco_peer.hpp"
-#include "bench/support/markdown_table.hpp"
+#include "liegroup_measure/markdown_table.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/commutator_free.hpp"
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/lgvi.hpp"
 #include "integrators/rkmk.hpp"
 #include "integrators/splitting.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace {
 

@@ -4,7 +4,7 @@
 /// reference flow and the MuJoCo peer (mujoco_peer.hpp) are all built from.
 ///
 /// Torque-free, no gravity: the exact motion is known (Euler–Poinsot,
-/// integrators/exact_free_body.hpp), so every error is measured against it.
+/// dynamics/rigid_body/exact_free_body.hpp), so every error is measured against it.
 /// The inertia is asymmetric (three distinct principal moments) and its
 /// principal axes are turned away from the body axes, so the body-frame
 /// inertia J = A diag(I) Aᵀ is a full matrix (A = principal_axes: principal
@@ -19,8 +19,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "integrators/exact_free_body.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/exact_free_body.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 
 namespace lieflow {
 namespace bench {

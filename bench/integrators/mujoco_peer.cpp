@@ -8,6 +8,8 @@
 
 #ifdef LIEFLOW_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
+
+#include "model/import/mjcf_model.hpp"
 #endif
 
 namespace lieflow {
@@ -53,37 +55,22 @@ std::string modelXml(const FreeBodyScene& s, MujocoFreeBody::Integrator integrat
 struct MujocoFreeBody::Impl {
   FreeBodyScene scene;
   std::string xml;
-  mjModel* m = nullptr;
-  mjData* d = nullptr;
-  ~Impl() {
-    if (d) mj_deleteData(d);
-    if (m) mj_deleteModel(m);
-  }
+  model_import::MjcfModel model;
+  model_import::MjcfData data;
+  mjModel* m = nullptr;  // model.get()
+  mjData* d = nullptr;   // data.get()
 };
 
 MujocoFreeBody::MujocoFreeBody(const FreeBodyScene& scene, Integrator integrator, double h)
     : impl_(new Impl) {
   impl_->scene = scene;
   impl_->xml = modelXml(scene, integrator, h);
-  // mj_loadXML reads a file; the file lives in a virtual file system in memory.
-  // mjVFS holds 2000 file names of 1000 bytes: on the heap, not the stack.
-  std::unique_ptr<mjVFS> vfs(new mjVFS);
-  mj_defaultVFS(vfs.get());
-  const char* name = "lieflow_free_body.xml";
-  const int size = static_cast<int>(impl_->xml.size());
-  if (mj_makeEmptyFileVFS(vfs.get(), name, size) != 0)
-    throw std::runtime_error("MuJoCo: mj_makeEmptyFileVFS failed");
-  const int index = mj_findFileVFS(vfs.get(), name);
-  if (index < 0) throw std::runtime_error("MuJoCo: mj_findFileVFS failed");
-  std::memcpy(vfs->filedata[index], impl_->xml.data(), impl_->xml.size());
-  char error[1000] = "";
-  impl_->m = mj_loadXML(name, vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!impl_->m) throw std::runtime_error(std::string("MuJoCo: mj_loadXML failed: ") + error);
+  impl_->model = model_import::compileModelText("lieflow_free_body.xml", impl_->xml, "MuJoCo free body");
+  impl_->m = impl_->model.get();
   if (impl_->m->nq != 7 || impl_->m->nv != 6)
     throw std::runtime_error("MuJoCo: expected one free joint (nq = 7, nv = 6)");
-  impl_->d = mj_makeData(impl_->m);
-  if (!impl_->d) throw std::runtime_error("MuJoCo: mj_makeData failed");
+  impl_->data = model_import::makeMjcfData(impl_->m, "MuJoCo free body");
+  impl_->d = impl_->data.get();
   reset();
 }
 

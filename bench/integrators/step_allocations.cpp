@@ -27,8 +27,8 @@
 #include "integrators/lgvi.hpp"
 #include "integrators/rkmk.hpp"
 #include "integrators/splitting.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 
 using namespace lieflow;  // NOLINT: a one-purpose program

@@ -44,14 +44,14 @@
 #include "integrators/constrained_lgvi.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/constrained_acceleration.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
+#include "dynamics/maximal/constrained_acceleration.hpp"
+#include "dynamics/maximal/kkt_assembly.hpp"
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/joint_space_variational.hpp"
-#include "joints/articulated/articulated_second_order.hpp"
-#include "joints/articulated_scene.hpp"
-#include "joints/multibody_scene.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/joint_space/articulated_second_order.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "dynamics/maximal/multibody_scene.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 
 namespace {
 

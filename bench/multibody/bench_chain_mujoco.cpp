@@ -50,11 +50,11 @@
 #include <vector>
 
 #include "bench/multibody/chain_scene.hpp"
-#include "bench/multibody/mujoco_support.hpp"
+#include "model/import/mjcf_model.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 
 namespace lieflow {
 namespace bench {
@@ -151,8 +151,8 @@ std::vector<std::pair<std::string, std::string>> chainXml(const LieflowChain& c,
   return files;
 }
 
-using ModelPtr = bench::MjModelPtr;
-using DataPtr = bench::MjDataPtr;
+using ModelPtr = model_import::MjcfModel;
+using DataPtr = model_import::MjcfData;
 
 /// Sets d to lieflow's initial state: joint angles, at rest, t = 0.
 void resetChain(const mjModel* m, mjData* d, const LieflowChain& c) {
@@ -212,8 +212,13 @@ const mjModel* chainModel(int n, MjIntegrator integrator, std::string* error) {
   const auto key = std::make_pair(n, static_cast<int>(integrator));
   auto it = cache.find(key);
   if (it != cache.end()) return it->second.get();
-  ModelPtr m = bench::loadMjcf(chainXml(LieflowChain(n), integrator, bench::kChainStep), error);
-  if (!m) return nullptr;
+  ModelPtr m;
+  try {
+    m = model_import::compileModelFiles(chainXml(LieflowChain(n), integrator, bench::kChainStep), "chain");
+  } catch (const std::exception& e) {
+    *error = e.what();
+    return nullptr;
+  }
   if (m->nq != n || m->nv != n || m->nbody != n + 1) {
     *error = "unexpected model sizes (nq, nv, nbody)";
     return nullptr;
@@ -226,7 +231,7 @@ void mujocoChainSteps(benchmark::State& st, MjIntegrator integrator) {
   std::string error;
   const mjModel* m = chainModel(n, integrator, &error);
   if (!m) {
-    st.SkipWithError(("MuJoCo: mj_loadXML failed: " + error).c_str());
+    st.SkipWithError(("MuJoCo: " + error).c_str());
     return;
   }
   DataPtr d(mj_makeData(m));

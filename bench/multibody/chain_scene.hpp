@@ -1,7 +1,7 @@
 /// \file
 /// The benchmark chain of bench_chain.cpp and bench_chain_mujoco.cpp, in one
 /// place so that the lieflow and MuJoCo benchmarks time the same system:
-/// joints/multibody/chain_builder.hpp's chain of N rods (hinge to hinge
+/// dynamics/maximal/chain_builder.hpp's chain of N rods (hinge to hinge
 /// 0.5 m, centre of mass 0.25 m from each hinge along body x, masses in
 /// [0.5, 0.9] kg drawn with seed 42, the full inertia below for every rod),
 /// hinge axes alternating z / y in the parent frame, the first hinge to ground
@@ -11,11 +11,11 @@
 #include <string>
 #include <variant>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 
 #include <Eigen/Core>
 
-#include "joints/multibody/chain_builder.hpp"
+#include "dynamics/maximal/chain_builder.hpp"
 
 namespace lieflow {
 namespace bench {
@@ -33,7 +33,7 @@ inline Eigen::Matrix3d chainRodInertia() {
   return I;
 }
 
-/// The chain of joints/multibody/chain_builder.hpp, axes alternating z / y,
+/// The chain of dynamics/maximal/chain_builder.hpp, axes alternating z / y,
 /// with chainRodInertia() (state: the builder's random joint angles and rates).
 inline multibody::MultibodyModel revoluteChain(int n, unsigned seed, multibody::MultibodyState* state) {
   return multibody::randomRevoluteChain(n, true, chainRodInertia(), seed, state);
@@ -41,7 +41,7 @@ inline multibody::MultibodyModel revoluteChain(int n, unsigned seed, multibody::
 
 /// The same chain as a scene (bodies at the builder's random configuration,
 /// released at rest, as chainSteps runs it), for the joint-coordinate
-/// formulation (joints/articulated_scene.hpp).
+/// formulation (dynamics/joint_space/articulated_scene.hpp).
 inline SceneDescription revoluteChainScene(int n, unsigned seed) {
   multibody::MultibodyState s;
   const multibody::MultibodyModel model = revoluteChain(n, seed, &s);

@@ -31,9 +31,9 @@
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/joint_space_variational.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/articulated/articulated_second_order.hpp"
-#include "joints/articulated_scene.hpp"
-#include "joints/scene_writer.hpp"
+#include "dynamics/joint_space/articulated_second_order.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/scene_writer.hpp"
 
 namespace {
 

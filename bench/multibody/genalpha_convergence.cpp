@@ -14,7 +14,7 @@
 #include "bench/multibody/three_link_convergence.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
+#include "dynamics/maximal/kkt_assembly.hpp"
 
 int main() {
   using namespace lieflow;             // NOLINT: a one-purpose program

@@ -15,7 +15,7 @@
 // loop of one degree of freedom, whose speed ratio swings between cos β and
 // 1/cos β). It runs in joint coordinates with the loop closed by multipliers
 // (rkmk4, cf4) and in maximal coordinates. MuJoCo closes the loop with soft
-// equality constraints (mujoco_support.hpp: a connect and a fixed-length
+// equality constraints (peers/mujoco/tree_mjcf.hpp: a connect and a fixed-length
 // tendon for the cross; solimp 0.9999): with its default time constant
 // (solref 0.02 s) and with the stiffest one, 2h, whose softness vanishes as
 // h → 0 (its runs then converge at second order in h, whatever the
@@ -24,10 +24,12 @@
 // The reference: lieflow's rkmk4 in joint coordinates at h = 1e-5, checked
 // against the same at 2e-5 (its own error, printed) and against MuJoCo's RK4
 // at 1e-5 (the two engines on the same model, printed). The MuJoCo model is
-// written from lieflow's tree (mujoco_support.hpp) and starts from lieflow's
+// written from lieflow's tree (peers/mujoco/tree_mjcf.hpp) and starts from lieflow's
 // initial state; their initial centres of mass agree to ~1e-16 m (printed).
 //
 // usage: study_mechanism_work_precision OUT.csv [T [SCENE...]]
+#include <mujoco/mujoco.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -40,10 +42,11 @@
 #include <string>
 #include <vector>
 
-#include "bench/multibody/mujoco_support.hpp"
-#include "joints/articulated_scene.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/import/mjcf_model.hpp"
+#include "peers/mujoco/tree_mjcf.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace {
 
@@ -159,19 +162,17 @@ Measured runLieflow(const Simulation& sim, const std::string& formulation, const
 /// constraints at solref time constant `loop_timeconst` (0: MuJoCo's default).
 Measured runMujoco(const ArticulatedScene& tree, const SceneDescription& scene, const std::string& integrator,
                    double h, double t_end, double loop_timeconst = 0.0) {
-  bench::MjcfOptions options;
+  mujoco_peer::MjcfOptions options;
   options.integrator = integrator;
   options.h = h;
   options.loop_timeconst = loop_timeconst;
-  std::string error;
-  const bench::MjModelPtr model = bench::loadMjcf({{"tree.xml", bench::mjcfFromTree(tree.system->model(), options)}},
-                                                  &error);
-  if (!model) throw std::runtime_error("MuJoCo cannot load the model: " + error);
+  const model_import::MjcfModel model = model_import::compileModelFiles(
+      {{"tree.xml", mujoco_peer::mjcfFromTree(tree.system->model(), options)}}, "tree.xml");
   const mjModel* m = model.get();
-  bench::MjDataPtr d(mj_makeData(m));
+  const model_import::MjcfData d = model_import::makeMjcfData(m, "tree.xml");
   const long steps = std::lround(t_end / h);
   return timed([&] {
-    bench::setMjState(tree.system->model(), tree.y0, m, d.get());
+    mujoco_peer::setMujocoState(tree.system->model(), tree.y0, m, d.get());
     const auto start = Clock::now();
     for (long k = 0; k < steps; ++k) mj_step(m, d.get());
     Measured r;
@@ -197,11 +198,10 @@ Measured runMujoco(const ArticulatedScene& tree, const SceneDescription& scene, 
 /// The largest difference between MuJoCo's kinematics of the initial state
 /// and lieflow's: centres of mass [m] and orientations [rad].
 double initialDifference(const ArticulatedScene& tree) {
-  std::string error;
-  const bench::MjModelPtr m = bench::loadMjcf({{"tree.xml", bench::mjcfFromTree(tree.system->model(), {})}}, &error);
-  if (!m) throw std::runtime_error("MuJoCo cannot load the model: " + error);
-  bench::MjDataPtr d(mj_makeData(m.get()));
-  bench::setMjState(tree.system->model(), tree.y0, m.get(), d.get());
+  const model_import::MjcfModel m = model_import::compileModelFiles(
+      {{"tree.xml", mujoco_peer::mjcfFromTree(tree.system->model(), {})}}, "tree.xml");
+  const model_import::MjcfData d = model_import::makeMjcfData(m.get(), "tree.xml");
+  mujoco_peer::setMujocoState(tree.system->model(), tree.y0, m.get(), d.get());
   mj_kinematics(m.get(), d.get());
   tree.system->kinematics(0.0, tree.y0);
   double worst = 0.0;
@@ -235,11 +235,11 @@ int main(int argc, char** argv) {
     const SceneDescription scene = studyScene(name);
     const Simulation sim(scene);
     const std::unique_ptr<ArticulatedScene> tree = assembleArticulated(scene);
-    // MuJoCo runs what MJCF can say (mujoco_support.hpp); a loop it closes
+    // MuJoCo runs what MJCF can say (peers/mujoco/tree_mjcf.hpp); a loop it closes
     // with soft equality constraints, at each of kLoopStiffness.
     bool with_mujoco = true;
     try {
-      bench::mjcfFromTree(tree->system->model(), {});
+      mujoco_peer::mjcfFromTree(tree->system->model(), {});
     } catch (const std::invalid_argument& e) {
       with_mujoco = false;
       std::printf("%s: MuJoCo not run: %s\n", name.c_str(), e.what());

@@ -1,9 +1,9 @@
 // study_model_drift: long runs of an MJCF model by lieflow's integrators and
-// by MuJoCo's beside them (joints/import/mujoco_peer.hpp), measuring what a
+// by MuJoCo's beside them (peers/mujoco/mujoco_peer.hpp), measuring what a
 // free-floating mechanism with dashpots conserves: its angular momentum
 // about the centre of mass (L_com) and its energy plus the work its dashpots
 // dissipated (energy_balance), both relative to their initial values, as
-// each engine measures them (lieflow: joints/invariants.hpp; MuJoCo: its own
+// each engine measures them (lieflow: simulation/invariants.hpp; MuJoCo: its own
 // energy, body velocities and dashpot power). papers/humanoid-free-fall runs it.
 //
 //   study_model_drift MODEL.xml OUT_DIR T_END SAMPLES IGNORE KEYFRAME RUN...
@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "integrators/integrate.hpp"
-#include "joints/import/model_import.hpp"
-#include "joints/import/mujoco_peer.hpp"
-#include "joints/simulation.hpp"
+#include "model/import/model_import.hpp"
+#include "peers/mujoco/mujoco_peer.hpp"
+#include "simulation/simulation.hpp"
 
 namespace {
 

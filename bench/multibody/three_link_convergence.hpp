@@ -13,8 +13,8 @@
 #include "integrators/integrate.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/chain_builder.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/chain_builder.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 
 namespace lieflow {
 namespace bench {

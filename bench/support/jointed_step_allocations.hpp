@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "bench/support/counting_new.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace bench {

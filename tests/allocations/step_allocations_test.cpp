@@ -20,10 +20,10 @@
 #include "bench/support/jointed_step_allocations.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
-#include "joints/multibody_scene.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "dynamics/maximal/kkt_assembly.hpp"
+#include "dynamics/maximal/multibody_scene.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 #include "tests/command_runner.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <iostream>
 #include <string>
 
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 #include "tests/command_runner.hpp"
 
 namespace {

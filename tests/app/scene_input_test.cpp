@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {

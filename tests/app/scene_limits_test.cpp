@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "joints/scene.hpp"
+#include "model/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/command_runner.hpp"
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "integrators/registry.hpp"
-#include "joints/simulation.hpp"
-#include "joints/stepper_table_rows.hpp"
+#include "simulation/simulation.hpp"
+#include "simulation/stepper_table_rows.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
@@ -97,7 +97,7 @@ TEST(Simulation, TheDefaultFormulationIsJointCoordinatesWhereverTheyRunTheScene)
   }
 }
 
-/// The table of steppers (joints/stepper_table_rows.hpp) has one row per
+/// The table of steppers (simulation/stepper_table_rows.hpp) has one row per
 /// integrator of the registry, in its order, and `supports`, the run and the
 /// refusals read it alike: on every built-in scene, integrator and
 /// formulation, a run goes exactly where `supports` says yes, and where it

@@ -22,8 +22,8 @@
 #include "calibration/joint_centre.hpp"
 #include "calibration/low_pass.hpp"
 #include "calibration_test_helpers.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/so3.hpp"
 
 namespace lieflow {

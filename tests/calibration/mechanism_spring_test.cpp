@@ -2,7 +2,7 @@
 /// The spring/dashpot fit of whole mechanisms (mechanism_spring_fit.hpp) and
 /// the templated joint-coordinate dynamics it integrates
 /// (mechanism_dynamics.hpp), checked against the simulator's articulated-body
-/// algorithm (joints/articulated/) on the same scenes.
+/// algorithm (dynamics/joint_space/) on the same scenes.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -22,8 +22,8 @@
 #include "calibration/recording.hpp"
 #include "calibration_test_helpers.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "joints/articulated_scene.hpp"
-#include "joints/scene.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/scene.hpp"
 
 namespace lieflow {
 namespace calibration {

@@ -1,6 +1,6 @@
 /// \file
 /// The spring/dashpot fit (calibration/spring_fit.hpp) on recordings made by
-/// the maximal-coordinate multibody path (joints/simulation.hpp, independent
+/// the maximal-coordinate multibody path (simulation/simulation.hpp, independent
 /// of the reduced model the fit integrates) plus Gaussian angle noise:
 /// accuracy from starts within a factor 3 (the target: k and c within
 /// 1 % from 10 s at 100 Hz with 0.01 rad noise), honesty of σ over 60 noise
@@ -18,8 +18,8 @@
 #include "calibration/spring_fit.hpp"
 #include "calibration/spring_residuals.hpp"
 #include "calibration/synthetic_spring.hpp"
-#include "joints/grounded_joint_scene.hpp"
-#include "joints/scene.hpp"
+#include "calibration/grounded_joint_scene.hpp"
+#include "model/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {

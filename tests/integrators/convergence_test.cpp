@@ -12,7 +12,7 @@
 
 #include "integrators/commutator_free.hpp"
 #include "integrators/integrate.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
 #include "tests/integrators/torqued_top.hpp"
 #include "tests/order_slope.hpp"

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "integrators/adaptive.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
 #include "tests/integrators/torqued_top.hpp"
 #include "tests/order_slope.hpp"

@@ -4,6 +4,7 @@
 /// converged RKMK-RK4 solution of the free rotor and of the heavy top of Brüls,
 /// Cardona & Arnold 2012, the exact parabola of a body in uniform gravity, and
 /// central finite differences for the ceres::Jet derivatives.
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/generalized_alpha.hpp"
 
 #include <gtest/gtest.h>

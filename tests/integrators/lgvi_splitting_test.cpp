@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "integrators/butcher_tableau.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
 #include "integrators/step_report.hpp"
 #include "liegroup/invalid_input.hpp"

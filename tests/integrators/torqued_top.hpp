@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 
 namespace lieflow {
 namespace testing_support {

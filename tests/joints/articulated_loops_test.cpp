@@ -1,4 +1,4 @@
-// Loops in joint coordinates (joints/articulated/articulated_closures.cpp):
+// Loops in joint coordinates (dynamics/joint_space/articulated_closures.cpp):
 // a closing joint imposed with multipliers on top of the articulated-body
 // algorithm, the explicit steppers projected onto its rows. Against
 // independent references: the Cardan joint's closed form (angle, rate and
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "joints/articulated_scene.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"

@@ -1,5 +1,5 @@
 // The joint-coordinate formulation (--formulation joint,
-// joints/articulated/articulated_system.hpp) against an independent
+// dynamics/joint_space/articulated_system.hpp) against an independent
 // reference: the maximal formulation (bodies' poses, joint constraint rows,
 // multipliers from a Schur-complement solve), which shares nothing with the
 // articulated-body algorithm but the scene. Both integrate the same equations
@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"

@@ -1,6 +1,6 @@
 // The variational integrator in joint coordinates (`lgvi` with --formulation
 // joint, integrators/joint_space_variational.hpp) and the O(n) passes it
-// reads (joints/articulated/articulated_variational.cpp), against
+// reads (dynamics/joint_space/articulated_variational.cpp), against
 // independent references: the composite-rigid-body mass matrix, central
 // differences of the kinetic energy, the articulated-body algorithm's
 // accelerations through Lagrange's equations, a converged fourth-order
@@ -17,11 +17,11 @@
 
 #include "integrators/generalized_alpha.hpp"
 #include "integrators/joint_space_variational.hpp"
-#include "joints/articulated/articulated_second_order.hpp"
-#include "joints/articulated_scene.hpp"
-#include "joints/import/model_import.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "dynamics/joint_space/articulated_second_order.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/import/model_import.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"

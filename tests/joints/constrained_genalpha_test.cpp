@@ -1,7 +1,7 @@
 // The index-3 Lie-group generalized-α stepper (option index = 3; the
 // stabilized index-2 default is tested in stabilized_genalpha_test.cpp)
 // (integrators/constrained_generalized_alpha.hpp with the sparse assembly of
-// joints/multibody/kkt_assembly.hpp) against independent references: the 1-D
+// dynamics/maximal/kkt_assembly.hpp) against independent references: the 1-D
 // pendulum equation (RK4 at a tiny step), the scalar linear generalized-α
 // recursion and the spectral radius of its amplification matrix (Chung &
 // Hulbert 1993), a projected RK4 solution of a three-link chain, and the
@@ -19,13 +19,13 @@
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/generalized_alpha.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/integrate.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/chain_builder.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/chain_builder.hpp"
+#include "dynamics/maximal/kkt_assembly.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 #include "tests/joints/pendulum_fixture.hpp"
 #include "tests/order_slope.hpp"
 
@@ -115,7 +115,7 @@ TEST(ConstrainedGenAlpha, ThreeLinkChainSecondOrderAgainstProjectedRk4) {
     const RunResult r = run(stepper, system, y0, T, h);
     ASSERT_FALSE(r.summary.failed) << r.summary.failure;
     double err = 0.0;
-    for (int k = 0; k < 3; ++k) err = std::max(err, std::abs(r.y.angles[multibody::angleSlot(k, 0)] - ref.angles[multibody::angleSlot(k, 0)]));
+    for (int k = 0; k < 3; ++k) err = std::max(err, std::abs(r.y.angles[angleSlot(k, 0)] - ref.angles[angleSlot(k, 0)]));
     hs.push_back(h);
     errs.push_back(err);
     EXPECT_LE(r.max_constraint_error, 1e-10);

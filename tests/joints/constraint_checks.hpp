@@ -1,5 +1,5 @@
 /// \file
-/// The test harness of the kinematic constraint library (joints/constraints/),
+/// The test harness of the kinematic constraint library (dynamics/constraints/),
 /// shared by constraints_test.cpp and slider_weld_constraints_test.cpp:
 /// random poses and motions, central finite differences and ceres::Jet
 /// derivatives with respect to right perturbations (δp, δθ) of every body,
@@ -22,7 +22,7 @@
 
 #include <gtest/gtest.h>
 
-#include "joints/constraints/constraints.hpp"
+#include "dynamics/constraints/constraints.hpp"
 
 #ifdef LIEFLOW_HAVE_CERES
 #include <ceres/jet.h>

@@ -1,5 +1,5 @@
 /// \file
-/// The kinematic constraint library (joints/constraints/) against independent
+/// The kinematic constraint library (dynamics/constraints/) against independent
 /// references:
 ///  * every constraint Jacobian against central finite differences of the
 ///    right-perturbation definition, (Φ(q ⊕ h e_j) − Φ(q ⊕ −h e_j))/2h, applied
@@ -42,7 +42,7 @@
 
 #include <gtest/gtest.h>
 
-#include "joints/constraints/constraints.hpp"
+#include "dynamics/constraints/constraints.hpp"
 #include "tests/joints/constraint_checks.hpp"
 
 namespace lieflow {

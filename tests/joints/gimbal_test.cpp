@@ -1,5 +1,5 @@
 /// \file
-/// The gimbal joint's angles (joints/constraints/gimbal.hpp) against
+/// The gimbal joint's angles (dynamics/constraints/gimbal.hpp) against
 /// configurations built from known angles, R_b = R_a exp(φ₁e₁) exp(φ₂e₂)
 /// exp(φ₃e₃) R_ref, for orthonormal axes of either handedness, with φ₂
 /// carried past ±90° by unwrapping; their Jacobians against central finite
@@ -8,7 +8,7 @@
 
 #include <random>
 
-#include "joints/constraints/constraints.hpp"
+#include "dynamics/constraints/constraints.hpp"
 #include "tests/joints/constraint_checks.hpp"
 
 namespace lieflow {

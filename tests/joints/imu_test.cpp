@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "app/recording_noise.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace {

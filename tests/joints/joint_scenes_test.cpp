@@ -21,8 +21,8 @@
 
 #include <Eigen/Geometry>
 
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 

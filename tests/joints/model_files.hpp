@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "joints/import/model_import.hpp"
+#include "model/import/model_import.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {

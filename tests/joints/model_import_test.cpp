@@ -1,5 +1,5 @@
 /// \file
-/// Model files as scenes (joints/import/), against references that do not
+/// Model files as scenes (model/import/), against references that do not
 /// come from the importer:
 ///  * the same six-joint arm as URDF (urdfdom) and as MJCF (MuJoCo's
 ///    compiler) gives the same scene and the same trajectory (1e-10);
@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-#include "joints/import/model_import.hpp"
-#include "joints/scene.hpp"
-#include "joints/scene_writer.hpp"
-#include "joints/simulation.hpp"
+#include "model/import/model_import.hpp"
+#include "model/scene.hpp"
+#include "model/scene_writer.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/model_files.hpp"
 #include "tests/joints/scene_trajectory.hpp"

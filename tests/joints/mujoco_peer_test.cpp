@@ -1,6 +1,6 @@
 /// \file
 /// MJCF keyframes as the start of an imported model (--keyframe) and MuJoCo
-/// beside lieflow on the same model (joints/import/mujoco_peer.hpp): the
+/// beside lieflow on the same model (peers/mujoco/mujoco_peer.hpp): the
 /// same start, the same trajectory at a small step, MuJoCo's own measures of
 /// its drifts, and the orders of its integrators.
 #include <gtest/gtest.h>
@@ -9,8 +9,8 @@
 #include <iostream>
 #include <string>
 
-#include "joints/import/model_import.hpp"
-#include "joints/import/mujoco_peer.hpp"
+#include "model/import/model_import.hpp"
+#include "peers/mujoco/mujoco_peer.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/model_files.hpp"
 #include "tests/joints/scene_trajectory.hpp"

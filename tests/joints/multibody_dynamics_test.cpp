@@ -1,4 +1,4 @@
-// Dynamics of constrained multibody systems (joints/multibody/multibody_system.hpp)
+// Dynamics of constrained multibody systems (dynamics/maximal/multibody_system.hpp)
 // stepped by the projected Lie-group steppers, against independent results.
 #include <cmath>
 
@@ -9,7 +9,7 @@
 #include "integrators/integrate.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 #include "tests/joints/pendulum_fixture.hpp"
 
 namespace lieflow {

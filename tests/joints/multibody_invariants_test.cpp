@@ -1,6 +1,6 @@
 /// \file
 /// The multibody invariants beside the spatial angular momentum
-/// (joints/invariants.hpp): the angular momentum about the centre of mass of
+/// (simulation/invariants.hpp): the angular momentum about the centre of mass of
 /// a free-floating mechanism under gravity, `L_com`, and the energy balance
 /// E + W of a mechanism whose only non-conservative forces are its dashpots,
 /// `energy_balance`, in both formulations.
@@ -11,9 +11,9 @@
 #include <iostream>
 #include <string>
 
-#include "joints/invariants.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "simulation/invariants.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 
 namespace lieflow {
 namespace {

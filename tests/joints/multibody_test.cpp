@@ -1,4 +1,4 @@
-// Constrained acceleration solve of joints/multibody/ against independent
+// Constrained acceleration solve of dynamics/maximal/ against independent
 // references: the compound pendulum (θ̈ = −m g ℓ sin θ / I_o), the planar
 // double pendulum from Lagrange's equations, long spherical chains (linear
 // fill of the factor) and redundant constraints.
@@ -8,8 +8,8 @@
 #include <random>
 #include <sstream>
 
-#include "joints/multibody/chain_builder.hpp"
-#include "joints/multibody/constrained_acceleration.hpp"
+#include "dynamics/maximal/chain_builder.hpp"
+#include "dynamics/maximal/constrained_acceleration.hpp"
 
 namespace {
 
@@ -314,7 +314,7 @@ TEST(MultibodyAcceleration, RotationOnlyBodyWithBallAtCoM) {
 // ---------------------------------------------------------------------------
 // Reusable solver (pattern analysed once, factorize per step).
 
-// Chain of N rods on revolute joints (joints/multibody/chain_builder.hpp) with
+// Chain of N rods on revolute joints (dynamics/maximal/chain_builder.hpp) with
 // products of inertia; axes alternating z / y when `alternate`, else all z.
 MultibodyModel revoluteChain(int N, bool alternate, unsigned seed, MultibodyState* state) {
   return randomRevoluteChain(N, alternate, inertiaWithProducts(0.002, 0.01, 0.01), seed, state);

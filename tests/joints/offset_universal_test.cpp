@@ -1,5 +1,5 @@
 /// \file
-/// The offset universal joint (joints/constraints/offset_universal.hpp: two
+/// The offset universal joint (dynamics/constraints/offset_universal.hpp: two
 /// orthogonal hinges whose axes do not meet) against independent references,
 /// with the harness of every joint (constraint_checks.hpp):
 ///  * configurations built as MuJoCo builds a body with two hinges at two
@@ -12,7 +12,7 @@
 
 #include <random>
 
-#include "joints/constraints/constraints.hpp"
+#include "dynamics/constraints/constraints.hpp"
 #include "tests/joints/constraint_checks.hpp"
 
 namespace lieflow {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 
 namespace lieflow {
 namespace multibody {

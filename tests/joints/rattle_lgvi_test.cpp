@@ -26,10 +26,10 @@
 #include "integrators/lgvi.hpp"
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rigid_body_state.hpp"
-#include "integrators/rigid_body_system.hpp"
+#include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
-#include "joints/multibody/chain_builder.hpp"
-#include "joints/multibody/multibody_system.hpp"
+#include "dynamics/maximal/chain_builder.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
 
 namespace lieflow {
 namespace multibody {

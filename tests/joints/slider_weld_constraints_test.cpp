@@ -1,8 +1,8 @@
 /// \file
-/// The prismatic and fixed joints' constraints (joints/constraints/
+/// The prismatic and fixed joints' constraints (dynamics/constraints/
 /// prismatic.hpp, fixed.hpp and their building blocks dot_two_row.hpp,
 /// align.hpp) against independent references, with the harness every joint
-/// of joints/constraints/ passes (constraint_checks.hpp):
+/// of dynamics/constraints/ passes (constraint_checks.hpp):
 ///  * Jacobians against central finite differences of residuals written out
 ///    here from the world-frame definitions (rotation matrices, not the
 ///    library's rows), and against ceres::Jet, near the manifold and far from it;
@@ -28,7 +28,7 @@
 
 #include <Eigen/SVD>
 
-#include "joints/constraints/constraints.hpp"
+#include "dynamics/constraints/constraints.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/constraint_checks.hpp"
 

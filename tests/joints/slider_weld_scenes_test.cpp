@@ -21,9 +21,9 @@
 
 #include <Eigen/Geometry>
 
-#include "joints/articulated_scene.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "tests/joints/scene_trajectory.hpp"
 

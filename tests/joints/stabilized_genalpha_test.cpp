@@ -1,6 +1,6 @@
 // The stabilized index-2 generalized-α stepper (the default, option index =
 // 2; integrators/constrained_generalized_alpha.hpp, "Stabilized index 2", and
-// the assembly of joints/multibody/kkt_assembly.hpp) against independent
+// the assembly of dynamics/maximal/kkt_assembly.hpp) against independent
 // references: a projected RK4 solution of a three-link chain with the
 // multipliers of the index-1 equations at its final state (orders in
 // positions, velocities and multipliers), and the energy of the built-in
@@ -16,10 +16,10 @@
 #include "bench/multibody/three_link_convergence.hpp"
 #include "integrators/constrained_generalized_alpha.hpp"
 #include "integrators/integrate.hpp"
-#include "joints/multibody/kkt_assembly.hpp"
-#include "joints/multibody/multibody_system.hpp"
-#include "joints/scene.hpp"
-#include "joints/simulation.hpp"
+#include "dynamics/maximal/kkt_assembly.hpp"
+#include "dynamics/maximal/multibody_system.hpp"
+#include "model/scene.hpp"
+#include "simulation/simulation.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {

@@ -13,8 +13,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "joints/import/model_import.hpp"
-#include "joints/scene.hpp"
+#include "model/import/model_import.hpp"
+#include "model/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "replay/replay_page.hpp"
 #include "replay/replay_scene.hpp"
