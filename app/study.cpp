@@ -265,13 +265,9 @@ void studyMujoco(const MujocoPeer* peer_or_null, double t_end, const std::vector
   result->reference += s.str();
 }
 
-}  // namespace
-
-StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& options) {
-  StudyResult result;
-  result.scene = sim.scene().name;
-  result.t_end = t_end;
-
+/// The studied steps, longest first: options.dts, or 4, 2, 1, 1/2 and 1/4
+/// times the scene's step; none longer than the run.
+std::vector<double> studySteps(const Simulation& sim, double t_end, const StudyOptions& options) {
   std::vector<double> dts = options.dts;
   if (dts.empty()) {
     const double dt = sim.scene().has_integrator ? sim.scene().integrator.dt : t_end / 1000.0;
@@ -286,10 +282,14 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   if (dts.front() > t_end)
     throw InvalidInput("--dt", "the step " + formatNumber(dts.front()) + " s is longer than the run (t_end = " +
                                    formatNumber(t_end) + " s): give steps no longer than t_end");
+  return dts;
+}
 
-  // The integrators, checked before any run: a scene that none of them can
-  // run (in the formulation asked for) is refused here, not answered with an
-  // empty table after the reference was computed.
+/// The studied integrators: options.integrators, or every one of the
+/// registry that runs this scene (in the formulation asked for). Checked
+/// before any run: a scene that none of them can run is refused here, not
+/// answered with an empty table after the reference was computed.
+std::vector<std::string> studyIntegrators(const Simulation& sim, const StudyOptions& options) {
   std::string why;
   std::vector<std::string> integrators = options.integrators;
   if (integrators.empty()) {
@@ -308,14 +308,18 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   for (const std::string& name : integrators)
     if (!sim.supports(name, &why, options.formulation)) throw InvalidInput("--integrators", why);
   checkOptionKeysUsed(options.integrator_options, integrators);
-  // MuJoCo beside lieflow: its model is compiled and matched to the scene
-  // now, so that a model MuJoCo cannot run is refused before lieflow's runs.
-  std::unique_ptr<MujocoPeer> peer;
-  if (!options.mujoco_model.empty() && mujocoPeerAvailable(nullptr))
-    peer = std::make_unique<MujocoPeer>(options.mujoco_model, options.mujoco_import, sim.scene());
+  return integrators;
+}
 
-  // The reference.
+/// The reference final row the errors are measured against, with what it is
+/// and its own estimated error in result->reference, reference_error: the
+/// exact flow where there is one, else projected rkmk4 at a step 32 times
+/// below the smallest studied one for scenes with joints, else a converged
+/// rkmk45 run. Its replay rows go to options.replay_sink.
+std::vector<double> studyReference(const Simulation& sim, double t_end, const std::vector<double>& dts,
+                                   const StudyOptions& options, StudyResult* result) {
   const BodyColumns bodies(sim.columns());
+  std::string why;
   std::vector<double> ref;
   const bool exact_reference = sim.supports("exact", &why);
   if (exact_reference) {
@@ -323,8 +327,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     if (options.replay_sink)
       referenceRow(sim, t_end, "exact", 0, 0, t_end / kReplayIntervals, options.max_steps, options.heartbeat,
                    options.replay_sink);
-    result.reference = "exact flow (Jacobi elliptic functions)";
-    result.reference_error = 0.0;
+    result->reference = "exact flow (Jacobi elliptic functions)";
+    result->reference_error = 0.0;
   } else if (sim.hasConstraints()) {
     // Scenes with joints: the projected rkmk4 in maximal coordinates
     // (referenceRow) at a step 32 times below the
@@ -337,11 +341,11 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
     ref = referenceRow(sim, t_end, "rkmk4", 0, 0, h_ref, options.max_steps, options.heartbeat, options.replay_sink);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk4", 0, 0, 2 * h_ref, options.max_steps, options.heartbeat);
-    result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) / 15.0;
+    result->reference_error = orientationError(bodies.of(ref), bodies.of(check)) / 15.0;
     std::ostringstream s;
     s << "projected rkmk4 at h = " << formatNumber(h_ref) << "; its orientation error is estimated at "
-      << formatNumber(result.reference_error) << " rad by Richardson from a run at h = " << formatNumber(2 * h_ref);
-    result.reference = s.str();
+      << formatNumber(result->reference_error) << " rad by Richardson from a run at h = " << formatNumber(2 * h_ref);
+    result->reference = s.str();
   } else {
     if (options.progress) *options.progress << "study: computing the reference (rkmk45, rtol 1e-13)\n";
     ref = referenceRow(sim, t_end, "rkmk45", kReferenceRtol, kReferenceAtol, t_end, options.max_steps,
@@ -351,26 +355,119 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
                    options.heartbeat, options.replay_sink);
     const std::vector<double> check =
         referenceRow(sim, t_end, "rkmk45", kCheckRtol, kCheckAtol, t_end, options.max_steps, options.heartbeat);
-    result.reference_error = orientationError(bodies.of(ref), bodies.of(check)) * (kReferenceRtol / kCheckRtol);
+    result->reference_error = orientationError(bodies.of(ref), bodies.of(check)) * (kReferenceRtol / kCheckRtol);
     std::ostringstream s;
     s << "converged rkmk45 run (Dormand-Prince 5(4) on the group, rtol " << kReferenceRtol
       << ", atol " << kReferenceAtol << "); its orientation error is estimated at "
-      << formatNumber(result.reference_error) << " rad from a run at rtol " << kCheckRtol;
-    result.reference = s.str();
+      << formatNumber(result->reference_error) << " rad from a run at rtol " << kCheckRtol;
+    result->reference = s.str();
   }
+  return ref;
+}
 
+/// Where a run's row holds the energy and the spatial angular momentum, and
+/// the step whose drift curves the study draws.
+struct DriftColumns {
+  std::size_t energy = 0, lx = 0;
+  double dt = 0.0;
+};
+
+/// One case of the study: `name` at step dt, its diagnostics run (drift
+/// figures, failure, Newton iterations; drift curves at drift.dt) and its
+/// timing runs, appended to result->rows.
+void studyCase(const Simulation& sim, const std::string& name, double dt, double t_end, const StudyOptions& options,
+               const DriftColumns& drift, const std::vector<double>& ref, StudyResult* result) {
+  const BodyColumns bodies(sim.columns());
+  SimulationOptions o;
+  o.integrator = name;
+  o.formulation = options.formulation;
+  o.dt = dt;
+  o.t_end = t_end;
+  if (options.dts.empty()) o.dt_source = "the study's steps (4, 2, 1, 1/2, 1/4 times the scene's)";
+  o.max_steps = options.max_steps;
+  withHeartbeat(options.heartbeat, &o);
+  applyIntegratorOptions(sim.scene(), options.integrator_options, &o);
+
+  // Diagnostics run: drift figures, failure, Newton iterations; drift
+  // curves for the chosen step.
+  StudyRow row;
+  row.integrator = name;
+  row.dt = dt;
+  row.options = describeOptions(o);
+  const long steps = stepCount(0.0, t_end, dt);
+  const bool record_drift = dt == drift.dt;
+  o.every = static_cast<int>(std::max(1L, steps / kDriftSamples));
+  o.check_every = 1;  // the drift figures are this run's result: every step
+  std::vector<double> first;
+  if (record_drift)
+    o.invariant_sink = [&](double, const std::vector<double>& errors) {
+      result->drift.back().invariant_errors = errors;
+    };
+  const SimulationResult diag = sim.run(o, [&](const std::vector<double>& r) {
+    if (!record_drift) return;
+    if (first.empty()) first = r;
+    DriftSample s;
+    s.integrator = name;
+    s.dt = dt;
+    s.t = r[0];
+    const double e0 = first[drift.energy];
+    s.energy_error = relativeDrift(r[drift.energy] - e0, e0);
+    const Eigen::Vector3d L0(first[drift.lx], first[drift.lx + 1], first[drift.lx + 2]);
+    const Eigen::Vector3d L(r[drift.lx], r[drift.lx + 1], r[drift.lx + 2]);
+    s.momentum_error = relativeDrift((L - L0).norm(), L0.norm());
+    result->drift.push_back(s);
+  });
+  row.steps = diag.steps;
+  row.energy_drift = diag.energy_drift;
+  row.momentum_conserved = diag.momentum_conserved;
+  row.momentum_drift = diag.momentum_drift;
+  for (const auto& inv : diag.invariants) row.invariant_drifts.push_back(inv.second);
+  row.implicit = diag.implicit;
+  row.newton_iterations_mean = diag.newton_iterations_mean;
+  row.failed = diag.failed;
+  row.failure = diag.failure;
+  result->momentum_conserved = diag.momentum_conserved;
+  if (diag.failed) {
+    row.orientation_error = row.omega_error = std::numeric_limits<double>::quiet_NaN();
+    row.wall_seconds = diag.wall_seconds;
+    result->rows.push_back(row);
+    return;
+  }
+  row.orientation_error = orientationError(bodies.of(diag.final_row), bodies.of(ref));
+  row.omega_error = omegaError(bodies.of(diag.final_row), bodies.of(ref));
+
+  // Timing runs: diagnostics off, repeated; the median is reported.
+  o.diagnostics = false;
+  o.invariant_sink = nullptr;
+  timeRow(options, [&] { return sim.run(o).wall_seconds; }, &row, result);
+  result->rows.push_back(row);
+}
+
+}  // namespace
+
+StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& options) {
+  StudyResult result;
+  result.scene = sim.scene().name;
+  result.t_end = t_end;
+  const std::vector<double> dts = studySteps(sim, t_end, options);
+  const std::vector<std::string> integrators = studyIntegrators(sim, options);
+  // MuJoCo beside lieflow: its model is compiled and matched to the scene
+  // now, so that a model MuJoCo cannot run is refused before lieflow's runs.
+  std::unique_ptr<MujocoPeer> peer;
+  if (!options.mujoco_model.empty() && mujocoPeerAvailable(nullptr))
+    peer = std::make_unique<MujocoPeer>(options.mujoco_model, options.mujoco_import, sim.scene());
+  const std::vector<double> ref = studyReference(sim, t_end, dts, options, &result);
   result.invariant_names = sim.invariantNames();
 
   const std::vector<std::string> columns = sim.columns();
   const auto column = [&](const std::string& c) {
     return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), c) - columns.begin());
   };
-  const std::size_t energy_col = column("energy");
-  const std::size_t lx_col = column("Lx");
-  const double drift_dt = std::find(dts.begin(), dts.end(), sim.scene().integrator.dt) != dts.end()
-                              ? sim.scene().integrator.dt
-                              : dts[dts.size() / 2];
-
+  DriftColumns drift;
+  drift.energy = column("energy");
+  drift.lx = column("Lx");
+  drift.dt = std::find(dts.begin(), dts.end(), sim.scene().integrator.dt) != dts.end() ? sim.scene().integrator.dt
+                                                                                      : dts[dts.size() / 2];
   int done = 0;
   const int total = static_cast<int>(integrators.size() * dts.size());
   for (const std::string& name : integrators) {
@@ -378,72 +475,11 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       ++done;
       if (options.progress)
         *options.progress << "study: [" << done << "/" << total << "] " << name << " dt=" << dt << "\n";
-      SimulationOptions o;
-      o.integrator = name;
-      o.formulation = options.formulation;
-      o.dt = dt;
-      o.t_end = t_end;
-      if (options.dts.empty()) o.dt_source = "the study's steps (4, 2, 1, 1/2, 1/4 times the scene's)";
-      o.max_steps = options.max_steps;
-      withHeartbeat(options.heartbeat, &o);
-      applyIntegratorOptions(sim.scene(), options.integrator_options, &o);
-
-      // Diagnostics run: drift figures, failure, Newton iterations; drift
-      // curves for the chosen step.
-      StudyRow row;
-      row.integrator = name;
-      row.dt = dt;
-      row.options = describeOptions(o);
-      const long steps = stepCount(0.0, t_end, dt);
-      const bool record_drift = dt == drift_dt;
-      o.every = static_cast<int>(std::max(1L, steps / kDriftSamples));
-      o.check_every = 1;  // the drift figures are this run's result: every step
-      std::vector<double> first;
-      if (record_drift)
-        o.invariant_sink = [&](double, const std::vector<double>& errors) {
-          result.drift.back().invariant_errors = errors;
-        };
-      const SimulationResult diag = sim.run(o, [&](const std::vector<double>& r) {
-        if (!record_drift) return;
-        if (first.empty()) first = r;
-        DriftSample s;
-        s.integrator = name;
-        s.dt = dt;
-        s.t = r[0];
-        const double e0 = first[energy_col];
-        s.energy_error = relativeDrift(r[energy_col] - e0, e0);
-        const Eigen::Vector3d L0(first[lx_col], first[lx_col + 1], first[lx_col + 2]);
-        const Eigen::Vector3d L(r[lx_col], r[lx_col + 1], r[lx_col + 2]);
-        s.momentum_error = relativeDrift((L - L0).norm(), L0.norm());
-        result.drift.push_back(s);
-      });
-      row.steps = diag.steps;
-      row.energy_drift = diag.energy_drift;
-      row.momentum_conserved = diag.momentum_conserved;
-      row.momentum_drift = diag.momentum_drift;
-      for (const auto& inv : diag.invariants) row.invariant_drifts.push_back(inv.second);
-      row.implicit = diag.implicit;
-      row.newton_iterations_mean = diag.newton_iterations_mean;
-      row.failed = diag.failed;
-      row.failure = diag.failure;
-      result.momentum_conserved = diag.momentum_conserved;
-      if (diag.failed) {
-        row.orientation_error = row.omega_error = std::numeric_limits<double>::quiet_NaN();
-        row.wall_seconds = diag.wall_seconds;
-        result.rows.push_back(row);
-        continue;
-      }
-      row.orientation_error = orientationError(bodies.of(diag.final_row), bodies.of(ref));
-      row.omega_error = omegaError(bodies.of(diag.final_row), bodies.of(ref));
-
-      // Timing runs: diagnostics off, repeated; the median is reported.
-      o.diagnostics = false;
-      o.invariant_sink = nullptr;
-      timeRow(options, [&] { return sim.run(o).wall_seconds; }, &row, &result);
-      result.rows.push_back(row);
+      studyCase(sim, name, dt, t_end, options, drift, ref, &result);
     }
   }
-  if (!options.mujoco_model.empty()) studyMujoco(peer.get(), t_end, dts, drift_dt, bodies.of(ref), options, &result);
+  const BodyColumns bodies(sim.columns());
+  if (!options.mujoco_model.empty()) studyMujoco(peer.get(), t_end, dts, drift.dt, bodies.of(ref), options, &result);
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <optional>
 #include <unordered_map>
 
 #include "dynamics/scene_joints.hpp"
@@ -185,6 +186,178 @@ bool articulatedCovers(const SceneDescription& scene, std::string* why) {
   return buildTree(scene, &order, &joint_of, &parent_of, &cuts, why);
 }
 
+namespace {
+
+/// The tree's scalar coordinates nq (angles, slides, a free root's centre
+/// of mass) and rotations ns (spherical joints, free roots' orientations).
+void countCoordinates(const SceneDescription& scene, const std::vector<int>& order, const std::vector<int>& joint_of,
+                      int* nq, int* ns) {
+  for (int c : order) {
+    const std::string& type = joint_of[c] >= 0 ? scene.joints[joint_of[c]].type
+                              : scene.bodies[c].rotation_only ? std::string("spherical") : std::string("free");
+    if (type == "spherical") {
+      ++*ns;
+    } else if (type == "free") {
+      ++*ns;     // its orientation
+      *nq += 3;  // its centre of mass
+    } else {
+      *nq += type == "universal" ? 2 : type == "gimbal" ? 3 : type == "fixed" ? 0 : 1;  // revolute, prismatic: 1
+    }
+  }
+}
+
+/// The drives of joint j's coordinates (its springs, dashpots, moments,
+/// prescribed motions and the program's moment `user_moment`, if any) on
+/// body b, and their values at t = 0 in y0: the prescribed value, else a
+/// slide's x0, else the initial angle.
+void setDrives(const JointDescription& j, const UserLoads::JointMoment* user_moment, std::optional<double> x0,
+               ArticulatedBody* b, std::array<CoordinateDrive, 3>* drives, articulated::ArticulatedState* y0) {
+  for (int i = 0; i < b->coordinates(); ++i) {
+    const CoordinateDescription& cd = j.coordinates[i];
+    CoordinateDrive& d = (*drives)[i];
+    d.stiffness = cd.stiffness;
+    d.rest_angle = cd.rest_angle;
+    d.damping = cd.damping;
+    d.moment = cd.moment;
+    d.prescribed = cd.prescribed;
+    if (user_moment) {
+      const UserLoads::JointMoment f = *user_moment;
+      d.user_moment = [f, i](double time, double phi, double phidot) { return f(time, i, phi, phidot); };
+    }
+    y0->q[b->q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : x0 ? *x0 : j.initial_angles[i];
+    b->has_force[i] = d.hasForce();
+    b->is_prescribed[i] = d.prescribed.has_value();
+  }
+}
+
+/// The loop-closing joints `cuts`: the maximal formulation's constraints,
+/// assembled at the scene's poses (the tree reproduces them at y0), and the
+/// gear rows, appended to model->closures.
+void addClosures(const SceneDescription& scene, const std::vector<int>& cuts, ArticulatedModel* model) {
+  auto tree = [&](int scene_body) { return scene_body < 0 ? articulated::kGround : model->tree_index[scene_body]; };
+  auto pose = [&](int i) {
+    if (i < 0) return constraints::groundPose<double>();
+    return constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()), scene.bodies[i].position};
+  };
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  for (int k : cuts) {
+    const JointDescription& j = scene.joints[k];
+    articulated::ArticulatedClosure c;
+    if (j.isGear()) {
+      const Gear g = sceneGear(scene, static_cast<std::size_t>(k), index);
+      c.gear = g.constraint;
+      for (int s = 0; s < 4; ++s) c.bodies[s] = tree(g.bodies[s]);
+    } else {
+      const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
+      const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
+      c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), index, pose(a), pose(b));
+      c.bodies[0] = tree(a);
+      c.bodies[1] = tree(b);
+      c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};
+    }
+    c.scene_joint = k;
+    c.label = label(scene, static_cast<std::size_t>(k));
+    c.row_begin = model->closure_rows;
+    model->closure_rows += c.rows();
+    model->closures.push_back(std::move(c));
+  }
+}
+
+/// The program's body torques on the system (its joint moments went to the
+/// drives); names that match no body or joint are InvalidInput.
+void attachUserLoads(const SceneDescription& scene, articulated::ArticulatedSystem* system) {
+  articulated::ArticulatedSystem& sys = *system;
+  for (const auto& [name, f] : scene.user_loads.body_torques) {
+    const int i = scene.bodyIndex(name);
+    if (i < 0) throw InvalidInput("torques", "the scene has no body '" + name + "'");
+    sys.setUserTorque(sys.model().tree_index[i], f);
+  }
+  for (const auto& [name, f] : scene.user_loads.joint_moments) {
+    (void)f;
+    bool found = false;
+    for (const JointDescription& j : scene.joints) found = found || j.name == name;
+    if (!found) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
+  }
+}
+
+/// Child c of the tree on scene joint k = its parent `parent` (a scene body,
+/// or −1 for the ground): the joint's kind, anchors, axes, reference
+/// rotation and drives on body b (b->parent set), its coordinates' or
+/// rotation's slots (from *q_next, *r_next; rotations after the nq scalar
+/// coordinates in u) and values at t = 0 in y0.
+void setTreeJoint(const SceneDescription& scene, int c, int parent, int nq, int* r_next, int* q_next,
+                  ArticulatedBody* b, std::array<CoordinateDrive, 3>* drives, articulated::ArticulatedState* y0) {
+  const int k = b->scene_joint;
+  const auto orientation = [&](int scene_body) {
+    return scene_body < 0 ? Eigen::Matrix3d::Identity()
+                          : Eigen::Matrix3d(scene.bodies[scene_body].orientation.normalized().toRotationMatrix());
+  };
+  const JointDescription& j = scene.joints[k];
+  const std::string& parent_name = parent < 0 ? std::string("ground") : scene.bodies[parent].name;
+  b->parent_is_main = j.main == parent_name;
+  b->anchor_parent = b->parent_is_main ? j.anchor_main : j.anchor_secondary;
+  b->anchor_child = b->parent_is_main ? j.anchor_secondary : j.anchor_main;
+  const int main = b->parent_is_main ? parent : c, sec = b->parent_is_main ? c : parent;
+  const Eigen::Matrix3d M0 = orientation(main).transpose() * orientation(sec);
+  const auto user_moment = scene.user_loads.joint_moments.find(j.name);
+  if (j.type == "spherical") {
+    b->kind = articulated::JointKind::kSpherical;
+    b->rotation = (*r_next)++;
+    b->u_begin = nq + 3 * b->rotation;
+    const Eigen::Matrix3d N0 = orientation(parent).transpose() * orientation(c);
+    y0->N.push_back(SO3d(Eigen::Quaterniond(N0).normalized()));
+    if (user_moment != scene.user_loads.joint_moments.end())
+      throw InvalidInput("moments", "joint '" + j.name +
+                                        "' is spherical: a moment acts on the coordinate of a revolute or "
+                                        "universal joint");
+  } else {
+    // An anchor in the world at t = 0 (`local` in the frame of `body`, or
+    // of the world).
+    const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
+      return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
+    };
+    const bool slides = j.type == "prismatic";
+    b->kind = slides                  ? articulated::JointKind::kPrismatic
+              : j.type == "universal" ? articulated::JointKind::kUniversal
+              : j.type == "gimbal"    ? articulated::JointKind::kGimbal
+              : j.type == "fixed"     ? articulated::JointKind::kFixed
+                                      : articulated::JointKind::kRevolute;
+    b->q_begin = b->u_begin = *q_next;
+    *q_next += b->coordinates();
+    b->axis1 = j.axis_main.normalized();
+    b->axis2 = j.axis_secondary.normalized();
+    b->R_ref = slides || b->kind == articulated::JointKind::kFixed
+                   ? M0
+                   : Eigen::Matrix3d(rotationAbout(b->axis1, -j.initial_angles[0]) * M0);
+    if (b->kind == articulated::JointKind::kUniversal)
+      b->R_ref = b->R_ref * rotationAbout(b->axis2, -j.initial_angles[1]);
+    if (b->kind == articulated::JointKind::kGimbal) {
+      // M0 = exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref at the initial angles.
+      b->axis2 = j.axis2_main.normalized();
+      b->axis3 = j.axis3_main.normalized();
+      b->R_ref = rotationAbout(b->axis3, -j.initial_angles[2]) * rotationAbout(b->axis2, -j.initial_angles[1]) *
+                 rotationAbout(b->axis1, -j.initial_angles[0]) * M0;
+    }
+    if (j.offset) {
+      // δ: the secondary anchor from the main one, main frame, at φ₁ = 0.
+      b->offset = true;
+      b->offset_ref = rotationAbout(b->axis1, -j.initial_angles[0]) * orientation(main).transpose() *
+                      (anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
+    }
+    // A slide's x at t = 0, as the maximal formulation reads it from the
+    // poses: x = (R_main a)·(anchor_secondary − anchor_main), world.
+    double x0 = 0.0;
+    if (slides) {
+      x0 = (orientation(main) * b->axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
+    }
+    const UserLoads::JointMoment* f =
+        user_moment != scene.user_loads.joint_moments.end() ? &user_moment->second : nullptr;
+    setDrives(j, f, slides ? std::optional<double>(x0) : std::nullopt, b, drives, y0);
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& scene) {
   std::vector<int> order, joint_of, parent_of, cuts;
   std::string why;
@@ -203,18 +376,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   };
   // Angles first, then spherical rotations in u (articulated_state.hpp).
   int nq = 0, ns = 0;
-  for (int c : order) {
-    const std::string& type = joint_of[c] >= 0 ? scene.joints[joint_of[c]].type
-                              : scene.bodies[c].rotation_only ? std::string("spherical") : std::string("free");
-    if (type == "spherical") {
-      ++ns;
-    } else if (type == "free") {
-      ++ns;     // its orientation
-      nq += 3;  // its centre of mass
-    } else {
-      nq += type == "universal" ? 2 : type == "gimbal" ? 3 : type == "fixed" ? 0 : 1;  // revolute, prismatic: 1
-    }
-  }
+  countCoordinates(scene, order, joint_of, &nq, &ns);
   articulated::ArticulatedState y0;
   y0.q.setZero(nq);
   y0.u.setZero(nq + 3 * ns);
@@ -257,131 +419,20 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       model.drives.emplace_back();
       continue;
     }
-    const JointDescription& j = scene.joints[k];
     std::array<CoordinateDrive, 3> drives;
     b.parent = parent_of[c] < 0 ? articulated::kGround : model.tree_index[parent_of[c]];
-    const std::string& parent_name = parent_of[c] < 0 ? std::string("ground") : scene.bodies[parent_of[c]].name;
-    b.parent_is_main = j.main == parent_name;
-    b.anchor_parent = b.parent_is_main ? j.anchor_main : j.anchor_secondary;
-    b.anchor_child = b.parent_is_main ? j.anchor_secondary : j.anchor_main;
-    const int main = b.parent_is_main ? parent_of[c] : c, sec = b.parent_is_main ? c : parent_of[c];
-    const Eigen::Matrix3d M0 = orientation(main).transpose() * orientation(sec);
-    const auto user_moment = scene.user_loads.joint_moments.find(j.name);
-    if (j.type == "spherical") {
-      b.kind = articulated::JointKind::kSpherical;
-      b.rotation = r_next++;
-      b.u_begin = nq + 3 * b.rotation;
-      const Eigen::Matrix3d N0 = orientation(parent_of[c]).transpose() * orientation(c);
-      y0.N.push_back(SO3d(Eigen::Quaterniond(N0).normalized()));
-      if (user_moment != scene.user_loads.joint_moments.end())
-        throw InvalidInput("moments", "joint '" + j.name +
-                                          "' is spherical: a moment acts on the coordinate of a revolute or "
-                                          "universal joint");
-    } else {
-      // An anchor in the world at t = 0 (`local` in the frame of `body`, or
-      // of the world).
-      const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
-        return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
-      };
-      const bool slides = j.type == "prismatic";
-      b.kind = slides                    ? articulated::JointKind::kPrismatic
-               : j.type == "universal" ? articulated::JointKind::kUniversal
-               : j.type == "gimbal"    ? articulated::JointKind::kGimbal
-               : j.type == "fixed"     ? articulated::JointKind::kFixed
-                                       : articulated::JointKind::kRevolute;
-
-      b.q_begin = b.u_begin = q_next;
-      q_next += b.coordinates();
-      b.axis1 = j.axis_main.normalized();
-      b.axis2 = j.axis_secondary.normalized();
-      b.R_ref = slides || b.kind == articulated::JointKind::kFixed ? M0
-                                                       : Eigen::Matrix3d(rotationAbout(b.axis1, -j.initial_angles[0]) * M0);
-      if (b.kind == articulated::JointKind::kUniversal) b.R_ref = b.R_ref * rotationAbout(b.axis2, -j.initial_angles[1]);
-      if (b.kind == articulated::JointKind::kGimbal) {
-        // M0 = exp(φ₁e₁) exp(φ₂e₂) exp(φ₃e₃) R_ref at the initial angles.
-        b.axis2 = j.axis2_main.normalized();
-        b.axis3 = j.axis3_main.normalized();
-        b.R_ref = rotationAbout(b.axis3, -j.initial_angles[2]) * rotationAbout(b.axis2, -j.initial_angles[1]) *
-                  rotationAbout(b.axis1, -j.initial_angles[0]) * M0;
-      }
-      if (j.offset) {
-        // δ: the secondary anchor from the main one, main frame, at φ₁ = 0.
-        b.offset = true;
-        b.offset_ref = rotationAbout(b.axis1, -j.initial_angles[0]) * orientation(main).transpose() *
-                       (anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
-      }
-      // A slide's x at t = 0, as the maximal formulation reads it from the
-      // poses: x = (R_main a)·(anchor_secondary − anchor_main), world.
-      double x0 = 0.0;
-      if (slides) {
-        x0 = (orientation(main) * b.axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
-      }
-      for (int i = 0; i < b.coordinates(); ++i) {
-        const CoordinateDescription& cd = j.coordinates[i];
-        CoordinateDrive& d = drives[i];
-        d.stiffness = cd.stiffness;
-        d.rest_angle = cd.rest_angle;
-        d.damping = cd.damping;
-        d.moment = cd.moment;
-        d.prescribed = cd.prescribed;
-        if (user_moment != scene.user_loads.joint_moments.end()) {
-          const UserLoads::JointMoment f = user_moment->second;
-          d.user_moment = [f, i](double time, double phi, double phidot) { return f(time, i, phi, phidot); };
-        }
-        y0.q[b.q_begin + i] = d.prescribed ? (*d.prescribed)(0.0) : slides ? x0 : j.initial_angles[i];
-        b.has_force[i] = d.hasForce();
-        b.is_prescribed[i] = d.prescribed.has_value();
-      }
-    }
+    setTreeJoint(scene, c, parent_of[c], nq, &r_next, &q_next, &b, &drives, &y0);
     model.bodies.push_back(b);
     model.names.push_back(bd.name);
     model.drives.push_back(std::move(drives));
   }
   model.scalar_coordinates = nq;
   model.rotations = ns;
-  // The loop-closing joints: the maximal formulation's constraints, assembled
-  // at the scene's poses (the tree reproduces them at y0), and the gear rows.
-  auto tree = [&](int scene_body) { return scene_body < 0 ? articulated::kGround : model.tree_index[scene_body]; };
-  auto pose = [&](int i) {
-    return i < 0 ? constraints::groundPose<double>()
-                 : constraints::BodyPose<double>{SO3d(scene.bodies[i].orientation.normalized()), scene.bodies[i].position};
-  };
-  const std::unordered_map<std::string, int> index = scene.bodyIndices();
-  for (int k : cuts) {
-    const JointDescription& j = scene.joints[k];
-    articulated::ArticulatedClosure c;
-    if (j.isGear()) {
-      const Gear g = sceneGear(scene, static_cast<std::size_t>(k), index);
-      c.gear = g.constraint;
-      for (int s = 0; s < 4; ++s) c.bodies[s] = tree(g.bodies[s]);
-    } else {
-      const int a = j.main == "ground" ? -1 : scene.bodyIndex(j.main);
-      const int b = j.secondary == "ground" ? -1 : scene.bodyIndex(j.secondary);
-      c.constraint = sceneJointConstraint(scene, static_cast<std::size_t>(k), index, pose(a), pose(b));
-      c.bodies[0] = tree(a);
-      c.bodies[1] = tree(b);
-      c.initial_angles = {{j.initial_angles[0], j.initial_angles[1]}};
-    }
-    c.scene_joint = k;
-    c.label = label(scene, static_cast<std::size_t>(k));
-    c.row_begin = model.closure_rows;
-    model.closure_rows += c.rows();
-    model.closures.push_back(std::move(c));
-  }
+  addClosures(scene, cuts, &model);
   auto out = std::make_unique<ArticulatedScene>();
   out->system = std::make_unique<articulated::ArticulatedSystem>(std::move(model));
   articulated::ArticulatedSystem& sys = *out->system;
-  for (const auto& [name, f] : scene.user_loads.body_torques) {
-    const int i = scene.bodyIndex(name);
-    if (i < 0) throw InvalidInput("torques", "the scene has no body '" + name + "'");
-    sys.setUserTorque(sys.model().tree_index[i], f);
-  }
-  for (const auto& [name, f] : scene.user_loads.joint_moments) {
-    (void)f;
-    bool found = false;
-    for (const JointDescription& j : scene.joints) found = found || j.name == name;
-    if (!found) throw InvalidInput("moments", "the scene has no joint '" + name + "'");
-  }
+  attachUserLoads(scene, &sys);
   std::vector<Eigen::Vector3d> omega(nb), v(nb);
   for (int t = 0; t < nb; ++t) {
     const BodyDescription& bd = scene.bodies[order[t]];

@@ -44,11 +44,20 @@ bool KktAssembly::bind(const MultibodySystem& system) {
   groups_.resize(ng);
   for (int g = 0; g < ng; ++g) groups_[g] = S.group(g);
 
-  // Blocks (row0, col0, rows, cols) of the pattern.
-  struct Place {
-    int row0, col0, rows, cols;
-  };
   std::vector<Place> places;
+  placeIndexOneBlocks(system, &places);
+  placeStabilizedBlocks(system, &places);
+  buildPattern(places, n_ + m_ + (stabilized_ ? mp_ : 0));
+  Jr_.resize(nb);
+  base_.resize(ng);
+  colourBodies();
+  return true;
+}
+
+void KktAssembly::placeIndexOneBlocks(const MultibodySystem& system, std::vector<Place>* out) {
+  std::vector<Place>& places = *out;
+  const SchurSolver& S = system.schur(RowSet::kAll);
+  const int nb = system.bodyCount(), ng = S.groupCount();
   auto dof = [&](int b) { return rot_[b] ? 3 : 6; };
   body_block_.resize(nb);
   for (int b = 0; b < nb; ++b) {
@@ -89,12 +98,18 @@ bool KktAssembly::bind(const MultibodySystem& system) {
       }
     }
   }
+}
+
+void KktAssembly::placeStabilizedBlocks(const MultibodySystem& system, std::vector<Place>* out) {
+  std::vector<Place>& places = *out;
+  const SchurSolver& S = system.schur(RowSet::kAll);
+  const int nb = system.bodyCount(), ng = S.groupCount();
+  auto dof = [&](int b) { return rot_[b] ? 3 : 6; };
   // Stabilized: position rows below the velocity rows, ν columns right of
   // the λ columns (header comment); the blocks of the position rows (Φ_q T),
   // of the force rows in the ν columns (−(M + c_C C) M⁻¹ J̄ᵀ, per body) and
   // of the velocity rows in the ν columns (−J M⁻¹ J̄ᵀ, per pair of groups
   // sharing a body).
-  const int mnu = stabilized_ ? mp_ : 0;
   pj_block_.assign(ng, {});
   fnu_block_.assign(ng, {});
   vnu_contributions_.clear();
@@ -132,7 +147,9 @@ bool KktAssembly::bind(const MultibodySystem& system) {
           vnu_contributions_.push_back({it->second, k.first, k.second, l.first, l.second});
         }
   }
-  const int N = n_ + m_ + mnu;
+}
+
+void KktAssembly::buildPattern(const std::vector<Place>& places, int N) {
   std::vector<Eigen::Triplet<double, int>> t;
   for (const Place& p : places)
     for (int c = 0; c < p.cols; ++c)
@@ -153,8 +170,10 @@ bool KktAssembly::bind(const MultibodySystem& system) {
         slots_.push_back(std::lower_bound(begin, end, p.row0 + r) - A_.innerIndexPtr());
     }
   }
-  Jr_.resize(nb);
-  base_.resize(ng);
+}
+
+void KktAssembly::colourBodies() {
+  const int nb = static_cast<int>(rot_.size());
   // Greedy colouring of the graph "shares a row group" (geometricStiffness).
   colour_.assign(nb, -1);
   colours_ = 0;
@@ -173,7 +192,6 @@ bool KktAssembly::bind(const MultibodySystem& system) {
     colour_[b] = c;
     colours_ = std::max(colours_, c + 1);
   }
-  return true;
 }
 
 template <typename Derived>

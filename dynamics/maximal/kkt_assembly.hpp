@@ -138,6 +138,18 @@ class KktAssembly {
     int rows = 0, cols = 0;
     std::size_t slot0 = 0;
   };
+  /// A block of the pattern: rows × cols from (row0, col0).
+  struct Place {
+    int row0, col0, rows, cols;
+  };
+  /// bind()'s steps: the blocks of M, J and Jᵀ (body_block_, j_block_,
+  /// jt_block_, pair_block_); with stabilized_, those of the position rows
+  /// and ν columns (pj_block_, fnu_block_, vnu_contributions_); A_'s pattern
+  /// of N columns and each block's slots in it; the bodies' colours.
+  void placeIndexOneBlocks(const MultibodySystem& system, std::vector<Place>* places);
+  void placeStabilizedBlocks(const MultibodySystem& system, std::vector<Place>* places);
+  void buildPattern(const std::vector<Place>& places, int N);
+  void colourBodies();
   template <typename Derived>
   void addBlock(int k, const Eigen::MatrixBase<Derived>& value, int r0 = 0, int c0 = 0);
   int rotationBegin(int b) const { return rot_[b] ? 0 : 3; }
