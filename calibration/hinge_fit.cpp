@@ -191,9 +191,10 @@ void modelMisfit(const JointSamples& samples, int shift, const Eigen::Vector3d& 
 }
 
 /// The fit with the clock offset's whole samples given (0 without one).
-HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift,
-                         const Unfiltered& unfiltered = Unfiltered()) {
-  const auto start_time = std::chrono::steady_clock::now();
+/// The recorded data the hinge fit uses: the likelihood estimator's
+/// gyroscopes alone, the clock offset's gyroscopes (the offset pairs their
+/// samples), or what --use asks for; InvalidInput when the recording lacks it.
+DataSelection hingeData(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.estimator == HingeEstimator::kLikelihood) {
     if (options.use != DataUse::kAuto && options.use != DataUse::kAngularVelocities)
       throw InvalidInput(samples.source, std::string("--estimator likelihood with --use ") + dataUseName(options.use) +
@@ -214,6 +215,105 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
     data.orientations = data.accelerometers = false;
     if (!data.rates) throw InvalidInput(samples.source, "--fit-time-offset needs both bodies' gyroscopes");
   }
+  return data;
+}
+
+/// The starts of a fit to the gyroscopes alone: the closed form and a grid
+/// of starts, descended cheaply (hinge_search.hpp), of which Ceres refines
+/// the best minimum and those that could rival it (with the accelerometers,
+/// each also with the second axis turned: their cost is odd in it).
+void rateStarts(const JointSamples& samples, const std::vector<Eigen::Vector3d>& w1,
+                const std::vector<Eigen::Vector3d>& w2, bool accelerometers, std::vector<NamedStart>* out,
+                int* search_starts) {
+  std::vector<NamedStart>& starts = *out;
+  // The closed form and a grid of starts, descended cheaply (hinge_search.hpp);
+  // Ceres refines the best minimum and those that could rival it.
+  const std::vector<AxisPair> closed_form = hingeStartsFromRates(w1, w2);
+  const std::vector<HingeMinimum> minima = hingeMinimaFromRates(w1, w2, closed_form);
+  *search_starts = static_cast<int>(closed_form.size()) + kGridStarts;
+  const auto origin = [&](int start) {
+    if (start < 0 || start >= static_cast<int>(closed_form.size()))
+      return "grid start " + std::to_string(start - static_cast<int>(closed_form.size()) + 1) + " of " +
+             std::to_string(kGridStarts);
+    return start == 0 ? std::string("closed form (gyroscopes)")
+                      : "closed form (gyroscopes), near-null alternative " + std::to_string(start);
+  };
+  const double s2 = minima.empty() ? 0.0 : minima.front().cost / std::max(1, samples.size() - 4);
+  for (std::size_t i = 0; i < minima.size() && static_cast<int>(i) < kMaxRefinedMinima; ++i) {
+    const bool rival = s2 > 0.0 && (minima[i].cost - minima.front().cost) / s2 <= kRefineChiSquare;
+    if (i != 0 && !rival) continue;
+    starts.push_back({minima[i].axes, origin(minima[i].start)});
+    // The gyroscopes' cost is even in each axis; the accelerometers' is not.
+    if (accelerometers)
+      starts.push_back({{minima[i].axes.axis1, -minima[i].axes.axis2}, origin(minima[i].start) + ", turned"});
+  }
+  if (starts.empty()) starts.push_back({closed_form.front(), origin(0)});
+}
+
+/// The relative sign of the secondary axis (R1 j1 = R2 j2), from the
+/// orientations, else the accelerometers when they decide it, else the phase
+/// of the perpendicular angular velocities; flips *j2 and says how in *how.
+void relativeAxisSign(const JointSamples& samples, const DataSelection& data,
+                      const std::vector<Eigen::Matrix3d>& R12, const ResidualKind* accelerometers,
+                      const TwoAxisSolution& solution, const Eigen::Vector3d& j1, Eigen::Vector3d* j2_out,
+                      std::string* how) {
+  Eigen::Vector3d& j2 = *j2_out;
+  // The accelerometers' constraint is odd in j₂: its cost at (j₁, −j₂) says
+  // whether it fixes the relative sign.
+  double sign_delta = 0.0;
+  if (accelerometers) {
+    const double w = 1.0 / solution.summary.residuals.back().noise_scale;
+    const Eigen::Vector3d turned = -j2;
+    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), nullptr, &w, nullptr) -
+                        accelerometers->cost(j1.data(), j2.data(), nullptr, &w, nullptr));
+  }
+  if (data.orientations) {
+    double agreement = 0.0;
+    for (const Eigen::Matrix3d& R : R12) agreement += j1.dot(R * j2);
+    if (agreement < 0.0) j2 = -j2;
+    *how = "R1 j1 = R2 j2 from the orientations";
+  } else if (std::abs(sign_delta) > kSignChiSquare) {
+    if (sign_delta < 0.0) j2 = -j2;
+    *how = "R1 j1 = R2 j2 from the accelerometers (the centre's acceleration along the axis)";
+  } else {
+    const HingeSignEvidence evidence =
+        hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity, j1, j2);
+    j2 *= evidence.relative_sign;
+    *how = evidence.decided ? "R1 j1 = R2 j2 from the phase of the perpendicular angular velocities"
+                                : "relative sign of axis_secondary not determined by these gyroscope data "
+                                  "(the perpendicular angular velocity does not turn about the axis); "
+                                  "reported by convention";
+  }
+}
+
+/// The fitted gyroscope biases (b = B ν in each body's axes, B the plane
+/// perpendicular to the first start's axis: the component along the axis is
+/// not observable) and clock offset (the whole-sample shift plus the fitted
+/// fraction), with their σ.
+void setNuisance(const JointSamples& samples, const NuisanceSelection& nuisance, const NamedStart& first, int shift,
+                 const TwoAxisSolution& solution, HingeFit* out) {
+  HingeFit& fit = *out;
+  if (nuisance.active[0]) {
+    const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1);
+    const Eigen::Matrix<double, 3, 2> B2 = perpendicularBasis(first.axes.axis2);
+    fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
+    fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);
+    fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
+    fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
+    fit.fitted_gyro_bias = true;
+  }
+  if (nuisance.active[4]) {
+    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+    fit.time_offset = shift * h + solution.nuisance[4];
+    fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
+    fit.fitted_time_offset = true;
+  }
+}
+
+HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift,
+                         const Unfiltered& unfiltered = Unfiltered()) {
+  const auto start_time = std::chrono::steady_clock::now();
+  DataSelection data = hingeData(samples, options);
   requireEnoughSamples(samples.size(), options);
   const NuisanceSelection nuisance = nuisanceOf(samples, data, options);
 
@@ -238,28 +338,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
       w2.push_back(samples.secondary.angular_velocity[k - shift]);
     }
     if (!data.orientations) {
-      // The closed form and a grid of starts, descended cheaply (hinge_search.hpp);
-      // Ceres refines the best minimum and those that could rival it.
-      const std::vector<AxisPair> closed_form = hingeStartsFromRates(w1, w2);
-      const std::vector<HingeMinimum> minima = hingeMinimaFromRates(w1, w2, closed_form);
-      search_starts = static_cast<int>(closed_form.size()) + kGridStarts;
-      const auto origin = [&](int start) {
-        if (start < 0 || start >= static_cast<int>(closed_form.size()))
-          return "grid start " + std::to_string(start - static_cast<int>(closed_form.size()) + 1) + " of " +
-                 std::to_string(kGridStarts);
-        return start == 0 ? std::string("closed form (gyroscopes)")
-                          : "closed form (gyroscopes), near-null alternative " + std::to_string(start);
-      };
-      const double s2 = minima.empty() ? 0.0 : minima.front().cost / std::max(1, samples.size() - 4);
-      for (std::size_t i = 0; i < minima.size() && static_cast<int>(i) < kMaxRefinedMinima; ++i) {
-        const bool rival = s2 > 0.0 && (minima[i].cost - minima.front().cost) / s2 <= kRefineChiSquare;
-        if (i != 0 && !rival) continue;
-        starts.push_back({minima[i].axes, origin(minima[i].start)});
-        // The gyroscopes' cost is even in each axis; the accelerometers' is not.
-        if (data.accelerometers)
-          starts.push_back({{minima[i].axes.axis1, -minima[i].axes.axis2}, origin(minima[i].start) + ", turned"});
-      }
-      if (starts.empty()) starts.push_back({closed_form.front(), origin(0)});
+      rateStarts(samples, w1, w2, data.accelerometers, &starts, &search_starts);
       context.hint = kRateHint;
     }
     // The gyroscopes' kind, with the nuisance block when biases or a clock
@@ -305,32 +384,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
 
   HingeFit fit;
   Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
-  // The accelerometers' constraint is odd in j₂: its cost at (j₁, −j₂) says
-  // whether it fixes the relative sign.
-  double sign_delta = 0.0;
-  if (accelerometers) {
-    const double w = 1.0 / solution.summary.residuals.back().noise_scale;
-    const Eigen::Vector3d turned = -j2;
-    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), nullptr, &w, nullptr) -
-                        accelerometers->cost(j1.data(), j2.data(), nullptr, &w, nullptr));
-  }
-  if (data.orientations) {
-    double agreement = 0.0;
-    for (const Eigen::Matrix3d& R : R12) agreement += j1.dot(R * j2);
-    if (agreement < 0.0) j2 = -j2;
-    fit.sign = "R1 j1 = R2 j2 from the orientations";
-  } else if (std::abs(sign_delta) > kSignChiSquare) {
-    if (sign_delta < 0.0) j2 = -j2;
-    fit.sign = "R1 j1 = R2 j2 from the accelerometers (the centre's acceleration along the axis)";
-  } else {
-    const HingeSignEvidence evidence =
-        hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity, j1, j2);
-    j2 *= evidence.relative_sign;
-    fit.sign = evidence.decided ? "R1 j1 = R2 j2 from the phase of the perpendicular angular velocities"
-                                : "relative sign of axis_secondary not determined by these gyroscope data "
-                                  "(the perpendicular angular velocity does not turn about the axis); "
-                                  "reported by convention";
-  }
+  relativeAxisSign(samples, data, R12, accelerometers, solution, j1, &j2, &fit.sign);
   const double overall = canonicalSign(j1);
   fit.sign += "; overall sign: largest component of axis_main positive";
   fit.axis_main = overall * j1;
@@ -338,22 +392,7 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   fit.sigma_main_deg = solution.sigma1_rad * kRadToDeg;
   fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
-  if (nuisance.active[0]) {
-    // b = B ν in each body's axes; the component along the axis is not observable (0).
-    const NamedStart& first = starts.front();
-    const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1), B2 = perpendicularBasis(first.axes.axis2);
-    fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
-    fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);
-    fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
-    fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
-    fit.fitted_gyro_bias = true;
-  }
-  if (nuisance.active[4]) {
-    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
-    fit.time_offset = shift * h + solution.nuisance[4];
-    fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
-    fit.fitted_time_offset = true;
-  }
+  setNuisance(samples, nuisance, starts.front(), shift, solution, &fit);
   modelMisfit(samples, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centre : nullptr, &fit);
   if (!data.rates) fit.gyro_misfit = -1.0;
   fit.information = solution.information;
