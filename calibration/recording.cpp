@@ -103,6 +103,89 @@ std::string Recording::bodyList() const {
   return out.empty() ? "none" : out;
 }
 
+namespace {
+
+/// Where a recording's header puts the time, each body's columns (grouped by
+/// prefix) and the other (scalar) columns.
+struct HeaderColumns {
+  int time_col = -1;
+  std::vector<BodyColumns> body_cols;
+  std::vector<int> scalar_cols;
+};
+
+/// The header's columns: `t`, body columns grouped by prefix, everything
+/// else a scalar column of `rec` (named, no values yet).
+HeaderColumns readHeader(const std::vector<std::string>& header, const std::string& source, Recording* rec_out) {
+  Recording& rec = *rec_out;
+  HeaderColumns out;
+  std::map<std::string, int> seen;
+  for (int c = 0; c < static_cast<int>(header.size()); ++c) {
+    const std::string& name = header[c];
+    if (name.empty()) throw InvalidInput(where(source, 1), "column " + std::to_string(c + 1) + " has no name");
+    if (seen.count(name))
+      throw InvalidInput(where(source, 1), "column " + name + " appears twice (columns " +
+                                               std::to_string(seen[name] + 1) + " and " + std::to_string(c + 1) +
+                                               ")");
+    seen[name] = c;
+    if (name == "t") {
+      out.time_col = c;
+      continue;
+    }
+    const auto dot = name.rfind('.');
+    const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
+    const std::string suffix = dot == std::string::npos ? "" : name.substr(dot + 1);
+    const bool quaternion = contains(kQuaternionSuffixes, suffix);
+    const bool rate = contains(kRateSuffixes, suffix);
+    const bool acc = contains(kAccelerometerSuffixes, suffix);
+    if (prefix.empty() || (!quaternion && !rate && !acc && !contains(kOtherBodySuffixes, suffix))) {
+      out.scalar_cols.push_back(c);
+      rec.scalars.push_back(ScalarColumn{name, {}});
+      continue;
+    }
+    auto it = out.body_cols.begin();
+    while (it != out.body_cols.end() && it->name != prefix) ++it;
+    if (it == out.body_cols.end()) {
+      out.body_cols.push_back(BodyColumns{prefix, {-1, -1, -1, -1}, {-1, -1, -1}, {-1, -1, -1}});
+      it = out.body_cols.end() - 1;
+    }
+    for (std::size_t i = 0; i < kQuaternionSuffixes.size(); ++i)
+      if (suffix == kQuaternionSuffixes[i]) it->quaternion[i] = c;
+    for (std::size_t i = 0; i < kRateSuffixes.size(); ++i)
+      if (suffix == kRateSuffixes[i]) it->rate[i] = c;
+    for (std::size_t i = 0; i < kAccelerometerSuffixes.size(); ++i)
+      if (suffix == kAccelerometerSuffixes[i]) it->acc[i] = c;
+  }
+  if (out.time_col < 0) throw InvalidInput(where(source, 1), "no column t (the header must name a time column t)");
+
+  return out;
+}
+
+/// The numbers of one data row (line `line_number`) into `values`: as many
+/// cells as the header has columns, each a finite number lieflow accepts.
+void readRow(const std::vector<std::string>& cells, const std::vector<std::string>& header,
+             const std::string& source, int line_number, std::vector<double>* values) {
+  const std::size_t ncols = header.size();
+  if (cells.size() != ncols)
+    throw InvalidInput(where(source, line_number), "expected " + std::to_string(ncols) +
+                                                       " values (the header's columns), found " +
+                                                       std::to_string(cells.size()));
+  for (std::size_t c = 0; c < ncols; ++c) {
+    const std::string& cell = cells[c];
+    if (cell.empty()) throw InvalidInput(where(source, line_number, header[c]), "missing value");
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (end == cell.c_str() || *end != '\0')
+      throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not a number");
+    if (!std::isfinite(v))
+      throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not finite");
+    if (const std::string problem = inputNumberProblem(v); !problem.empty())
+      throw InvalidInput(where(source, line_number, header[c]), problem);
+    (*values)[c] = v;
+  }
+}
+
+}  // namespace
+
 Recording parseRecording(std::istream& in, const std::string& source, long max_rows) {
   Recording rec;
   rec.source = source;
@@ -115,48 +198,10 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
   if (!validUtf8(line)) throw InvalidInput(where(source, 1), "the header is not valid UTF-8 text");
   const std::vector<std::string> header = splitCells(line);
 
-  // Header: `t`, body columns grouped by prefix, everything else ignored.
-  int time_col = -1;
-  std::vector<BodyColumns> body_cols;
-  std::vector<int> scalar_cols;
-  std::map<std::string, int> seen;
-  for (int c = 0; c < static_cast<int>(header.size()); ++c) {
-    const std::string& name = header[c];
-    if (name.empty()) throw InvalidInput(where(source, 1), "column " + std::to_string(c + 1) + " has no name");
-    if (seen.count(name))
-      throw InvalidInput(where(source, 1), "column " + name + " appears twice (columns " +
-                                               std::to_string(seen[name] + 1) + " and " + std::to_string(c + 1) +
-                                               ")");
-    seen[name] = c;
-    if (name == "t") {
-      time_col = c;
-      continue;
-    }
-    const auto dot = name.rfind('.');
-    const std::string prefix = dot == std::string::npos ? "" : name.substr(0, dot);
-    const std::string suffix = dot == std::string::npos ? "" : name.substr(dot + 1);
-    const bool quaternion = contains(kQuaternionSuffixes, suffix);
-    const bool rate = contains(kRateSuffixes, suffix);
-    const bool acc = contains(kAccelerometerSuffixes, suffix);
-    if (prefix.empty() || (!quaternion && !rate && !acc && !contains(kOtherBodySuffixes, suffix))) {
-      scalar_cols.push_back(c);
-      rec.scalars.push_back(ScalarColumn{name, {}});
-      continue;
-    }
-    auto it = body_cols.begin();
-    while (it != body_cols.end() && it->name != prefix) ++it;
-    if (it == body_cols.end()) {
-      body_cols.push_back(BodyColumns{prefix, {-1, -1, -1, -1}, {-1, -1, -1}, {-1, -1, -1}});
-      it = body_cols.end() - 1;
-    }
-    for (std::size_t i = 0; i < kQuaternionSuffixes.size(); ++i)
-      if (suffix == kQuaternionSuffixes[i]) it->quaternion[i] = c;
-    for (std::size_t i = 0; i < kRateSuffixes.size(); ++i)
-      if (suffix == kRateSuffixes[i]) it->rate[i] = c;
-    for (std::size_t i = 0; i < kAccelerometerSuffixes.size(); ++i)
-      if (suffix == kAccelerometerSuffixes[i]) it->acc[i] = c;
-  }
-  if (time_col < 0) throw InvalidInput(where(source, 1), "no column t (the header must name a time column t)");
+  const HeaderColumns columns = readHeader(header, source, &rec);
+  const int time_col = columns.time_col;
+  const std::vector<BodyColumns>& body_cols = columns.body_cols;
+  const std::vector<int>& scalar_cols = columns.scalar_cols;
 
   std::vector<bool> has_q, has_w, has_a;
   for (const BodyColumns& b : body_cols) {
@@ -183,23 +228,7 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
       throw limitExceeded(source, "data rows", static_cast<double>(max_rows) + 1, static_cast<double>(max_rows),
                           "--max-rows");
     const std::vector<std::string> cells = splitCells(line);
-    if (cells.size() != ncols)
-      throw InvalidInput(where(source, line_number), "expected " + std::to_string(ncols) +
-                                                         " values (the header's columns), found " +
-                                                         std::to_string(cells.size()));
-    for (std::size_t c = 0; c < ncols; ++c) {
-      const std::string& cell = cells[c];
-      if (cell.empty()) throw InvalidInput(where(source, line_number, header[c]), "missing value");
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (end == cell.c_str() || *end != '\0')
-        throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not a number");
-      if (!std::isfinite(v))
-        throw InvalidInput(where(source, line_number, header[c]), "'" + cell + "' is not finite");
-      if (const std::string problem = inputNumberProblem(v); !problem.empty())
-        throw InvalidInput(where(source, line_number, header[c]), problem);
-      values[c] = v;
-    }
+    readRow(cells, header, source, line_number, &values);
     const double t = values[time_col];
     if (!rec.time.empty() && !(t > rec.time.back())) {
       std::ostringstream reason;
