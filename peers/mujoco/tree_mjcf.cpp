@@ -27,13 +27,18 @@ std::string mjJointName(const articulated::ArticulatedModel& model, int i, int w
   return model.names[i] + ":" + std::to_string(which);
 }
 
-std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfOptions& options) {
-  using articulated::JointKind;
+namespace {
+
+/// Whether an anchor is at the body's centre (to round-off).
+bool anchored(const Eigen::Vector3d& a) { return a.norm() <= 1e-12; }
+
+/// The children of each tree body and of the world (index n), after the
+/// checks of what MJCF can say (file comment).
+std::vector<std::vector<int>> writableChildren(const articulated::ArticulatedModel& model) {
   constexpr int kMaxDepth = 90;
   const int n = model.bodyCount();
   std::vector<std::vector<int>> children(n + 1);  // n: the world
   std::vector<int> depth(n, 1);
-  auto anchored = [](const Eigen::Vector3d& a) { return a.norm() <= 1e-12; };
   for (int i = 0; i < n; ++i) {
     const articulated::ArticulatedBody& b = model.bodies[i];
     const std::string& name = model.names[i];
@@ -48,19 +53,43 @@ std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfO
     if (depth[i] > kMaxDepth) throw std::invalid_argument("the tree is deeper than " + std::to_string(kMaxDepth));
     children[b.parent == articulated::kGround ? n : b.parent].push_back(i);
   }
+  return children;
+}
+
+/// The loops' sites (a universal loop's distance tendon ends), by body (n:
+/// the world); a loop MJCF cannot close here is refused.
+std::vector<std::string> loopSites(const articulated::ArticulatedModel& model, const MjcfOptions& options) {
+  const int n = model.bodyCount();
   char buf[1024];
-  std::string xml;
-  std::snprintf(buf, sizeof buf,
-                "<mujoco model=\"lieflow-tree\">\n"
-                "  <compiler angle=\"radian\"/>\n"
-                "  <option timestep=\"%.17g\" gravity=\"%.17g %.17g %.17g\" integrator=\"%s\" solver=\"Newton\" "
-                "tolerance=\"1e-15\" iterations=\"100\">\n"
-                "    <flag contact=\"disable\"/>\n"
-                "  </option>\n"
-                "  <worldbody>\n",
-                options.h, model.gravity.x(), model.gravity.y(), model.gravity.z(),
-                mjIntegratorName(options.integrator));
-  xml += buf;
+  std::vector<std::string> sites(n + 1);
+  auto side = [&](int body_index) { return body_index == articulated::kGround ? n : body_index; };
+  for (std::size_t c = 0; c < model.closures.size(); ++c) {
+    const articulated::ArticulatedClosure& closure = model.closures[c];
+    if (closure.gear) throw std::invalid_argument("loop '" + closure.label + "' is a gear-type joint");
+    if (const auto* u = std::get_if<constraints::UniversalJoint<double>>(&closure.constraint)) {
+      const Eigen::Vector3d a = u->point.anchor_main + options.axis_length * u->axis1_main;
+      const Eigen::Vector3d b = u->point.anchor_secondary + options.axis_length * u->axis2_secondary;
+      std::snprintf(buf, sizeof buf, "<site name=\"loop%zu:a\" pos=\"%.17g %.17g %.17g\"/>\n", c, a.x(), a.y(), a.z());
+      sites[side(closure.bodies[0])] += buf;
+      std::snprintf(buf, sizeof buf, "<site name=\"loop%zu:b\" pos=\"%.17g %.17g %.17g\"/>\n", c, b.x(), b.y(), b.z());
+      sites[side(closure.bodies[1])] += buf;
+    } else if (!std::holds_alternative<constraints::SphericalJoint<double>>(closure.constraint) &&
+               !std::holds_alternative<constraints::RevoluteJoint<double>>(closure.constraint)) {
+      throw std::invalid_argument("loop '" + closure.label + "' is closed by a joint MJCF cannot write here");
+    }
+  }
+  return sites;
+}
+
+/// The bodies, depth-first and children in tree order, with their joints,
+/// inertias and sites, appended to *out.
+void writeBodies(const articulated::ArticulatedModel& model, const MjcfOptions& options,
+                 const std::vector<std::vector<int>>& children, const std::vector<std::string>& sites,
+                 std::string* out) {
+  using articulated::JointKind;
+  const int n = model.bodyCount();
+  std::string& xml = *out;
+  char buf[1024];
   auto body = [&](const std::string& name, const Eigen::Vector3d& pos, const Eigen::Matrix3d& R) {
     const Eigen::Quaterniond q(R);
     std::snprintf(buf, sizeof buf, "<body name=\"%s\" pos=\"%.17g %.17g %.17g\" quat=\"%.17g %.17g %.17g %.17g\">\n",
@@ -82,25 +111,6 @@ std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfO
                   options.cross_mass, options.cross_inertia, options.cross_inertia, options.cross_inertia);
     xml += buf;
   };
-  // The loops' sites (a universal loop's distance tendon ends), by body (n: the world).
-  std::vector<std::string> sites(n + 1);
-  auto side = [&](int body_index) { return body_index == articulated::kGround ? n : body_index; };
-  for (std::size_t c = 0; c < model.closures.size(); ++c) {
-    const articulated::ArticulatedClosure& closure = model.closures[c];
-    if (closure.gear) throw std::invalid_argument("loop '" + closure.label + "' is a gear-type joint");
-    if (const auto* u = std::get_if<constraints::UniversalJoint<double>>(&closure.constraint)) {
-      const Eigen::Vector3d a = u->point.anchor_main + options.axis_length * u->axis1_main;
-      const Eigen::Vector3d b = u->point.anchor_secondary + options.axis_length * u->axis2_secondary;
-      std::snprintf(buf, sizeof buf, "<site name=\"loop%zu:a\" pos=\"%.17g %.17g %.17g\"/>\n", c, a.x(), a.y(), a.z());
-      sites[side(closure.bodies[0])] += buf;
-      std::snprintf(buf, sizeof buf, "<site name=\"loop%zu:b\" pos=\"%.17g %.17g %.17g\"/>\n", c, b.x(), b.y(), b.z());
-      sites[side(closure.bodies[1])] += buf;
-    } else if (!std::holds_alternative<constraints::SphericalJoint<double>>(closure.constraint) &&
-               !std::holds_alternative<constraints::RevoluteJoint<double>>(closure.constraint)) {
-      throw std::invalid_argument("loop '" + closure.label + "' is closed by a joint MJCF cannot write here");
-    }
-  }
-  // Depth-first, children in tree order.
   auto write = [&](auto&& self, int i) -> void {
     const articulated::ArticulatedBody& b = model.bodies[i];
     const CoordinateDrive* d = &model.drives[i][0];
@@ -141,8 +151,13 @@ std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfO
   };
   xml += sites[n];
   for (int r : children[n]) write(write, r);
-  xml += "  </worldbody>\n";
-  // The loops' rows.
+}
+
+/// The loops' rows: MuJoCo's equality constraints (connects, and a fixed-
+/// length tendon for a universal joint's right angle), appended to *out.
+void writeLoops(const articulated::ArticulatedModel& model, const MjcfOptions& options, std::string* out) {
+  std::string& xml = *out;
+  char buf[1024];
   std::string equality;
   auto holds = [&](int body_index, const Eigen::Vector3d& anchor) {
     return body_index == articulated::kGround || (model.bodies[body_index].rotation_only && anchored(anchor));
@@ -199,6 +214,29 @@ std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfO
   if (!tendons.empty()) xml += "  <tendon>\n" + tendons + "  </tendon>\n";
   if (!equality.empty()) xml += "  <equality>\n" + equality + "  </equality>\n";
   xml += "</mujoco>\n";
+}
+
+}  // namespace
+
+std::string mjcfFromTree(const articulated::ArticulatedModel& model, const MjcfOptions& options) {
+  const std::vector<std::vector<int>> children = writableChildren(model);
+  char buf[1024];
+  std::string xml;
+  std::snprintf(buf, sizeof buf,
+                "<mujoco model=\"lieflow-tree\">\n"
+                "  <compiler angle=\"radian\"/>\n"
+                "  <option timestep=\"%.17g\" gravity=\"%.17g %.17g %.17g\" integrator=\"%s\" solver=\"Newton\" "
+                "tolerance=\"1e-15\" iterations=\"100\">\n"
+                "    <flag contact=\"disable\"/>\n"
+                "  </option>\n"
+                "  <worldbody>\n",
+                options.h, model.gravity.x(), model.gravity.y(), model.gravity.z(),
+                mjIntegratorName(options.integrator));
+  xml += buf;
+  const std::vector<std::string> sites = loopSites(model, options);
+  writeBodies(model, options, children, sites, &xml);
+  xml += "  </worldbody>\n";
+  writeLoops(model, options, &xml);
   return xml;
 }
 
