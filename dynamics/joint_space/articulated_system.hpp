@@ -379,6 +379,17 @@ class ArticulatedSystem {
   /// Pass 1 of the ABA: kinematics, velocities, bias accelerations and
   /// forces (`dynamics`: the rigid-body inertias and bias forces too).
   void forwardPass(double t, const State& y, bool dynamics, bool velocity_terms) const;
+  /// forwardPass's parts (articulated_dynamics.cpp): a joint's rotation R,
+  /// columns S, generalized forces τ and bias Ṡ u (per joint type: a free
+  /// root, a spherical joint, a joint of coordinates), its relative twist in
+  /// *Su; then the body's inertia I_A and bias force p_A.
+  void freeJointPass(const ArticulatedBody& b, BodyData& d, const State& y, bool velocity_terms, Vector6* Su) const;
+  void sphericalJointPass(const ArticulatedBody& b, BodyData& d, const Eigen::Matrix3d& Rp, const Vector6& Vp,
+                          const Eigen::Vector3d& line, const State& y, bool velocity_terms, Vector6* Su) const;
+  void coordinateJointPass(int i, double t, const State& y, bool dynamics, bool velocity_terms,
+                           const Eigen::Matrix3d& Rp, const Vector6& Vp, const Eigen::Vector3d& line, Vector6* Su,
+                           Eigen::Vector3d* child_anchor) const;
+  void inertiaAndBiasForce(int i, double t, bool velocity_terms) const;
   /// Passes 2 and 3 with the generalized forces in data_.bodies[i].tau; ground
   /// acceleration a0; writes u̇ of the free columns.
   void solve(const Vector6& a0, Eigen::VectorXd* udot) const;
