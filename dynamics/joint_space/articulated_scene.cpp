@@ -52,11 +52,18 @@ std::string driveOf(const SceneDescription& scene, const JointDescription& j) {
 /// scene order; a joint whose bodies are already connected closes a loop.
 /// False with `why` when the joints do not form such a tree or a loop can
 /// only be closed by a joint with a force element or prescribed motion.
-bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vector<int>* joint_of,
-               std::vector<int>* parent_of, std::vector<int>* cuts, std::string* why) {
+/// The tree's edges by Kruskal (union–find over the bodies and the ground,
+/// node nb): slides, gimbals, offset universal joints and welds first, then
+/// driven joints, then plain ones, so that a loop is closed by a plain
+/// revolute, universal or spherical joint (*cuts, the gears after them).
+/// at[body]: the tree's joints at each body (and at the ground, nb), in
+/// scene order. False with *why when a loop cannot be closed that way.
+bool spanningTree(const SceneDescription& scene, std::vector<std::vector<int>>* at_out, std::vector<int>* cuts,
+                  std::string* why) {
   const int nb = static_cast<int>(scene.bodies.size());
   const std::unordered_map<std::string, int> index = scene.bodyIndices();
   auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
+  std::vector<std::vector<int>>& at = *at_out;
   std::vector<int> sliding, driven, plain, gear_cuts;
   for (std::size_t k = 0; k < scene.joints.size(); ++k) {
     const JointDescription& j = scene.joints[k];
@@ -74,7 +81,7 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
   // Kruskal: union–find over the bodies and the ground (node nb).
   UnionFind component(nb + 1);
   cuts->clear();
-  std::vector<std::vector<int>> at(nb + 1);  // the tree's joints at each body (and at the ground)
+  at.assign(nb + 1, {});
   for (const std::vector<int>* list : {&sliding, &driven, &plain})
     for (int k : *list) {
       const JointDescription& j = scene.joints[k];
@@ -101,6 +108,44 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       at[b < 0 ? nb : b].push_back(k);
     }
   for (std::vector<int>& joints : at) std::sort(joints.begin(), joints.end());  // scene order
+  cuts->insert(cuts->end(), gear_cuts.begin(), gear_cuts.end());
+  return true;
+}
+
+/// Why scene joint k cannot carry body c from its parent p (−1: the ground)
+/// in joint coordinates (a = the joint's main body), or "" when it can.
+std::string treeEdgeProblem(const SceneDescription& scene, int k, int p, int c, int a) {
+  const JointDescription& j = scene.joints[k];
+  // A rotation-only child turns about its held centre of mass: its joint
+  // may constrain only rotations (the maximal formulation's point rows
+  // are then identically satisfied: both sides fixed points).
+  if (scene.bodies[c].rotation_only && j.type == "fixed")
+    return label(scene, k) + " welds the rotation-only body '" + scene.bodies[c].name +
+           "' to a body that carries it: a held body turns about its own centre";
+  if (scene.bodies[c].rotation_only) {
+    const Eigen::Vector3d& own = c == a ? j.anchor_main : j.anchor_secondary;
+    const Eigen::Vector3d& other = c == a ? j.anchor_secondary : j.anchor_main;
+    const bool parent_fixed = p < 0 || (scene.bodies[p].rotation_only && other.norm() <= 1e-12);
+    if (own.norm() > 1e-12 || !parent_fixed) {
+      return label(scene, k) + " holds the rotation-only body '" + scene.bodies[c].name +
+             "' at a point of a moving body: a constraint on the rotations that needs multipliers";
+    }
+  }
+  // Gimbals and offset universal joints hang from their main body.
+  if ((j.type == "gimbal" || j.offset) && c == a)
+    return label(scene, k) + " (" + (j.offset ? "an offset universal joint" : "a gimbal") +
+           ") would hang its main body '" + j.main + "' from its secondary '" + j.secondary +
+           "': joint coordinates take these joints from their main body";
+  return "";
+}
+
+bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vector<int>* joint_of,
+               std::vector<int>* parent_of, std::vector<int>* cuts, std::string* why) {
+  const int nb = static_cast<int>(scene.bodies.size());
+  const std::unordered_map<std::string, int> index = scene.bodyIndices();
+  auto body = [&](const std::string& name) { return name == "ground" ? -1 : index.at(name); };
+  std::vector<std::vector<int>> at;
+  if (!spanningTree(scene, &at, cuts, why)) return false;
   order->clear();
   joint_of->assign(nb, -1);
   parent_of->assign(nb, -1);
@@ -139,29 +184,8 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       const JointDescription& j = scene.joints[k];
       const int a = body(j.main), b = body(j.secondary);
       const int c = a == p ? b : a;  // a tree joint: c is not placed yet
-      // A rotation-only child turns about its held centre of mass: its joint
-      // may constrain only rotations (the maximal formulation's point rows
-      // are then identically satisfied: both sides fixed points).
-      if (scene.bodies[c].rotation_only && j.type == "fixed") {
-        *why = label(scene, k) + " welds the rotation-only body '" + scene.bodies[c].name +
-               "' to a body that carries it: a held body turns about its own centre";
-        return false;
-      }
-      if (scene.bodies[c].rotation_only) {
-        const Eigen::Vector3d& own = c == a ? j.anchor_main : j.anchor_secondary;
-        const Eigen::Vector3d& other = c == a ? j.anchor_secondary : j.anchor_main;
-        const bool parent_fixed = p < 0 || (scene.bodies[p].rotation_only && other.norm() <= 1e-12);
-        if (own.norm() > 1e-12 || !parent_fixed) {
-          *why = label(scene, k) + " holds the rotation-only body '" + scene.bodies[c].name +
-                 "' at a point of a moving body: a constraint on the rotations that needs multipliers";
-          return false;
-        }
-      }
-      // Gimbals and offset universal joints hang from their main body.
-      if ((j.type == "gimbal" || j.offset) && c == a) {
-        *why = label(scene, k) + " (" + (j.offset ? "an offset universal joint" : "a gimbal") +
-               ") would hang its main body '" + j.main + "' from its secondary '" + j.secondary +
-               "': joint coordinates take these joints from their main body";
+      if (std::string problem = treeEdgeProblem(scene, k, p, c, a); !problem.empty()) {
+        *why = std::move(problem);
         return false;
       }
       placed[c] = true;
@@ -171,7 +195,6 @@ bool buildTree(const SceneDescription& scene, std::vector<int>* order, std::vect
       queue.push_back(c);
     }
   }
-  cuts->insert(cuts->end(), gear_cuts.begin(), gear_cuts.end());
   return true;
 }
 

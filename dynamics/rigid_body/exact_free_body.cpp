@@ -95,10 +95,12 @@ Eigen::Quaterniond ExactFreeRigidBody::swing(const Eigen::Vector3d& u) {
   return Eigen::Quaterniond(c, s * u.y(), -s * u.x(), 0.0);
 }
 
-ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
-                                       const Eigen::Quaterniond& q0,
-                                       const Eigen::Vector3d& omega0_body) {
-  // ---- Validation ----------------------------------------------------------------
+namespace {
+
+/// The inertia made exactly symmetric, after the checks of the constructor's
+/// arguments (finite, symmetric to kSymmetryTol, a unit quaternion).
+Eigen::Matrix3d validatedInertia(const Eigen::Matrix3d& inertia_body, const Eigen::Quaterniond& q0,
+                                 const Eigen::Vector3d& omega0_body) {
   if (!inertia_body.allFinite()) throw InvalidInput("inertia_body", "has a non-finite entry");
   if (!q0.coeffs().allFinite()) throw InvalidInput("q0", "has a non-finite component");
   if (!omega0_body.allFinite()) throw InvalidInput("omega0_body", "has a non-finite component");
@@ -113,12 +115,15 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   if (std::abs(qnorm - 1.0) > kUnitQuaternionTol)
     throw InvalidInput("q0", "quaternion norm " + str(qnorm) + " is not within " +
                                  str(kUnitQuaternionTol) + " of 1");
-  q0_ = q0.normalized();
-  omega0_ = omega0_body;
+  return inertia;
+}
 
-  // ---- Principal axes: inertia = P diag(I1 ≤ I2 ≤ I3) Pᵀ with det P = +1 ----------
-  Eigen::Vector3d moments;
-  Eigen::Matrix3d P;
+/// Principal axes: inertia = P diag(I1 ≤ I2 ≤ I3) Pᵀ with det P = +1 (a
+/// permutation, exactly, for a diagonal inertia); InvalidInput unless
+/// positive definite and within the triangle inequality.
+void principalAxes(const Eigen::Matrix3d& inertia, Eigen::Matrix3d* P_out, Eigen::Vector3d* moments_out) {
+  Eigen::Matrix3d& P = *P_out;
+  Eigen::Vector3d& moments = *moments_out;
   const bool diagonal = inertia(0, 1) == 0.0 && inertia(0, 2) == 0.0 && inertia(1, 2) == 0.0;
   if (diagonal) {  // exact: a permutation of the axes
     std::array<int, 3> order{0, 1, 2};
@@ -143,18 +148,17 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
     throw InvalidInput("inertia_body", "principal moments (" + str(moments(0)) + ", " +
                                            str(moments(1)) + ", " + str(moments(2)) +
                                            ") violate the triangle inequality I1 + I2 >= I3");
+}
 
-  const Eigen::Vector3d momentum_body = inertia * omega0_;
-  energy_ = 0.5 * omega0_.dot(momentum_body);
-  momentum_world_ = q0_ * momentum_body;
+}  // namespace
 
-  // ---- Trigonometric cases ----------------------------------------------------------
+bool ExactFreeRigidBody::setTrigonometricCase(const Eigen::Matrix3d& P, const Eigen::Vector3d& moments) {
   const Eigen::Vector3d w = P.transpose() * omega0_;  // principal components
   const double I1 = moments(0), I2 = moments(1), I3 = moments(2);
   const double d21 = I2 - I1, d32 = I3 - I2;
   const double wnorm = omega0_.stableNorm();
   regime_ = Regime::kSteady;  // q(t) = q0 ⊗ exp(t ω0), ω constant (ν = 0)
-  if (wnorm == 0.0 || I3 - I1 <= kEqualMomentsTol * I3) return;  // rest or spherical
+  if (wnorm == 0.0 || I3 - I1 <= kEqualMomentsTol * I3) return true;  // rest or spherical
   if (d21 <= kEqualMomentsTol * I3 || d32 <= kEqualMomentsTol * I3) {
     // Axisymmetric body (Landau–Lifshitz §33): symmetry axis e_s with moment I_s, the
     // other two equal to I_t. With L/I_t = R (ω − ν e_s), ν = (I_t − I_s) ω_s / I_t,
@@ -167,14 +171,24 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
     axis_body_ = P.col(axis3 ? 2 : 0);
     nu_ = (It - Is) * axis_body_.dot(omega0_) / It;
     regime_ = Regime::kAxisymmetric;
-    return;
+    return true;
   }
   for (int i = 0; i < 3; ++i) {  // steady rotation about principal axis i
     if (std::abs(w((i + 1) % 3)) <= kPrincipalAxisTol * wnorm &&
         std::abs(w((i + 2) % 3)) <= kPrincipalAxisTol * wnorm)
-      return;
+      return true;
   }
+  return false;
+}
 
+bool ExactFreeRigidBody::setWorkingFrame(const Eigen::Matrix3d& P, const Eigen::Vector3d& moments,
+                                         Eigen::Vector3d* J_out, Eigen::Vector3d* om_out, int* omega_exp_out) {
+  const Eigen::Vector3d w = P.transpose() * omega0_;  // principal components
+  const double I1 = moments(0), I2 = moments(1), I3 = moments(2);
+  const double d21 = I2 - I1, d32 = I3 - I2;
+  const double wnorm = omega0_.stableNorm();
+  Eigen::Vector3d& J = *J_out;
+  Eigen::Vector3d& om = *om_out;
   // ---- Working frame: principal axes with the circulation axis third ----------------
   // L² − 2E I2 = I3 (I3 − I2) ω3² − I1 (I2 − I1) ω1²: > 0, the body circulates about
   // axis 3 (ω3 keeps its sign); < 0, about axis 1. For the latter, relabel the axes
@@ -187,7 +201,6 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   using Long = long double;
   const Long spin3 = Long(I3) * d32 * w(2) * w(2), spin1 = Long(I1) * d21 * w(0) * w(0);
   const bool separatrix = spin3 == spin1;
-  Eigen::Vector3d J, om;
   if (separatrix || spin3 > spin1) {
     basis_ = P;
     J = moments;
@@ -214,12 +227,92 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
   // (A_i, λ, |L|/J3 scale with |ω|; k, n, τ0 and |L| d31/(J1 J3 |λ|) are invariant), so
   // no intermediate square can overflow or underflow whatever the units.
   const int inertia_exp = std::ilogb(J.maxCoeff()), omega_exp = std::ilogb(wnorm);
+  *omega_exp_out = omega_exp;
   for (int i = 0; i < 3; ++i) {
     J(i) = std::ldexp(J(i), -inertia_exp);
     om(i) = std::ldexp(om(i), -omega_exp);
   }
   moments_ = J;
+  return separatrix;
+}
 
+void ExactFreeRigidBody::setEllipticCase(const Eigen::Vector3d& J, const Eigen::Vector3d& om, double G, double H) {
+  using Long = long double;
+  const double J1 = J(0), J2 = J(1), J3 = J(2);
+  const double e31 = std::abs(J3 - J1), e32 = std::abs(J3 - J2), e21 = std::abs(J2 - J1);
+  regime_ = Regime::kElliptic;
+  regime_ = Regime::kElliptic;
+  const double D = double(Long(J3) * e32 * om(2) * om(2) - Long(J1) * e21 * om(0) * om(0));
+  // k² and k'² from cancellation-free products; the smaller one is the accurate one,
+  // the other is taken as its complement so that the pair is consistent (the AGM and
+  // dn = √(k'² + k² cn²) rely on k² + k'² = 1).
+  const double k2_direct = e21 * G / (e32 * H);
+  kp2_ = e31 * D / (e32 * H);
+  k_ = std::sqrt(kp2_ < 0.5 ? 1.0 - kp2_ : k2_direct);
+  if (kp2_ >= 0.5) kp2_ = 1.0 - k2_direct;
+  // AGM (A&S 16.4.1–2) with c_{n+1} = c_n²/(4 a_{n+1}) (no cancellation), from k'
+  // itself so that the modulus stays accurate near the separatrix; K = π/(2 a_N).
+  double a = 1.0, b = std::sqrt(kp2_), c = k_;
+  agm_steps_ = 0;
+  while (c > kEps * a && agm_steps_ < kMaxAgmSteps) {
+    const double a_next = 0.5 * (a + b);
+    b = std::sqrt(a * b);
+    c = c * c / (4.0 * a_next);
+    a = a_next;
+    ++agm_steps_;
+    agm_c_over_a_[agm_steps_] = c / a;
+    agm_b_over_a_[agm_steps_] = b / a;
+  }
+  agm_scale_ = std::ldexp(a, agm_steps_);
+  K_ = kPi / (2.0 * a);
+  // Π for n < 0 through the characteristic N = (k² − n)/(1 − n) ∈ (k², 1)
+  // (A&S 17.7.15, as rearranged in Boost.Math's ellint_3), with F(am r) = r and
+  // Π(N; φ) = F + (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) (DLMF 19.25.14):
+  //   Π(n; am r) = r/(1 − n) + Q(r),                       (s, c, Δ) = (sn, cn, dn) r,
+  //   Q(r) = a (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) + e atan(A s c / Δ),
+  //   a = −n k'²/((1 − n)(k² − n)), e = √(−n/((k² − n)(1 − n))), A = √(−n N),
+  //   1 − N = k'²/(1 − n).
+  // All terms have the sign of s: no cancellation even for n ≪ −1 (nearly
+  // axisymmetric bodies), unlike Carlson's form for Π(n; φ) itself; and the modulus
+  // enters only through the accurate k'². Q(K) = a (N/3) R_J(0, k'², 1, 1 − N).
+  // The steep part r/(1 − n) is exact in r; Q is flat where F is steep:
+  // dQ/dφ = −n c²/((1 − n s²)(1 − n) Δ) ≤ 1/k, so the AGM's absolute error in am r
+  // stays an absolute error in Q even near the saddle (Δ ≪ 1, k' ≪ 1).
+  const double k2 = k_ * k_;
+  pi_N_ = (k2 - n_) / (1.0 - n_);
+  pi_Nm1_ = kp2_ / (1.0 - n_);
+  pi_a_ = -n_ * kp2_ / ((1.0 - n_) * (k2 - n_));
+  pi_e_ = std::sqrt(-n_ / ((k2 - n_) * (1.0 - n_)));
+  pi_A_ = std::sqrt(-n_ * pi_N_);
+  q_complete_ =
+      pi_a_ * pi_N_ / 3.0 * boost::math::ellint_rj(0.0, kp2_, 1.0, pi_Nm1_, DoublePolicy());
+  // Phase: τ0 = F(φ0, k), (sin φ0, cos φ0, Δ(φ0)) = (ω2/A2, ω1/A1, ω3/A3). Carlson's
+  // form F(φ) = sin φ R_F(cos² φ, Δ², 1) for |φ| ≤ π/2 (DLMF 19.25.5) uses the three
+  // ratios directly (relative condition ≤ ½), and F(±π ∓ φ) = ±2K − F(φ) beyond.
+  const double s0 = std::clamp(om(1) / amplitude_(1), -1.0, 1.0);
+  const double c0 = std::clamp(om(0) / amplitude_(0), -1.0, 1.0);
+  const double dn0 = om(2) / amplitude_(2);
+  const double f = s0 * boost::math::ellint_rf(c0 * c0, dn0 * dn0, 1.0, DoublePolicy());
+  tau0_ = c0 >= 0.0 ? f : std::copysign(2.0 * K_, s0) - f;
+}
+
+ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
+                                       const Eigen::Quaterniond& q0,
+                                       const Eigen::Vector3d& omega0_body) {
+  const Eigen::Matrix3d inertia = validatedInertia(inertia_body, q0, omega0_body);
+  q0_ = q0.normalized();
+  omega0_ = omega0_body;
+  Eigen::Vector3d moments;
+  Eigen::Matrix3d P;
+  principalAxes(inertia, &P, &moments);
+  const Eigen::Vector3d momentum_body = inertia * omega0_;
+  energy_ = 0.5 * omega0_.dot(momentum_body);
+  momentum_world_ = q0_ * momentum_body;
+  if (setTrigonometricCase(P, moments)) return;
+
+  Eigen::Vector3d J, om;
+  int omega_exp = 0;
+  const bool separatrix = setWorkingFrame(P, moments, &J, &om, &omega_exp);
   // ---- Body angular velocity (Landau–Lifshitz §37, eq. 37.10) ------------------------
   // With d_ij = |J_i − J_j|, σ = sign(J3 − J1) and the positive, cancellation-free
   //   G = |2E J3 − L²| = J1 d31 ω1² + J2 d32 ω2²,  H = |L² − 2E J1| = J2 d21 ω2² + J3 d31 ω3²,
@@ -264,59 +357,7 @@ ExactFreeRigidBody::ExactFreeRigidBody(const Eigen::Matrix3d& inertia_body,
     // sech τ0 = ω1/A1, tanh τ0 = ω2/A2, so sinh τ0 = (ω2/A2)/(ω1/A1): well conditioned.
     tau0_ = std::asinh((om(1) / amplitude_(1)) / (om(0) / amplitude_(0)));
   } else {
-    regime_ = Regime::kElliptic;
-    const double D = double(Long(J3) * e32 * om(2) * om(2) - Long(J1) * e21 * om(0) * om(0));
-    // k² and k'² from cancellation-free products; the smaller one is the accurate one,
-    // the other is taken as its complement so that the pair is consistent (the AGM and
-    // dn = √(k'² + k² cn²) rely on k² + k'² = 1).
-    const double k2_direct = e21 * G / (e32 * H);
-    kp2_ = e31 * D / (e32 * H);
-    k_ = std::sqrt(kp2_ < 0.5 ? 1.0 - kp2_ : k2_direct);
-    if (kp2_ >= 0.5) kp2_ = 1.0 - k2_direct;
-    // AGM (A&S 16.4.1–2) with c_{n+1} = c_n²/(4 a_{n+1}) (no cancellation), from k'
-    // itself so that the modulus stays accurate near the separatrix; K = π/(2 a_N).
-    double a = 1.0, b = std::sqrt(kp2_), c = k_;
-    agm_steps_ = 0;
-    while (c > kEps * a && agm_steps_ < kMaxAgmSteps) {
-      const double a_next = 0.5 * (a + b);
-      b = std::sqrt(a * b);
-      c = c * c / (4.0 * a_next);
-      a = a_next;
-      ++agm_steps_;
-      agm_c_over_a_[agm_steps_] = c / a;
-      agm_b_over_a_[agm_steps_] = b / a;
-    }
-    agm_scale_ = std::ldexp(a, agm_steps_);
-    K_ = kPi / (2.0 * a);
-    // Π for n < 0 through the characteristic N = (k² − n)/(1 − n) ∈ (k², 1)
-    // (A&S 17.7.15, as rearranged in Boost.Math's ellint_3), with F(am r) = r and
-    // Π(N; φ) = F + (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) (DLMF 19.25.14):
-    //   Π(n; am r) = r/(1 − n) + Q(r),                       (s, c, Δ) = (sn, cn, dn) r,
-    //   Q(r) = a (N/3) s³ R_J(c², Δ², 1, c² + (1 − N) s²) + e atan(A s c / Δ),
-    //   a = −n k'²/((1 − n)(k² − n)), e = √(−n/((k² − n)(1 − n))), A = √(−n N),
-    //   1 − N = k'²/(1 − n).
-    // All terms have the sign of s: no cancellation even for n ≪ −1 (nearly
-    // axisymmetric bodies), unlike Carlson's form for Π(n; φ) itself; and the modulus
-    // enters only through the accurate k'². Q(K) = a (N/3) R_J(0, k'², 1, 1 − N).
-    // The steep part r/(1 − n) is exact in r; Q is flat where F is steep:
-    // dQ/dφ = −n c²/((1 − n s²)(1 − n) Δ) ≤ 1/k, so the AGM's absolute error in am r
-    // stays an absolute error in Q even near the saddle (Δ ≪ 1, k' ≪ 1).
-    const double k2 = k_ * k_;
-    pi_N_ = (k2 - n_) / (1.0 - n_);
-    pi_Nm1_ = kp2_ / (1.0 - n_);
-    pi_a_ = -n_ * kp2_ / ((1.0 - n_) * (k2 - n_));
-    pi_e_ = std::sqrt(-n_ / ((k2 - n_) * (1.0 - n_)));
-    pi_A_ = std::sqrt(-n_ * pi_N_);
-    q_complete_ =
-        pi_a_ * pi_N_ / 3.0 * boost::math::ellint_rj(0.0, kp2_, 1.0, pi_Nm1_, DoublePolicy());
-    // Phase: τ0 = F(φ0, k), (sin φ0, cos φ0, Δ(φ0)) = (ω2/A2, ω1/A1, ω3/A3). Carlson's
-    // form F(φ) = sin φ R_F(cos² φ, Δ², 1) for |φ| ≤ π/2 (DLMF 19.25.5) uses the three
-    // ratios directly (relative condition ≤ ½), and F(±π ∓ φ) = ±2K − F(φ) beyond.
-    const double s0 = std::clamp(om(1) / amplitude_(1), -1.0, 1.0);
-    const double c0 = std::clamp(om(0) / amplitude_(0), -1.0, 1.0);
-    const double dn0 = om(2) / amplitude_(2);
-    const double f = s0 * boost::math::ellint_rf(c0 * c0, dn0 * dn0, 1.0, DoublePolicy());
-    tau0_ = c0 >= 0.0 ? f : std::copysign(2.0 * K_, s0) - f;
+    setEllipticCase(J, om, G, H);
   }
   omega_unit_ = std::ldexp(1.0, omega_exp);
   lambda_ = std::ldexp(lambda_, omega_exp);

@@ -87,6 +87,17 @@ class ExactFreeRigidBody {
   double ellipticPiRemainder(double s, double c, double delta) const;
   /// sn, cn, dn of u with the precomputed AGM of the modulus.
   void jacobi(double u, double* sn, double* cn, double* dn) const;
+  /// The constructor's steps (P the principal axes, moments I1 ≤ I2 ≤ I3):
+  /// a motion in closed trigonometric form (rest, a spherical or
+  /// axisymmetric body, a steady turn about a principal axis), if it is one;
+  /// else the working frame (basis_: the circulation axis third, rescaled
+  /// inertias J and rates om, 2^omega_exp the rate unit; true on the
+  /// separatrix) and, off the separatrix, the modulus, the AGM, the constants
+  /// of Π and the phase τ0 (G, H: the cancellation-free energy differences).
+  bool setTrigonometricCase(const Eigen::Matrix3d& P, const Eigen::Vector3d& moments);
+  bool setWorkingFrame(const Eigen::Matrix3d& P, const Eigen::Vector3d& moments, Eigen::Vector3d* J,
+                       Eigen::Vector3d* om, int* omega_exp);
+  void setEllipticCase(const Eigen::Vector3d& J, const Eigen::Vector3d& om, double G, double H);
   /// Swing(u) as a quaternion: the smallest rotation taking the unit vector u (u_z > 0)
   /// to e_z.
   static Eigen::Quaterniond swing(const Eigen::Vector3d& u);
