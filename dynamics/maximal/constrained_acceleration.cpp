@@ -74,24 +74,9 @@ void ConstrainedAccelerationSolver::validate(const MultibodyModel& model, const 
   model.validateState(state);
 }
 
-bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const MultibodyState& state,
-                                          const std::vector<BodyLoad>& loads,
-                                          AccelerationSolution& out) {
-  validate(model, state);
-  if (!loads.empty() && loads.size() != model.bodies.size())
-    throw InvalidInput("loads", "one load per body expected");
+void ConstrainedAccelerationSolver::assembleForces(const MultibodyModel& model, const MultibodyState& state,
+                                                   const std::vector<BodyLoad>& loads) {
   const int nb = schur_.bodyCount();
-  const int nj = schur_.groupCount();
-  const int m = schur_.rows();
-  out.ok = false;
-  out.reason.clear();
-  out.failed_joint = -1;
-  out.constraint_residual = 0.0;
-  out.factor_nonzeros = 0;
-  out.vdot.assign(nb, Eigen::Vector3d::Zero());
-  out.omegadot.assign(nb, Eigen::Vector3d::Zero());
-  out.reactions.assign(nj, JointReaction{});
-
   // F = (m g + f, τ − ω × J ω) and M⁻¹ per body.
   F_.resize(schur_.dofs());
   for (int i = 0; i < nb; ++i) {
@@ -112,27 +97,25 @@ bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const Mul
     }
     schur_.setInverseMass(i, 1.0 / b.mass, b.inertia.inverse());
   }
-  auto storeQdd = [&]() {
-    for (int i = 0; i < nb; ++i) {
-      const int o = schur_.dofBegin(i);
-      if (rot_[i]) {
-        out.omegadot[i] = qdd_.segment<3>(o);
-      } else {
-        out.vdot[i] = qdd_.segment<3>(o);
-        out.omegadot[i] = qdd_.segment<3>(o + 3);
-      }
-    }
-  };
-  if (m == 0) {
-    schur_.applyInverseMass(F_, qdd_);
-    storeQdd();
-    out.lambda.resize(0);
-    out.ok = true;
-    return true;
-  }
+}
 
+void ConstrainedAccelerationSolver::storeAccelerations(AccelerationSolution& out) const {
+  const int nb = schur_.bodyCount();
+  for (int i = 0; i < nb; ++i) {
+    const int o = schur_.dofBegin(i);
+    if (rot_[i]) {
+      out.omegadot[i] = qdd_.segment<3>(o);
+    } else {
+      out.vdot[i] = qdd_.segment<3>(o);
+      out.omegadot[i] = qdd_.segment<3>(o + 3);
+    }
+  }
+}
+
+void ConstrainedAccelerationSolver::assembleJointRows(const MultibodyModel& model, const MultibodyState& state) {
+  const int nj = schur_.groupCount();
   // Joint blocks and convective terms.
-  c_.resize(m);
+  c_.resize(schur_.rows());
   for (int k = 0; k < nj; ++k) {
     const Joint& j = model.joints[k];
     const JointPoses P = jointPoses(j, state);
@@ -145,41 +128,24 @@ bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const Mul
         },
         j.constraint);
   }
-  auto fail = [&](int r, const std::string& why) {
-    const int k = schur_.groupOfRow(r);
-    out.ok = false;
-    out.failed_joint = k;
-    std::ostringstream s;
-    s << model.jointLabel(k) << ": " << constraintTypeName(model.joints[k].constraint) << " row "
-      << (r - schur_.rowBegin(k)) << " " << why;
-    out.reason = s.str();
-    out.lambda.resize(0);
-    return false;
-  };
-  const FactorStatus st = schur_.factor();
-  if (!st.ok) {
-    if (!std::isfinite(st.pivot) && !schur_.diagonal().allFinite())
-      return fail(st.row, "gives a non-finite J M⁻¹ Jᵀ");
-    std::ostringstream why;
-    why << "is redundant or conflicting with other constraints (singular J M⁻¹ Jᵀ: pivot "
-        << formatNumber(st.pivot) << " vs diagonal " << formatNumber(st.diagonal) << ")";
-    return fail(st.row, why.str());
-  }
-  out.factor_nonzeros = schur_.factorNonzeros();
+}
 
-  // (J M⁻¹ Jᵀ) λ = J M⁻¹ F + c,  q̈ = M⁻¹ (F − Jᵀ λ).
-  schur_.applyInverseMass(F_, y_);
-  schur_.multiplyJ(y_, rhs_);
-  rhs_ += c_;
-  schur_.solve(rhs_, out.lambda);
-  if (!out.lambda.allFinite()) return fail(0, "gave non-finite multipliers");
-  y_ = F_;
-  schur_.addJTranspose(out.lambda, -1.0, y_);
-  schur_.applyInverseMass(y_, qdd_);
-  storeQdd();
-  schur_.multiplyJ(qdd_, res_);
-  out.constraint_residual = (res_ + c_).lpNorm<Eigen::Infinity>();
+bool ConstrainedAccelerationSolver::fail(const MultibodyModel& model, int r, const std::string& why,
+                                         AccelerationSolution& out) const {
+  const int k = schur_.groupOfRow(r);
+  out.ok = false;
+  out.failed_joint = k;
+  std::ostringstream s;
+  s << model.jointLabel(k) << ": " << constraintTypeName(model.joints[k].constraint) << " row "
+    << (r - schur_.rowBegin(k)) << " " << why;
+  out.reason = s.str();
+  out.lambda.resize(0);
+  return false;
+}
 
+void ConstrainedAccelerationSolver::jointReactions(const MultibodyModel& model, const MultibodyState& state,
+                                                   AccelerationSolution& out) const {
+  const int nj = schur_.groupCount();
   // Reactions −J_kᵀ λ_k per body.
   for (int k = 0; k < nj; ++k) {
     const Joint& jt = model.joints[k];
@@ -204,6 +170,62 @@ bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const Mul
                                           : -R.secondary.moment_anchor.dot(axis);
     }
   }
+}
+
+bool ConstrainedAccelerationSolver::solve(const MultibodyModel& model, const MultibodyState& state,
+                                          const std::vector<BodyLoad>& loads,
+                                          AccelerationSolution& out) {
+  validate(model, state);
+  if (!loads.empty() && loads.size() != model.bodies.size())
+    throw InvalidInput("loads", "one load per body expected");
+  const int nb = schur_.bodyCount();
+  const int nj = schur_.groupCount();
+  const int m = schur_.rows();
+  out.ok = false;
+  out.reason.clear();
+  out.failed_joint = -1;
+  out.constraint_residual = 0.0;
+  out.factor_nonzeros = 0;
+  out.vdot.assign(nb, Eigen::Vector3d::Zero());
+  out.omegadot.assign(nb, Eigen::Vector3d::Zero());
+  out.reactions.assign(nj, JointReaction{});
+
+  assembleForces(model, state, loads);
+  if (m == 0) {
+    schur_.applyInverseMass(F_, qdd_);
+    storeAccelerations(out);
+    out.lambda.resize(0);
+    out.ok = true;
+    return true;
+  }
+
+  assembleJointRows(model, state);
+
+  const FactorStatus st = schur_.factor();
+  if (!st.ok) {
+    if (!std::isfinite(st.pivot) && !schur_.diagonal().allFinite())
+      return fail(model, st.row, "gives a non-finite J M⁻¹ Jᵀ", out);
+    std::ostringstream why;
+    why << "is redundant or conflicting with other constraints (singular J M⁻¹ Jᵀ: pivot "
+        << formatNumber(st.pivot) << " vs diagonal " << formatNumber(st.diagonal) << ")";
+    return fail(model, st.row, why.str(), out);
+  }
+  out.factor_nonzeros = schur_.factorNonzeros();
+
+  // (J M⁻¹ Jᵀ) λ = J M⁻¹ F + c,  q̈ = M⁻¹ (F − Jᵀ λ).
+  schur_.applyInverseMass(F_, y_);
+  schur_.multiplyJ(y_, rhs_);
+  rhs_ += c_;
+  schur_.solve(rhs_, out.lambda);
+  if (!out.lambda.allFinite()) return fail(model, 0, "gave non-finite multipliers", out);
+  y_ = F_;
+  schur_.addJTranspose(out.lambda, -1.0, y_);
+  schur_.applyInverseMass(y_, qdd_);
+  storeAccelerations(out);
+  schur_.multiplyJ(qdd_, res_);
+  out.constraint_residual = (res_ + c_).lpNorm<Eigen::Infinity>();
+
+  jointReactions(model, state, out);
   out.ok = true;
   return true;
 }

@@ -110,6 +110,14 @@ class ConstrainedAccelerationSolver {
 
  private:
   void validate(const MultibodyModel& model, const MultibodyState& state);
+  /// solve()'s steps: F = (m g + f, τ − ω × J ω) and M⁻¹ per body; q̈ into
+  /// `out`; the joints' blocks J and convective terms c; a failure naming the
+  /// joint of row r (returns false); the reactions −J_kᵀ λ_k per body.
+  void assembleForces(const MultibodyModel& model, const MultibodyState& state, const std::vector<BodyLoad>& loads);
+  void storeAccelerations(AccelerationSolution& out) const;
+  void assembleJointRows(const MultibodyModel& model, const MultibodyState& state);
+  bool fail(const MultibodyModel& model, int r, const std::string& why, AccelerationSolution& out) const;
+  void jointReactions(const MultibodyModel& model, const MultibodyState& state, AccelerationSolution& out) const;
   void setup(const MultibodyModel& model);
   std::vector<RowGroup> topology(const MultibodyModel& model) const;
 
