@@ -314,6 +314,7 @@ class ConstrainedGeneralizedAlphaStepper {
     const double gamma_p = c_.gammaPrime(h);
     const double t1 = t + h;
     if (stabilized) assembly_.startStep(t, y);
+    const StepShape shape{n, mp, m, mnu, stabilized, beta_p, gamma_p, t1};
 
     // Predictor: u̇_{n+1} = u̇_n, λ_{n+1} = λ_n, ν = 0; (G3), (G2), (G1).
     // The iterate lives in members (no allocation once they have the
@@ -358,70 +359,14 @@ class ConstrainedGeneralizedAlphaStepper {
         failure = "generalized-alpha Newton did not converge";
         break;
       }
-      // The scaled iteration matrix and right-hand side (file comment), at the
-      // iterate of the last evaluate().
-      const Eigen::SparseMatrix<double>& A =
-          assembly_.matrix(y1, dq_total, gamma_p / beta_p, 1.0 / beta_p, lambda1);
-      if (pattern_new_ || A.rows() != size_) {
-        lu_.reset();
-        ++analyze_count_;
-        pattern_new_ = false;
-        size_ = A.rows();
-      }
-      factored_ = lu_.factorize(A);
-      if (!factored_) {
+      if (!newtonCorrection(shape, y1, dq_total, lambda1)) {
         failure = "generalized-alpha: singular iteration matrix";
         singular = true;
         break;
       }
-      rhs_.resize(n + m + mnu);
-      rhs_.head(n) = -r_ / beta_p;
-      if (stabilized) {
-        // Rows: velocity (all m), then position (m_p); cr_ = [Φ; J u − b].
-        rhs_.segment(n, m) = -cr_.tail(m) / gamma_p;
-        rhs_.tail(mp) = -cr_.head(mp);
-      } else {
-        if (mp > 0) rhs_.segment(n, mp) = -cr_.head(mp);
-        if (m > mp) rhs_.tail(m - mp) = -cr_.tail(m - mp) / gamma_p;
-      }
-      x_ = rhs_;
-      lu_.solveInPlace(&x_);
-      // The correction of a_{n+1}'s part of the increment: x's first block
-      // (index 3: ΔΔ; stabilized: ΔQ, and ΔΔ = ΔQ − M⁻¹ J_nᵀ Δν).
-      dd_ = x_.head(n);
-      if (stabilized) {
-        dnu_ = -x_.tail(mp);
-        assembly_.addStartCorrection(dnu_, &dd_);
-        dnu_ = x_.tail(mp);
-      }
-      // Damped Newton: the full correction unless it fails to decrease the
-      // scaled residual (Armijo, halving the step up to kMaxBacktracks times;
-      // the last trial is taken in any case). Near the solution the full
-      // step is always taken, so the convergence stays quadratic.
-      double alpha = 1.0;
       Norms trial;
+      const double alpha = lineSearch(shape, y, now, hdq, u1, udot1, lambda1, nu1, h, &trial);
       State& y_trial = y_trial_;
-      for (int k = 0;; ++k) {
-        hdq_t_ = hdq + alpha * dd_;
-        u_t_ = u1 + (alpha * gamma_p) * dd_;
-        udot_t_ = udot1 + (alpha * beta_p) * dd_;
-        lambda_t_ = lambda1;
-        if (m > 0) lambda_t_ += (alpha * beta_p) * x_.segment(n, m);
-        dq_t_ = hdq_t_;
-        if (stabilized) {
-          nu_t_ = nu1 + alpha * dnu_;
-          assembly_.addStartCorrection(nu_t_, &dq_t_);
-        }
-        Assembly::advanceInto(y, dq_t_, u_t_, &y_trial);
-        trial = evaluate(t1, y_trial, udot_t_, lambda_t_, mp, m, stabilized, h, beta_p, gamma_p);
-        if (trial.small || (trial.finite && trial.merit <= (1.0 - 1e-4 * alpha) * now.merit) || k == kMaxBacktracks)
-          break;
-        alpha *= 0.5;
-        ++backtracks_;
-        // A correction that had to be shortened may come from pivots gone
-        // bad: the next factorization chooses them again.
-        lu_.choosePivotsNext();
-      }
       hdq.swap(hdq_t_);
       dq_total.swap(dq_t_);
       u1.swap(u_t_);
@@ -472,6 +417,96 @@ class ConstrainedGeneralizedAlphaStepper {
     bool finite = true;
     bool small = false;  ///< the stopping test holds
   };
+  /// The sizes and coefficients of one step (step()'s constants).
+  struct StepShape {
+    int n = 0, mp = 0, m = 0, mnu = 0;  ///< dofs, position rows, all rows, ν (stabilized: mp)
+    bool stabilized = false;
+    double beta_p = 0.0, gamma_p = 0.0, t1 = 0.0;
+  };
+
+  /// The Newton correction at the iterate of the last evaluate(): the scaled
+  /// iteration matrix (file comment) factored, its system solved into x_,
+  /// a_{n+1}'s part of the increment in dd_ (stabilized: ν's in dnu_).
+  /// False when the matrix is singular.
+  bool newtonCorrection(const StepShape& z, const State& y1, const Vector& dq_total, const Vector& lambda1) {
+    const int n = z.n, mp = z.mp, m = z.m, mnu = z.mnu;
+    const bool stabilized = z.stabilized;
+    const double beta_p = z.beta_p, gamma_p = z.gamma_p;
+    // The scaled iteration matrix and right-hand side (file comment), at the
+    // iterate of the last evaluate().
+    const Eigen::SparseMatrix<double>& A =
+        assembly_.matrix(y1, dq_total, gamma_p / beta_p, 1.0 / beta_p, lambda1);
+    if (pattern_new_ || A.rows() != size_) {
+      lu_.reset();
+      ++analyze_count_;
+      pattern_new_ = false;
+      size_ = A.rows();
+    }
+    factored_ = lu_.factorize(A);
+    if (!factored_) return false;
+    rhs_.resize(n + m + mnu);
+    rhs_.head(n) = -r_ / beta_p;
+    if (stabilized) {
+      // Rows: velocity (all m), then position (m_p); cr_ = [Φ; J u − b].
+      rhs_.segment(n, m) = -cr_.tail(m) / gamma_p;
+      rhs_.tail(mp) = -cr_.head(mp);
+    } else {
+      if (mp > 0) rhs_.segment(n, mp) = -cr_.head(mp);
+      if (m > mp) rhs_.tail(m - mp) = -cr_.tail(m - mp) / gamma_p;
+    }
+    x_ = rhs_;
+    lu_.solveInPlace(&x_);
+    // The correction of a_{n+1}'s part of the increment: x's first block
+    // (index 3: ΔΔ; stabilized: ΔQ, and ΔΔ = ΔQ − M⁻¹ J_nᵀ Δν).
+    dd_ = x_.head(n);
+    if (stabilized) {
+      dnu_ = -x_.tail(mp);
+      assembly_.addStartCorrection(dnu_, &dd_);
+      dnu_ = x_.tail(mp);
+    }
+    return true;
+  }
+
+  /// Damped Newton along the correction from the iterate (hdq, u1, udot1,
+  /// lambda1, nu1): the trial in the *_t_ members and y_trial_, its norms in
+  /// *trial; returns the step length α taken.
+  double lineSearch(const StepShape& z, const State& y, const Norms& now, const Vector& hdq, const Vector& u1,
+                    const Vector& udot1, const Vector& lambda1, const Vector& nu1, double h, Norms* trial_out) {
+    const int n = z.n, mp = z.mp, m = z.m;
+    const bool stabilized = z.stabilized;
+    const double beta_p = z.beta_p, gamma_p = z.gamma_p, t1 = z.t1;
+    Norms& trial = *trial_out;
+    // Damped Newton: the full correction unless it fails to decrease the
+    // scaled residual (Armijo, halving the step up to kMaxBacktracks times;
+    // the last trial is taken in any case). Near the solution the full
+    // step is always taken, so the convergence stays quadratic.
+    double alpha = 1.0;
+    State& y_trial = y_trial_;
+    for (int k = 0;; ++k) {
+      hdq_t_ = hdq + alpha * dd_;
+      u_t_ = u1 + (alpha * gamma_p) * dd_;
+      udot_t_ = udot1 + (alpha * beta_p) * dd_;
+      lambda_t_ = lambda1;
+      if (m > 0) lambda_t_ += (alpha * beta_p) * x_.segment(n, m);
+      dq_t_ = hdq_t_;
+      if (stabilized) {
+        nu_t_ = nu1 + alpha * dnu_;
+        assembly_.addStartCorrection(nu_t_, &dq_t_);
+      }
+      Assembly::advanceInto(y, dq_t_, u_t_, &y_trial);
+      trial = evaluate(t1, y_trial, udot_t_, lambda_t_, mp, m, stabilized, h, beta_p, gamma_p);
+      if (trial.small || (trial.finite && trial.merit <= (1.0 - 1e-4 * alpha) * now.merit) || k == kMaxBacktracks)
+        break;
+      alpha *= 0.5;
+      ++backtracks_;
+      // A correction that had to be shortened may come from pivots gone
+      // bad: the next factorization chooses them again.
+      lu_.choosePivotsNext();
+    }
+    return alpha;
+  }
+
+
 
   /// Evaluates r_, cr_ at an iterate and measures them.
   /// cr_ = [Φ; B u − b] (index 3) or [Φ; J u − b] over all m rows (stabilized).
