@@ -84,7 +84,7 @@
 /// oscillation, 6·10⁻⁴ and 1.4·10⁻² J). ν is O(h³) per step (it removes the
 /// drift of the velocity-level integration), so the order is that of the
 /// unconstrained method, and positions, velocities and multipliers all
-/// converge at order 2 (tests/joints/stabilized_genalpha_test.cpp measures
+/// converge at order 2 (tests/simulation/stabilized_genalpha_test.cpp measures
 /// 2.00, 2.00, 2.00 on a three-link chain at ρ∞ = 1 and 0.8; index 3 at
 /// ρ∞ = 1 gives λ errors that do not converge at all, 0.18 at every h).
 /// No damping is needed for stability: ρ∞ = 1 runs the built-in jointed
@@ -103,7 +103,7 @@
 /// steps) with ρ∞ = 1, where ρ∞ = 0.9 keeps |E − E₀| ≤ 8·10⁻⁴ J of 3.2 J
 /// over 20 s; a rotor at 1000 rad/s with a flapping blade fails after ~200
 /// steps at h Ω = 0.1 with ρ∞ = 1 and keeps its energy to 2·10⁻⁴ with
-/// ρ∞ = 0.9 (tests/joints/constrained_genalpha_test.cpp). At index 3 use
+/// ρ∞ = 0.9 (tests/dynamics/constrained_genalpha_test.cpp). At index 3 use
 /// ρ∞ ≤ 0.9 with constraints; the stabilized index-2 default needs no damping.
 ///
 /// ## Stopping test

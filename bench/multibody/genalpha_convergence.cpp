@@ -1,7 +1,7 @@
 // study_genalpha_convergence: the errors of the Lie-group generalized-α step
 // with joints at t = 0.5 s against a projected RK4 reference (h = 1e-4, λ
 // from the index-1 equations at its final state), on the three-link chain of
-// tests/joints/stabilized_genalpha_test.cpp (three_link_convergence.hpp),
+// tests/simulation/stabilized_genalpha_test.cpp (three_link_convergence.hpp),
 // for the stabilized index-2 form and index 3 at ρ∞ = 1 and 0.8 and h from
 // 0.02 down to 0.000625. Writes CSV to stdout:
 //   index,rho_inf,h,steps,newton_iterations_mean,error_q,error_u,error_lambda

@@ -1,5 +1,5 @@
 /// \file
-/// The convergence case shared by tests/joints/stabilized_genalpha_test.cpp
+/// The convergence case shared by tests/simulation/stabilized_genalpha_test.cpp
 /// and study_genalpha_convergence (papers/genalpha-index2/): the three-link
 /// random revolute chain (chain_builder.hpp, seed 7) over t ∈ [0, 0.5 s], its
 /// reference by projected RK4 at h = 1e-4 with λ from the index-1 equations at

@@ -24,8 +24,8 @@
 #include "model/scene_writer.hpp"
 #include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "tests/joints/model_files.hpp"
-#include "tests/joints/scene_trajectory.hpp"
+#include "tests/model/model_files.hpp"
+#include "tests/simulation/scene_trajectory.hpp"
 
 #ifdef LIEFLOW_HAVE_MUJOCO
 #include <mujoco/mujoco.h>

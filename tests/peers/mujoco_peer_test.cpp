@@ -12,8 +12,8 @@
 #include "model/import/model_import.hpp"
 #include "peers/mujoco/mujoco_peer.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "tests/joints/model_files.hpp"
-#include "tests/joints/scene_trajectory.hpp"
+#include "tests/model/model_files.hpp"
+#include "tests/simulation/scene_trajectory.hpp"
 
 #ifdef LIEFLOW_HAVE_MUJOCO
 #include <mujoco/mujoco.h>

@@ -43,7 +43,7 @@
 #include <gtest/gtest.h>
 
 #include "dynamics/constraints/constraints.hpp"
-#include "tests/joints/constraint_checks.hpp"
+#include "tests/dynamics/constraint_checks.hpp"
 
 namespace lieflow {
 namespace constraints {

@@ -10,7 +10,7 @@
 #include "integrators/projected_stepper.hpp"
 #include "integrators/rkmk.hpp"
 #include "dynamics/maximal/multibody_system.hpp"
-#include "tests/joints/pendulum_fixture.hpp"
+#include "tests/dynamics/pendulum_fixture.hpp"
 
 namespace lieflow {
 namespace multibody {

@@ -13,7 +13,7 @@
 #include <random>
 
 #include "dynamics/constraints/constraints.hpp"
-#include "tests/joints/constraint_checks.hpp"
+#include "tests/dynamics/constraint_checks.hpp"
 
 namespace lieflow {
 namespace constraints {

@@ -8,7 +8,7 @@
 // projected RK4 at a tiny step; prescribed motion; the unconstrained limit
 // against the single-body LGVI; reported failure.
 #include "integrators/constrained_lgvi.hpp"
-#include "tests/joints/pendulum_fixture.hpp"
+#include "tests/dynamics/pendulum_fixture.hpp"
 
 #include <gtest/gtest.h>
 

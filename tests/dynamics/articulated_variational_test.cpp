@@ -23,7 +23,7 @@
 #include "model/scene.hpp"
 #include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "tests/joints/scene_trajectory.hpp"
+#include "tests/simulation/scene_trajectory.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {

@@ -26,7 +26,7 @@
 #include "dynamics/maximal/chain_builder.hpp"
 #include "dynamics/maximal/kkt_assembly.hpp"
 #include "dynamics/maximal/multibody_system.hpp"
-#include "tests/joints/pendulum_fixture.hpp"
+#include "tests/dynamics/pendulum_fixture.hpp"
 #include "tests/order_slope.hpp"
 
 namespace lieflow {

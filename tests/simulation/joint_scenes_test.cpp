@@ -24,7 +24,7 @@
 #include "model/scene.hpp"
 #include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "tests/joints/scene_trajectory.hpp"
+#include "tests/simulation/scene_trajectory.hpp"
 
 namespace lieflow {
 namespace {

@@ -30,7 +30,7 @@
 
 #include "dynamics/constraints/constraints.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "tests/joints/constraint_checks.hpp"
+#include "tests/dynamics/constraint_checks.hpp"
 
 namespace lieflow {
 namespace constraints {
