@@ -4,6 +4,10 @@
     python3 scripts/layers.py check      # exit 1 naming every include that runs up or sideways
     python3 scripts/layers.py map        # prints docs/layers.md (the map of the house) to stdout
     python3 scripts/layers.py map --check docs/layers.md   # exit 1 if the file is not what the code says
+    python3 scripts/layers.py functions  # exit 1 naming every library function over 120 lines
+
+A function over MAX_FUNCTION_LINES lines needs its reason in the comment
+right above it, on a line that says "longer than 120 lines because ...".
 
 A folder may include its own files and the folders of lower layers (LAYERS,
 top to bottom the order of DESIGN.md's "Layers", lowest first). Folders on
@@ -39,6 +43,12 @@ TOP = 9
 
 # Sub-folders that are siblings: neither includes the other.
 SIBLINGS = [("dynamics/maximal", "dynamics/joint_space")]
+
+# The library's folders and the command's (functions is their check).
+LIBRARY = ["liegroup", "integrators", "liegroup_measure", "model", "dynamics", "simulation", "peers", "replay",
+           "calibration", "app", "python"]
+MAX_FUNCTION_LINES = 120
+REASON = "longer than 120 lines because"
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 SOURCES = (".hpp", ".cpp", ".h", ".cc")
@@ -142,6 +152,40 @@ def map_text():
     return "\n".join(out)
 
 
+def long_functions():
+    """(path, line, name, lines) of every function in LIBRARY over MAX_FUNCTION_LINES lines
+    without its reason above it; None without Universal Ctags."""
+    import shutil
+    import subprocess
+    ctags = shutil.which("ctags")
+    if not ctags:
+        return None
+    folders = [f for f in LIBRARY if os.path.isdir(os.path.join(ROOT, f))]
+    out = subprocess.run([ctags, "-R", "--languages=C++", "--kinds-C++=f", "--fields=+ne", "-f", "-"] + folders,
+                         cwd=ROOT, capture_output=True, text=True)
+    if out.returncode != 0 or "Universal Ctags" not in subprocess.run(
+            [ctags, "--version"], capture_output=True, text=True).stdout:
+        return None
+    found = []
+    for row in out.stdout.splitlines():
+        cells = row.split("\t")
+        fields = dict(c.split(":", 1) for c in cells[3:] if ":" in c)
+        if "line" not in fields or "end" not in fields:
+            continue
+        begin, end = int(fields["line"]), int(fields["end"])
+        if end - begin + 1 <= MAX_FUNCTION_LINES:
+            continue
+        with open(os.path.join(ROOT, cells[1]), encoding="utf-8", errors="replace") as f:
+            lines = f.read().split("\n")
+        above, k = [], begin - 2
+        while k >= 0 and lines[k].lstrip().startswith("//"):
+            above.append(lines[k])
+            k -= 1
+        if not any(REASON in line for line in above):
+            found.append((cells[1], begin, cells[0], end - begin + 1))
+    return found
+
+
 def main(argv):
     if argv[:1] == ["check"]:
         bad = violations()
@@ -159,6 +203,16 @@ def main(argv):
             return 0
         sys.stdout.write(text)
         return 0
+    if argv[:1] == ["functions"]:
+        found = long_functions()
+        if found is None:
+            print("skipped: needs Universal Ctags (apt-get install universal-ctags)")
+            return 77
+        for path, line, name, count in found:
+            print(f"{path}:{line}: {name} is {count} lines (over {MAX_FUNCTION_LINES}, no reason written above it)")
+        print(f"{len(found)} function(s) over {MAX_FUNCTION_LINES} lines" if found
+              else f"no function over {MAX_FUNCTION_LINES} lines without its reason")
+        return 1 if found else 0
     print(__doc__)
     return 2
 

@@ -21,6 +21,7 @@ packages=(
   liburdfdom-dev libtinyxml2-dev                # URDF models; element lines for both importers
   libjs-three                                   # three.js, inlined in replay pages (lieflow view)
   chromium                                      # the replay's browser test (headless)
+  universal-ctags                               # the function-length check (scripts/layers.py functions)
 )
 
 missing=()
