@@ -270,6 +270,13 @@ struct TwoAxisSolver {
     out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
   }
 
+  /// An axis pair as the refusal reports it: "(x y z) in <axis1's body>,
+  /// (x y z) in <axis2's>", unit vectors to 6 digits.
+  std::string pairText(const AxisPair& pair) const {
+    return "(" + formatNumbers(pair.axis1.normalized()) + ") " + context.axis1 + ", (" +
+           formatNumbers(pair.axis2.normalized()) + ") " + context.axis2;
+  }
+
   void rejectSecondMinimum() {
     // 6. A second minimum that fits as well: Δχ² = 2Δcost/s² at the weights of
     // the multi-start, for the end points whose axes lie more than
@@ -321,8 +328,9 @@ struct TwoAxisSolver {
                             formatNumber(options.ambiguity_chi_square) + ", while the best's 1σ are " +
                             formatNumber(out.sigma1_rad * kRadToDeg, 3) + "° and " +
                             formatNumber(out.sigma2_rad * kRadToDeg, 3) + "°; starts '" + starts[best_start].origin +
-                            "' and '" + starts[runner_up->start].origin +
-                            "'): a longer or more varied recording is needed; " + context.hint);
+                            "' and '" + starts[runner_up->start].origin + "'); both pairs: " +
+                            pairText(best_axes) + " (the lower cost) and " + pairText(runner_up->axes) +
+                            "; a longer or more varied recording is needed; " + context.hint);
     }
   }
 

@@ -8,8 +8,14 @@
 /// second minimum that fits as well, or a curved valley.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <regex>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "calibration/hinge_fit.hpp"
 #include "calibration/synthetic_motion.hpp"
@@ -37,6 +43,36 @@ void expectNotIdentifiable(Fit fit, const std::string& fragment) {
 }
 
 void stopMain(SmoothRotation* r) { r->angle.amplitude.clear(); }
+
+/// A refusal for two minima reports both axis pairs (not one picked): four
+/// unit vectors after "both pairs:", whose angles (as lines) are the ones
+/// the message gives first, "two axis pairs A° (...) and B° (...) apart".
+template <typename Fit>
+void expectBothPairsReported(Fit fit) {
+  try {
+    fit();
+    ADD_FAILURE() << "expected NotIdentifiable";
+  } catch (const NotIdentifiable& e) {
+    const std::string text = e.what();
+    const std::size_t at = text.find("both pairs:");
+    ASSERT_NE(at, std::string::npos) << text;
+    const std::regex vector(R"(\(([-+0-9.e]+) ([-+0-9.e]+) ([-+0-9.e]+)\))");
+    std::vector<Eigen::Vector3d> v;
+    for (std::sregex_iterator it(text.begin() + static_cast<long>(at), text.end(), vector), end; it != end; ++it)
+      v.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
+    ASSERT_EQ(v.size(), 4u) << text;
+    for (const Eigen::Vector3d& x : v) EXPECT_NEAR(x.norm(), 1.0, 1e-5) << text;
+    std::smatch angles;
+    ASSERT_TRUE(std::regex_search(text, angles, std::regex(R"(two axis pairs ([0-9.e+-]+)° \(.*\) and ([0-9.e+-]+)° \()")))
+        << text;
+    const auto lineAngleDeg = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return std::acos(std::min(1.0, std::abs(a.dot(b)))) * 180.0 / 3.141592653589793;
+    };
+    // The message's angles have 3 significant digits; the vectors 6.
+    EXPECT_NEAR(lineAngleDeg(v[0], v[2]), std::stod(angles[1]), 0.006 * std::stod(angles[1]) + 1e-3) << text;
+    EXPECT_NEAR(lineAngleDeg(v[1], v[3]), std::stod(angles[2]), 0.006 * std::stod(angles[2]) + 1e-3) << text;
+  }
+}
 
 TEST(CalibIdentifiability, NoMotionAtAll) {
   for (double sigma : {0.0, 0.01, 0.1}) {
@@ -134,6 +170,7 @@ TEST(CalibIdentifiability, TwoAxisPairsThatFitEquallyWellAreRefused) {
     const HingeMotion m = randomHingeMotion(gen);
     const JointSamples s = recordMotion(m, 50, kRateHz, RecordingNoise{0.01, 0.0, false, true}, gen);
     expectNotIdentifiable([&] { fitHinge(s); }, "apart fit the data equally well");
+    expectBothPairsReported([&] { fitHinge(s); });
     // The same motion recorded for 10 s is answered.
     std::mt19937 more(seed);
     const HingeMotion same = randomHingeMotion(more);
