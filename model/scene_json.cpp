@@ -4,7 +4,6 @@
 /// names the file, the field and the reason.
 #include <cmath>
 #include <functional>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -468,21 +467,47 @@ std::string jsonErrorText(const json::exception& e) {
   std::string what = e.what();
   if (const std::size_t tag_end = what.find("] "); what.compare(0, 1, "[") == 0 && tag_end != std::string::npos)
     what = what.substr(tag_end + 2);
-  static const std::regex parse(R"(parse error at (line \d+, column \d+): (?:syntax error while parsing [a-z ]+ - )?([^;]*)(?:; last read: '((?:[^']|'(?!;|$))*)')?(.*))");
-  std::smatch m;
-  static const std::regex overflow(R"(number overflow parsing '(.*)')");
-  if (std::regex_match(what, m, overflow)) {
-    std::string number = m[1].str();
+  // Read by hand, not by std::regex: libstdc++'s matcher recurses once per
+  // character, and a long text echoed after "last read" overflowed the stack
+  // (found by fuzz_scene: 2000 carriage returns after a brace).
+  const std::string overflow = "number overflow parsing '";
+  if (what.size() > overflow.size() && what.compare(0, overflow.size(), overflow) == 0 && what.back() == '\'') {
+    std::string number = what.substr(overflow.size(), what.size() - overflow.size() - 1);
     if (number.size() > 24) number = number.substr(0, 24) + "… (" + std::to_string(number.size()) + " characters)";
     return "the number " + number + " overflows a double";
   }
-  if (!std::regex_match(what, m, parse)) return what;
-  std::string read = m[3].str();
+  // "parse error at line L, column C: [syntax error while parsing X - ]MESSAGE[; last read: 'READ'][REST]".
+  const std::string head = "parse error at ";
+  if (what.compare(0, head.size(), head) != 0) return what;
+  const std::size_t colon = what.find(": ", head.size());
+  if (colon == std::string::npos) return what;
+  const std::string position = what.substr(head.size(), colon - head.size());
+  if (position.compare(0, 5, "line ") != 0 || position.find(", column ") == std::string::npos) return what;
+  std::string body = what.substr(colon + 2);
+  const std::string syntax = "syntax error while parsing ";
+  if (body.compare(0, syntax.size(), syntax) == 0)
+    if (const std::size_t dash = body.find(" - "); dash != std::string::npos) body = body.substr(dash + 3);
+  const std::size_t semicolon = body.find(';');
+  const std::string message = body.substr(0, semicolon);
+  std::string read, rest;
+  if (semicolon != std::string::npos) {
+    rest = body.substr(semicolon);
+    // The text read ends at the first quote followed by ';' or the end.
+    const std::string last_read = "; last read: '";
+    if (rest.compare(0, last_read.size(), last_read) == 0) {
+      for (std::size_t i = last_read.size(); i < rest.size(); ++i) {
+        if (rest[i] == '\'' && (i + 1 == rest.size() || rest[i + 1] == ';')) {
+          read = rest.substr(last_read.size(), i - last_read.size());
+          rest = rest.substr(i + 1);
+          break;
+        }
+      }
+    }
+  }
   if (read.size() > 40) read = read.substr(0, 40) + "…";
-  std::string rest = m[4].str();
   if (rest.rfind("; ", 0) == 0) rest = rest.substr(2);
   std::string detail = read.empty() ? rest : "read: '" + read + "'" + (rest.empty() ? "" : "; " + rest);
-  return m[1].str() + ": " + m[2].str() + (detail.empty() ? "" : " (" + detail + ")");
+  return position + ": " + message + (detail.empty() ? "" : " (" + detail + ")");
 }
 
 /// A UTF-8 byte-order mark some editors write at the start of a file.
