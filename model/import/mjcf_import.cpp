@@ -13,12 +13,12 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
-#include <regex>
 #include <sstream>
 #include <type_traits>
 
@@ -162,6 +162,50 @@ class CapturedStderr {
 /// name = NAME, id = 3, line = 15, column = -1" become "line 27, <joint>:
 /// REASON" and "line 15, 'NAME': REASON"; MuJoCo's constant names (mjMINVAL)
 /// are given with their values.
+/// The length of the integer at text[at] (a leading '-' if `sign`), 0 if none.
+std::size_t integerAt(const std::string& text, std::size_t at, bool sign) {
+  std::size_t end = at;
+  if (sign && end < text.size() && text[end] == '-') ++end;
+  const std::size_t digits = end;
+  while (end < text.size() && std::isdigit(static_cast<unsigned char>(text[end]))) ++end;
+  return end > digits ? end - at : 0;
+}
+
+/// The first "Element 'NAME', line L" in `text`.
+bool findElementLine(const std::string& text, std::string* name, std::string* line) {
+  const std::string head = "Element '", tail = "', line ";
+  for (std::size_t at = text.find(head); at != std::string::npos; at = text.find(head, at + 1)) {
+    const std::size_t quote = text.find('\'', at + head.size());
+    if (quote == std::string::npos) return false;
+    if (text.compare(quote, tail.size(), tail) != 0) continue;
+    const std::size_t n = integerAt(text, quote + tail.size(), false);
+    if (n == 0) continue;
+    *name = text.substr(at + head.size(), quote - at - head.size());
+    *line = text.substr(quote + tail.size(), n);
+    return true;
+  }
+  return false;
+}
+
+/// The first "Object name = NAME, id = I, line = L" in `text` (NAME without commas).
+bool findObjectLine(const std::string& text, std::string* name, std::string* id, std::string* line) {
+  const std::string head = "Object name = ", id_text = ", id = ", line_text = ", line = ";
+  for (std::size_t at = text.find(head); at != std::string::npos; at = text.find(head, at + 1)) {
+    const std::size_t comma = text.find(',', at + head.size());
+    if (comma == std::string::npos) return false;
+    if (text.compare(comma, id_text.size(), id_text) != 0) continue;
+    const std::size_t id_at = comma + id_text.size(), n_id = integerAt(text, id_at, true);
+    if (n_id == 0 || text.compare(id_at + n_id, line_text.size(), line_text) != 0) continue;
+    const std::size_t line_at = id_at + n_id + line_text.size(), n_line = integerAt(text, line_at, true);
+    if (n_line == 0) continue;
+    *name = text.substr(at + head.size(), comma - at - head.size());
+    *id = text.substr(id_at, n_id);
+    *line = text.substr(line_at, n_line);
+    return true;
+  }
+  return false;
+}
+
 std::string compilerMessage(const std::string& raw, const std::string& printed) {
   // MuJoCo's engine errors name its own resources.
   if (raw.find("Stack overflow") != std::string::npos)
@@ -193,14 +237,14 @@ std::string compilerMessage(const std::string& raw, const std::string& printed) 
   for (const auto& [name, value] : {std::pair<std::string, std::string>{"mjMINVAL", "1e-15"}, {"mjMAXVAL", "1e10"}})
     if (const std::size_t at = first.find(name); at != std::string::npos)
       first.replace(at, name.size(), value + " (MuJoCo's " + name + ")");
-  std::smatch m;
-  static const std::regex element(R"(Element '([^']*)', line (\d+))");
-  static const std::regex object(R"(Object name = ([^,]*), id = (-?\d+), line = (-?\d+))");
-  if (std::regex_search(raw, m, element))
-    return (m[2].str() != "0" ? "line " + m[2].str() + ", " : std::string()) + "<" + m[1].str() + ">: " + first + also;
-  if (std::regex_search(raw, m, object)) {
-    const std::string who = m[1].str().empty() ? "element " + m[2].str() : "'" + m[1].str() + "'";
-    return (std::stoi(m[3].str()) > 0 ? "line " + m[3].str() + ", " : std::string()) + who + ": " + first + also;
+  // MuJoCo's "Element 'NAME', line L" or "Object name = NAME, id = I, line = L",
+  // read by hand (std::regex's matcher recurses once per character).
+  std::string name, id, line;
+  if (findElementLine(raw, &name, &line))
+    return (line != "0" ? "line " + line + ", " : std::string()) + "<" + name + ">: " + first + also;
+  if (findObjectLine(raw, &name, &id, &line)) {
+    const std::string who = name.empty() ? "element " + id : "'" + name + "'";
+    return (std::stoi(line) > 0 ? "line " + line + ", " : std::string()) + who + ": " + first + also;
   }
   std::string one_line = raw;
   for (char& c : one_line)

@@ -233,6 +233,30 @@ TEST(ModelImport, MujocosOwnSwitchesAreTakenAsMujocoTakesThem) {
   EXPECT_TRUE(listed);
 }
 
+/// MuJoCo's compiler errors name the element and line as MuJoCo reports
+/// them ("Element 'joint', line 5"; "Object name = j, id = 1, line = 6"),
+/// read by hand from its message, also when an element's tag is long.
+TEST(ModelImport, MujocoCompilerErrorsNameTheElementAndLine) {
+  const auto refusal = [](const char* name, const std::string& text) {
+    const TempModel file(name, text);
+    try {
+      importModel(file.path(), {});
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  expectContains(refusal("bogus.xml", "<mujoco>\n<worldbody>\n<body name=\"a\">\n<geom type=\"sphere\" size=\"0.1\"/>\n"
+                                      "<joint type=\"hinge\" bogus=\"1\"/>\n</body>\n</worldbody>\n</mujoco>\n"),
+                 {"line 5, <joint>: ", "unrecognized attribute: 'bogus'"});
+  expectContains(refusal("twice.xml", "<mujoco>\n<worldbody>\n<body name=\"a\">\n<geom type=\"sphere\" size=\"0.1\"/>\n"
+                                      "<joint name=\"j\" type=\"hinge\"/>\n<joint name=\"j\" type=\"hinge\"/>\n"
+                                      "</body>\n</worldbody>\n</mujoco>\n"),
+                 {"line 6, 'j': ", "repeated name"});
+  const std::string tag(20000, 'x');
+  EXPECT_NE(refusal("long-tag.xml", "<mujoco>\n<worldbody>\n<" + tag + "/>\n</worldbody>\n</mujoco>\n"), "");
+}
+
 TEST(ModelImport, AJointNamedLikeABodyIsRenamedAndSaysSo) {
   // Scene names are one namespace (columns, --columns, calibration's
   // --main/--secondary): MJCF and URDF allow a joint and a body of one name.
