@@ -317,8 +317,7 @@ std::vector<std::string> studyIntegrators(const Simulation& sim, const StudyOpti
 /// below the smallest studied one for scenes with joints, else a converged
 /// rkmk45 run. Its replay rows go to options.replay_sink.
 std::vector<double> studyReference(const Simulation& sim, double t_end, const std::vector<double>& dts,
-                                   const StudyOptions& options, StudyResult* result) {
-  const BodyColumns bodies(sim.columns());
+                                   const BodyColumns& bodies, const StudyOptions& options, StudyResult* result) {
   std::string why;
   std::vector<double> ref;
   const bool exact_reference = sim.supports("exact", &why);
@@ -376,8 +375,8 @@ struct DriftColumns {
 /// figures, failure, Newton iterations; drift curves at drift.dt) and its
 /// timing runs, appended to result->rows.
 void studyCase(const Simulation& sim, const std::string& name, double dt, double t_end, const StudyOptions& options,
-               const DriftColumns& drift, const std::vector<double>& ref, StudyResult* result) {
-  const BodyColumns bodies(sim.columns());
+               const DriftColumns& drift, const BodyColumns& bodies, const std::vector<double>& ref,
+               StudyResult* result) {
   SimulationOptions o;
   o.integrator = name;
   o.formulation = options.formulation;
@@ -456,7 +455,8 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
   std::unique_ptr<MujocoPeer> peer;
   if (!options.mujoco_model.empty() && mujocoPeerAvailable(nullptr))
     peer = std::make_unique<MujocoPeer>(options.mujoco_model, options.mujoco_import, sim.scene());
-  const std::vector<double> ref = studyReference(sim, t_end, dts, options, &result);
+  const BodyColumns bodies(sim.columns());
+  const std::vector<double> ref = studyReference(sim, t_end, dts, bodies, options, &result);
   result.invariant_names = sim.invariantNames();
 
   const std::vector<std::string> columns = sim.columns();
@@ -475,10 +475,9 @@ StudyResult runStudy(const Simulation& sim, double t_end, const StudyOptions& op
       ++done;
       if (options.progress)
         *options.progress << "study: [" << done << "/" << total << "] " << name << " dt=" << dt << "\n";
-      studyCase(sim, name, dt, t_end, options, drift, ref, &result);
+      studyCase(sim, name, dt, t_end, options, drift, bodies, ref, &result);
     }
   }
-  const BodyColumns bodies(sim.columns());
   if (!options.mujoco_model.empty()) studyMujoco(peer.get(), t_end, dts, drift.dt, bodies.of(ref), options, &result);
   return result;
 }

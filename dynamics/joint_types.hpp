@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "dynamics/body_index.hpp"
 #include "dynamics/constraints/constraints.hpp"
 #include "model/time_function.hpp"
 
@@ -131,7 +132,7 @@ using GearConstraint = std::variant<constraints::GearJoint<double>, constraints:
 /// kGround allowed for the carrier.
 struct Gear {
   std::string name;
-  std::array<int, 4> bodies{{-1, -1, -1, -1}};  ///< −1: the ground
+  std::array<int, 4> bodies{{kGround, kGround, kGround, kGround}};
   GearConstraint constraint;
 };
 

@@ -12,8 +12,6 @@ namespace lieflow {
 
 namespace {
 
-constexpr int kGround = -1;
-
 /// Relative tolerance of the assembly checks (anchors coincide).
 constexpr double kAssemblyTolerance = 1e-6;
 

@@ -56,8 +56,8 @@ namespace articulated {
 /// passes (the J.fx … J.mz columns).
 enum class JointKind { kRevolute, kUniversal, kSpherical, kPrismatic, kFree, kGimbal, kFixed };
 
-/// The parent of a body attached to the ground.
-constexpr int kGround = -1;
+/// The parent of a body attached to the ground (dynamics/body_index.hpp).
+using ::lieflow::kGround;
 
 /// One body of the tree with the joint to its parent: what every evaluation
 /// reads (names and force elements live beside, in ArticulatedModel, so that

@@ -211,6 +211,12 @@ bool articulatedCovers(const SceneDescription& scene, std::string* why) {
 
 namespace {
 
+/// A scene body's rotation at t = 0 (the identity for the ground, −1).
+Eigen::Matrix3d sceneRotation(const SceneDescription& scene, int scene_body) {
+  return scene_body < 0 ? Eigen::Matrix3d::Identity()
+                        : Eigen::Matrix3d(scene.bodies[scene_body].orientation.normalized().toRotationMatrix());
+}
+
 /// The tree's scalar coordinates nq (angles, slides, a free root's centre
 /// of mass) and rotations ns (spherical joints, free roots' orientations).
 void countCoordinates(const SceneDescription& scene, const std::vector<int>& order, const std::vector<int>& joint_of,
@@ -311,23 +317,19 @@ void attachUserLoads(const SceneDescription& scene, articulated::ArticulatedSyst
 void setTreeJoint(const SceneDescription& scene, int c, int parent, int nq, int* r_next, int* q_next,
                   ArticulatedBody* b, std::array<CoordinateDrive, 3>* drives, articulated::ArticulatedState* y0) {
   const int k = b->scene_joint;
-  const auto orientation = [&](int scene_body) {
-    return scene_body < 0 ? Eigen::Matrix3d::Identity()
-                          : Eigen::Matrix3d(scene.bodies[scene_body].orientation.normalized().toRotationMatrix());
-  };
   const JointDescription& j = scene.joints[k];
   const std::string& parent_name = parent < 0 ? std::string("ground") : scene.bodies[parent].name;
   b->parent_is_main = j.main == parent_name;
   b->anchor_parent = b->parent_is_main ? j.anchor_main : j.anchor_secondary;
   b->anchor_child = b->parent_is_main ? j.anchor_secondary : j.anchor_main;
   const int main = b->parent_is_main ? parent : c, sec = b->parent_is_main ? c : parent;
-  const Eigen::Matrix3d M0 = orientation(main).transpose() * orientation(sec);
+  const Eigen::Matrix3d M0 = sceneRotation(scene, main).transpose() * sceneRotation(scene, sec);
   const auto user_moment = scene.user_loads.joint_moments.find(j.name);
   if (j.type == "spherical") {
     b->kind = articulated::JointKind::kSpherical;
     b->rotation = (*r_next)++;
     b->u_begin = nq + 3 * b->rotation;
-    const Eigen::Matrix3d N0 = orientation(parent).transpose() * orientation(c);
+    const Eigen::Matrix3d N0 = sceneRotation(scene, parent).transpose() * sceneRotation(scene, c);
     y0->N.push_back(SO3d(Eigen::Quaterniond(N0).normalized()));
     if (user_moment != scene.user_loads.joint_moments.end())
       throw InvalidInput("moments", "joint '" + j.name +
@@ -337,7 +339,7 @@ void setTreeJoint(const SceneDescription& scene, int c, int parent, int nq, int*
     // An anchor in the world at t = 0 (`local` in the frame of `body`, or
     // of the world).
     const auto anchor = [&](int body, const Eigen::Vector3d& local) -> Eigen::Vector3d {
-      return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + orientation(body) * local);
+      return body < 0 ? local : Eigen::Vector3d(scene.bodies[body].position + sceneRotation(scene, body) * local);
     };
     const bool slides = j.type == "prismatic";
     b->kind = slides                  ? articulated::JointKind::kPrismatic
@@ -364,14 +366,14 @@ void setTreeJoint(const SceneDescription& scene, int c, int parent, int nq, int*
     if (j.offset) {
       // δ: the secondary anchor from the main one, main frame, at φ₁ = 0.
       b->offset = true;
-      b->offset_ref = rotationAbout(b->axis1, -j.initial_angles[0]) * orientation(main).transpose() *
+      b->offset_ref = rotationAbout(b->axis1, -j.initial_angles[0]) * sceneRotation(scene, main).transpose() *
                       (anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
     }
     // A slide's x at t = 0, as the maximal formulation reads it from the
     // poses: x = (R_main a)·(anchor_secondary − anchor_main), world.
     double x0 = 0.0;
     if (slides) {
-      x0 = (orientation(main) * b->axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
+      x0 = (sceneRotation(scene, main) * b->axis1).dot(anchor(sec, j.anchor_secondary) - anchor(main, j.anchor_main));
     }
     const UserLoads::JointMoment* f =
         user_moment != scene.user_loads.joint_moments.end() ? &user_moment->second : nullptr;
@@ -393,10 +395,6 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   model.tree_index.assign(nb, -1);
   model.scene_joints = static_cast<int>(scene.joints.size());
   for (int t = 0; t < nb; ++t) model.tree_index[order[t]] = t;
-  auto orientation = [&](int scene_body) {
-    return scene_body < 0 ? Eigen::Matrix3d::Identity()
-                          : Eigen::Matrix3d(scene.bodies[scene_body].orientation.normalized().toRotationMatrix());
-  };
   // Angles first, then spherical rotations in u (articulated_state.hpp).
   int nq = 0, ns = 0;
   countCoordinates(scene, order, joint_of, &nq, &ns);
@@ -424,7 +422,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       q_next += 3;
       b.u_rotation = nq + 3 * b.rotation;
       y0.q.segment<3>(b.q_begin) = bd.position;
-      y0.N.push_back(SO3d(Eigen::Quaterniond(orientation(c)).normalized()));
+      y0.N.push_back(SO3d(Eigen::Quaterniond(sceneRotation(scene, c)).normalized()));
       model.bodies.push_back(b);
       model.names.push_back(bd.name);
       model.drives.emplace_back();
@@ -436,7 +434,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
       b.anchor_parent = bd.position;
       b.rotation = r_next++;
       b.u_begin = nq + 3 * b.rotation;
-      y0.N.push_back(SO3d(Eigen::Quaterniond(orientation(c)).normalized()));
+      y0.N.push_back(SO3d(Eigen::Quaterniond(sceneRotation(scene, c)).normalized()));
       model.bodies.push_back(b);
       model.names.push_back(bd.name);
       model.drives.emplace_back();

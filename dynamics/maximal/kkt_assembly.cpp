@@ -58,11 +58,10 @@ void KktAssembly::placeIndexOneBlocks(const MultibodySystem& system, std::vector
   std::vector<Place>& places = *out;
   const SchurSolver& S = system.schur(RowSet::kAll);
   const int nb = system.bodyCount(), ng = S.groupCount();
-  auto dof = [&](int b) { return rot_[b] ? 3 : 6; };
   body_block_.resize(nb);
   for (int b = 0; b < nb; ++b) {
     body_block_[b] = static_cast<int>(places.size());
-    places.push_back({system.dofBegin(b), system.dofBegin(b), dof(b), dof(b)});
+    places.push_back({system.dofBegin(b), system.dofBegin(b), dofsOf(b), dofsOf(b)});
   }
   std::map<std::pair<int, int>, int> pairs;
   pair_block_.assign(ng, {});
@@ -76,9 +75,9 @@ void KktAssembly::placeIndexOneBlocks(const MultibodySystem& system, std::vector
       const int b = G.bodies[s];
       if (b == kGround) continue;
       j_block_[g][s] = static_cast<int>(places.size());
-      places.push_back({n_ + S.rowBegin(g), system.dofBegin(b), G.rows, dof(b)});
+      places.push_back({n_ + S.rowBegin(g), system.dofBegin(b), G.rows, dofsOf(b)});
       jt_block_[g][s] = static_cast<int>(places.size());
-      places.push_back({system.dofBegin(b), n_ + S.rowBegin(g), dof(b), G.rows});
+      places.push_back({system.dofBegin(b), n_ + S.rowBegin(g), dofsOf(b), G.rows});
       for (int s2 = 0; s2 < kMaxGroupBodies; ++s2) {
         const int b2 = G.bodies[s2];
         if (b2 == kGround) continue;
@@ -94,7 +93,7 @@ void KktAssembly::placeIndexOneBlocks(const MultibodySystem& system, std::vector
         const int k = static_cast<int>(places.size());
         pairs[{b, b2}] = k;
         pair_block_[g][s][s2] = k;
-        places.push_back({system.dofBegin(b), system.dofBegin(b2), dof(b), dof(b2)});
+        places.push_back({system.dofBegin(b), system.dofBegin(b2), dofsOf(b), dofsOf(b2)});
       }
     }
   }
@@ -104,7 +103,6 @@ void KktAssembly::placeStabilizedBlocks(const MultibodySystem& system, std::vect
   std::vector<Place>& places = *out;
   const SchurSolver& S = system.schur(RowSet::kAll);
   const int nb = system.bodyCount(), ng = S.groupCount();
-  auto dof = [&](int b) { return rot_[b] ? 3 : 6; };
   // Stabilized: position rows below the velocity rows, ν columns right of
   // the λ columns (header comment); the blocks of the position rows (Φ_q T),
   // of the force rows in the ν columns (−(M + c_C C) M⁻¹ J̄ᵀ, per body) and
@@ -129,9 +127,9 @@ void KktAssembly::placeStabilizedBlocks(const MultibodySystem& system, std::vect
         if (!position) continue;
         position_of[b].emplace_back(g, sl);
         pj_block_[g][sl] = static_cast<int>(places.size());
-        places.push_back({n_ + m_ + S.rowBegin(g), system.dofBegin(b), groups_[g].rows, dof(b)});
+        places.push_back({n_ + m_ + S.rowBegin(g), system.dofBegin(b), groups_[g].rows, dofsOf(b)});
         fnu_block_[g][sl] = static_cast<int>(places.size());
-        places.push_back({system.dofBegin(b), n_ + m_ + S.rowBegin(g), dof(b), groups_[g].rows});
+        places.push_back({system.dofBegin(b), n_ + m_ + S.rowBegin(g), dofsOf(b), groups_[g].rows});
       }
     }
     std::map<std::pair<int, int>, int> vnu;

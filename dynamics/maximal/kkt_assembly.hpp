@@ -153,6 +153,7 @@ class KktAssembly {
   template <typename Derived>
   void addBlock(int k, const Eigen::MatrixBase<Derived>& value, int r0 = 0, int c0 = 0);
   int rotationBegin(int b) const { return rot_[b] ? 0 : 3; }
+  int dofsOf(int b) const { return rot_[b] ? 3 : 6; }  ///< body b's coordinates (a rotation-only body 3)
   /// K_λ T (times `factor`) into the body-pair blocks and, with a nonzero
   /// velocity_factor, ∂(J u)/∂δq T (times it) into the velocity rows.
   void geometricStiffness(const State& y, const Eigen::VectorXd& lambda, double factor, double velocity_factor,

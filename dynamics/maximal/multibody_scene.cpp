@@ -10,7 +10,6 @@
 
 namespace lieflow {
 
-using multibody::kGround;
 
 namespace {
 

@@ -32,13 +32,14 @@
 
 #include <Eigen/Core>
 
+#include "dynamics/body_index.hpp"
 #include "dynamics/maximal/block_ldlt.hpp"
 
 namespace lieflow {
 namespace multibody {
 
 /// Index of the ground in body lists (the ground has no coordinates).
-constexpr int kGround = -1;
+using ::lieflow::kGround;
 
 /// A pivot d_r ≤ kPivotTolerance · S_rr marks a row that depends on earlier
 /// rows (redundant or conflicting constraints).

@@ -8,8 +8,6 @@
 /// second minimum that fits as well, or a curved valley.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cmath>
 #include <random>
 #include <regex>
 #include <string>
@@ -65,12 +63,9 @@ void expectBothPairsReported(Fit fit) {
     std::smatch angles;
     ASSERT_TRUE(std::regex_search(text, angles, std::regex(R"(two axis pairs ([0-9.e+-]+)° \(.*\) and ([0-9.e+-]+)° \()")))
         << text;
-    const auto lineAngleDeg = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::acos(std::min(1.0, std::abs(a.dot(b)))) * 180.0 / 3.141592653589793;
-    };
     // The message's angles have 3 significant digits; the vectors 6.
-    EXPECT_NEAR(lineAngleDeg(v[0], v[2]), std::stod(angles[1]), 0.006 * std::stod(angles[1]) + 1e-3) << text;
-    EXPECT_NEAR(lineAngleDeg(v[1], v[3]), std::stod(angles[2]), 0.006 * std::stod(angles[2]) + 1e-3) << text;
+    EXPECT_NEAR(test::lineErrorDeg(v[0], v[2]), std::stod(angles[1]), 0.006 * std::stod(angles[1]) + 1e-3) << text;
+    EXPECT_NEAR(test::lineErrorDeg(v[1], v[3]), std::stod(angles[2]), 0.006 * std::stod(angles[2]) + 1e-3) << text;
   }
 }
 
