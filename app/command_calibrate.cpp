@@ -52,6 +52,7 @@ void addModelCheck(Json& j, const calibration::ModelCheck& check) {
   Json segments = Json::array();
   for (const calibration::SegmentFit& s : check.segments) {
     Json seg = {{"t_start", s.t_start}, {"t_end", s.t_end}};
+    if (!s.source.empty()) seg["recording"] = s.source;
     if (s.answered) {
       seg["axis_main"] = {s.axis_main.x(), s.axis_main.y(), s.axis_main.z()};
       seg["axis_secondary"] = {s.axis_secondary.x(), s.axis_secondary.y(), s.axis_secondary.z()};
@@ -69,6 +70,7 @@ void addModelCheck(Json& j, const calibration::ModelCheck& check) {
 
 constexpr const char* kUsage =
     "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
+    "       lieflow calibrate hinge A.csv B.csv ... [options]   (one axis pair from several recordings)\n"
     "       lieflow calibrate spherical RECORDING.csv [--main A] [--secondary B]\n"
     "       lieflow calibrate spring RECORDING.csv --scene SCENE [--joint J] [options]\n"
     "\n"
@@ -611,7 +613,9 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   const std::string& kind = pos[0];
   if (kind != "hinge" && kind != "universal" && kind != "spherical" && kind != "spring")
     throw UsageError("unknown calibration '" + kind + "' (available: hinge, universal, spherical, spring)");
-  if (pos.size() != 2) throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv");
+  if (pos.size() < 2 || (pos.size() > 2 && kind != "hinge"))
+    throw UsageError("calibrate " + kind + " needs exactly one RECORDING.csv" +
+                     (pos.size() > 2 ? " (several recordings of one joint: calibrate hinge A.csv B.csv ...)" : ""));
   if (kind == "spring") return runSpring(args, pos[1], interrupted);
   for (const char* flag : {"--scene", "--joint", "--coordinate", "--stiffness-start", "--damping-start",
                            "--rest-angle-start", "--shooting", "--segments", "--integrator", "--substeps",
@@ -619,13 +623,25 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
                            "--start"})
     if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of calibrate spring, not " + kind);
   AxisFitOptions options = fitOptions(args);
-  options.progress = fitProgressOnStderr("calibrate " + kind + " " + pos[1]);
+  std::string files = pos[1];
+  for (std::size_t i = 2; i < pos.size(); ++i) files += " " + pos[i];
+  const std::string what = "calibrate " + kind + " " + files;
+  options.progress = fitProgressOnStderr(what);
   options.interrupt = interrupted;
-  announceLargeRecording(pos[1], "calibrate " + kind + " " + pos[1]);
-  const calibration::Recording recording = calibration::readRecording(pos[1], resourceLimitsFrom(args));
-  const calibration::JointSamples joint =
-      calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", ""));
-  const std::string what = "calibrate " + kind + " " + pos[1];
+  // Every recording read, its joint selected; the row and byte limits hold
+  // for all of them together (each file is read with what the ones before it left).
+  std::vector<calibration::JointSamples> joints;
+  ResourceLimits left = resourceLimitsFrom(args);
+  for (std::size_t i = 1; i < pos.size(); ++i) {
+    announceLargeRecording(pos[i], "calibrate " + kind + " " + pos[i]);
+    const calibration::Recording recording = calibration::readRecording(pos[i], left);
+    left.max_rows -= static_cast<long>(recording.time.size());
+    std::error_code size_error;
+    const std::uintmax_t bytes = std::filesystem::file_size(pos[i], size_error);
+    if (!size_error) left.max_input_bytes -= std::min<std::uint64_t>(left.max_input_bytes, bytes);
+    joints.push_back(calibration::selectJoint(recording, args.value("--main", ""), args.value("--secondary", "")));
+  }
+  const calibration::JointSamples& joint = joints.front();
   if (kind == "spherical") {
     for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
                            "--fit-gyro-bias", "--fit-time-offset"})
@@ -635,7 +651,14 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
   try {
     Json j;
     if (kind == "hinge") {
-      const calibration::HingeFit fit = calibration::fitHinge(joint, options);
+      const calibration::HingeFit fit = calibration::fitHinge(joints, options);
+      if (joints.size() > 1) {
+        Json recordings = Json::array();
+        for (const calibration::JointSamples& r : joints)
+          recordings.push_back({{"file", r.source}, {"samples", r.size()}, {"t_start", r.time.front()},
+                                {"t_end", r.time.back()}});
+        j["recordings"] = recordings;
+      }
       j["axis_main"] = vector3(fit.axis_main);
       j["axis_secondary"] = vector3(fit.axis_secondary);
       j["axis_sigma_deg"] = fit.axisSigmaDeg();
@@ -681,6 +704,8 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       } else {
         addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
       }
+      // The joint centre is the first recording's (its sensors' points, from its samples alone).
+      if (joints.size() > 1 && (j.contains("anchor_main") || j.contains("anchor_note"))) j["anchor_recording"] = joint.source;
       return finish(j, fit.summary.converged, fit.summary.message, what);
     }
     const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);

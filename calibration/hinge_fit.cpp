@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "calibration/axis_problem.hpp"
@@ -56,7 +57,7 @@ constexpr double kSignChiSquare = 25.0;
 /// The centre is solved from `samples` and returned in `centre`, or, when
 /// `starts` is null (the unfiltered twin of a low-passed fit), taken from it.
 std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std::vector<NamedStart>* starts,
-                                                AxisPair* centre) {
+                                                AxisPair* centre, const std::string& label = "") {
   if (starts) solveJointCentre(samples, &centre->axis1, &centre->axis2);
   const CentreForces c = centreSpecificForces(samples, centre->axis1, centre->axis2);
   std::vector<AccelerometerHingeResidual> blocks;
@@ -66,7 +67,7 @@ std::unique_ptr<ResidualKind> accelerometerKind(const JointSamples& samples, std
     for (const AxisPair& a : hingeStartsFromCentreForces(c.main, c.secondary))
       starts->push_back({a, "closed form (accelerometers)"});
   return std::make_unique<SampleResidualKind<AccelerometerHingeResidual, 1>>(
-      "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre", "m/s^2", 1, std::move(blocks));
+      "accelerometer hinge constraint j1.a1 = j2.a2 at the joint centre" + label, "m/s^2", 1, std::move(blocks));
 }
 
 /// Δχ² (4 parameters) by which fitting gyroscope biases must lower the
@@ -77,7 +78,7 @@ constexpr double kBiasChiSquare = 30.0;
 /// search's, and recentrings of that window, at most.
 constexpr int kOffsetProfile = 4;
 constexpr int kOffsetRefits = 3;
-constexpr const char* kGyroKindName = "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)";
+const std::string kGyroKindName = "gyroscope hinge constraint |w1 x j1| = |w2 x j2| (Sampson)";
 /// Largest relative spread of the sampling interval for --fit-time-offset
 /// (the clock offset interpolates the secondary's rates on a uniform grid).
 constexpr double kUniformSampling = 1e-3;
@@ -137,57 +138,76 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
     blocks.push_back(r);
   }
   return std::make_unique<SampleResidualKind<GyroHingeNuisanceResidual, 1, true>>(
-      std::string(kGyroKindName) + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
+      kGyroKindName + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
 }
 
 /// The orientations' kind: R₁ j₁ = R₂ j₂ per sample.
-std::unique_ptr<ResidualKind> orientationKind(const std::vector<Eigen::Matrix3d>& R12) {
+std::unique_ptr<ResidualKind> orientationKind(const std::vector<Eigen::Matrix3d>& R12, const std::string& label = "") {
   std::vector<OrientationHingeResidual> blocks;
   blocks.reserve(R12.size());
   for (const Eigen::Matrix3d& R : R12) blocks.emplace_back(R);
-  return std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>("orientation hinge constraint R1 j1 = R2 j2",
-                                                                           "rad", 2, std::move(blocks));
+  return std::make_unique<SampleResidualKind<OrientationHingeResidual, 3>>(
+      "orientation hinge constraint R1 j1 = R2 j2" + label, "rad", 2, std::move(blocks));
 }
 
 /// The gyroscopes' plain kind, the secondary's rates `shift` samples back.
-std::unique_ptr<ResidualKind> gyroKind(const JointSamples& samples, int shift) {
+std::unique_ptr<ResidualKind> gyroKind(const JointSamples& samples, int shift, const std::string& label = "") {
   std::vector<GyroHingeResidual> blocks;
   for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k)
     blocks.emplace_back(samples.main.angular_velocity[k], samples.secondary.angular_velocity[k - shift]);
-  return std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(kGyroKindName, "rad/s", 1, std::move(blocks));
+  return std::make_unique<SampleResidualKind<GyroHingeResidual, 1>>(kGyroKindName + label, "rad/s", 1,
+                                                                    std::move(blocks));
 }
 
-/// A low-passed fit's unfiltered recording and the filter's noise power gain.
+/// The recordings one fit reads: one, or several of the same joint (each
+/// its own series in time: no stencil or filter reaches across two).
+using Recordings = std::vector<const JointSamples*>;
+
+/// How a residual kind of recording `r` is named: as it is for one
+/// recording, with the recording's file after it for several.
+std::string recordingLabel(const Recordings& runs, std::size_t r) {
+  return runs.size() > 1 ? " [" + runs[r]->source + "]" : std::string();
+}
+
+int totalSamples(const Recordings& runs) {
+  int n = 0;
+  for (const JointSamples* r : runs) n += r->size();
+  return n;
+}
+
+/// A low-passed fit's unfiltered recordings (empty without a filter) and
+/// the filter's noise power gain.
 struct Unfiltered {
-  const JointSamples* samples = nullptr;
+  Recordings samples;
   double power_gain = 1.0;
 };
 
 /// How well the hinge explains the data, per kind, as a fraction of the
 /// signal it compares: RMS(‖ω₁×j₁‖ − ‖ω₂×j₂‖) over the RMS mean of the two
 /// (gyroscopes), RMS(j₁·f_c,1 − j₂·f_c,2) over the RMS of ‖f_c‖ (accelerometers).
-void modelMisfit(const JointSamples& samples, int shift, const Eigen::Vector3d& j1, const Eigen::Vector3d& j2,
-                 const AxisPair* centre, HingeFit* fit) {
-  if (samples.hasAngularVelocities()) {
-    double d2 = 0.0, m2 = 0.0;
-    for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
-      const double a = samples.main.angular_velocity[k].cross(j1).norm();
-      const double b = samples.secondary.angular_velocity[k - shift].cross(j2).norm();
-      d2 += (a - b) * (a - b);
-      m2 += 0.25 * (a + b) * (a + b);
+void modelMisfit(const Recordings& runs, int shift, const Eigen::Vector3d& j1, const Eigen::Vector3d& j2,
+                 const std::vector<AxisPair>* centres, HingeFit* fit) {
+  double gd2 = 0.0, gm2 = 0.0, ad2 = 0.0, am2 = 0.0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const JointSamples& samples = *runs[r];
+    if (samples.hasAngularVelocities())
+      for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
+        const double a = samples.main.angular_velocity[k].cross(j1).norm();
+        const double b = samples.secondary.angular_velocity[k - shift].cross(j2).norm();
+        gd2 += (a - b) * (a - b);
+        gm2 += 0.25 * (a + b) * (a + b);
+      }
+    if (centres) {
+      const CentreForces c = centreSpecificForces(samples, (*centres)[r].axis1, (*centres)[r].axis2);
+      for (std::size_t k = 0; k < c.main.size(); ++k) {
+        const double d = j1.dot(c.main[k]) - j2.dot(c.secondary[k]);
+        ad2 += d * d;
+        am2 += 0.5 * (c.main[k].squaredNorm() + c.secondary[k].squaredNorm());
+      }
     }
-    if (m2 > 0.0) fit->gyro_misfit = std::sqrt(d2 / m2);
   }
-  if (centre) {
-    const CentreForces c = centreSpecificForces(samples, centre->axis1, centre->axis2);
-    double d2 = 0.0, m2 = 0.0;
-    for (std::size_t k = 0; k < c.main.size(); ++k) {
-      const double d = j1.dot(c.main[k]) - j2.dot(c.secondary[k]);
-      d2 += d * d;
-      m2 += 0.5 * (c.main[k].squaredNorm() + c.secondary[k].squaredNorm());
-    }
-    if (m2 > 0.0) fit->accelerometer_misfit = std::sqrt(d2 / m2);
-  }
+  if (gm2 > 0.0) fit->gyro_misfit = std::sqrt(gd2 / gm2);
+  if (am2 > 0.0) fit->accelerometer_misfit = std::sqrt(ad2 / am2);
 }
 
 /// The fit with the clock offset's whole samples given (0 without one).
@@ -214,6 +234,21 @@ DataSelection hingeData(const JointSamples& samples, const AxisFitOptions& optio
                                              "gyroscopes or auto)");
     data.orientations = data.accelerometers = false;
     if (!data.rates) throw InvalidInput(samples.source, "--fit-time-offset needs both bodies' gyroscopes");
+  }
+  return data;
+}
+
+/// hingeData of every recording: they must give the same selection (the
+/// fit's kinds are the same for each), else InvalidInput naming the one
+/// that differs.
+DataSelection hingeData(const Recordings& runs, const AxisFitOptions& options) {
+  const DataSelection data = hingeData(*runs.front(), options);
+  for (std::size_t r = 1; r < runs.size(); ++r) {
+    const DataSelection other = hingeData(*runs[r], options);
+    if (other.name() != data.name())
+      throw InvalidInput(runs[r]->source, "gives the fit " + other.name() + " where " + runs.front()->source +
+                                              " gives " + data.name() + ": a fit over several recordings uses the "
+                                              "same columns of each (choose them with --use)");
   }
   return data;
 }
@@ -252,32 +287,49 @@ void rateStarts(const JointSamples& samples, const std::vector<Eigen::Vector3d>&
 
 /// The relative sign of the secondary axis (R1 j1 = R2 j2), from the
 /// orientations, else the accelerometers when they decide it, else the phase
-/// of the perpendicular angular velocities; flips *j2 and says how in *how.
-void relativeAxisSign(const JointSamples& samples, const DataSelection& data,
-                      const std::vector<Eigen::Matrix3d>& R12, const ResidualKind* accelerometers,
-                      const TwoAxisSolution& solution, const Eigen::Vector3d& j1, Eigen::Vector3d* j2_out,
-                      std::string* how) {
+/// of the perpendicular angular velocities (each recording's phase spread,
+/// weighted by its samples); flips *j2 and says how in *how.
+void relativeAxisSign(const Recordings& runs, const DataSelection& data,
+                      const std::vector<std::vector<Eigen::Matrix3d>>& R12,
+                      const std::vector<const ResidualKind*>& accelerometers, const TwoAxisSolution& solution,
+                      const Eigen::Vector3d& j1, Eigen::Vector3d* j2_out, std::string* how) {
   Eigen::Vector3d& j2 = *j2_out;
   // The accelerometers' constraint is odd in j₂: its cost at (j₁, −j₂) says
   // whether it fixes the relative sign.
   double sign_delta = 0.0;
-  if (accelerometers) {
-    const double w = 1.0 / solution.summary.residuals.back().noise_scale;
+  const std::vector<ResidualStats>& stats = solution.summary.residuals;
+  for (std::size_t r = 0; r < accelerometers.size(); ++r) {
+    // The accelerometer kinds are the last ones, one per recording.
+    const double w = 1.0 / stats[stats.size() - accelerometers.size() + r].noise_scale;
     const Eigen::Vector3d turned = -j2;
-    sign_delta = 2.0 * (accelerometers->cost(j1.data(), turned.data(), nullptr, &w, nullptr) -
-                        accelerometers->cost(j1.data(), j2.data(), nullptr, &w, nullptr));
+    sign_delta += 2.0 * (accelerometers[r]->cost(j1.data(), turned.data(), nullptr, &w, nullptr) -
+                         accelerometers[r]->cost(j1.data(), j2.data(), nullptr, &w, nullptr));
   }
   if (data.orientations) {
     double agreement = 0.0;
-    for (const Eigen::Matrix3d& R : R12) agreement += j1.dot(R * j2);
+    for (const std::vector<Eigen::Matrix3d>& run : R12)
+      for (const Eigen::Matrix3d& R : run) agreement += j1.dot(R * j2);
     if (agreement < 0.0) j2 = -j2;
     *how = "R1 j1 = R2 j2 from the orientations";
   } else if (std::abs(sign_delta) > kSignChiSquare) {
     if (sign_delta < 0.0) j2 = -j2;
     *how = "R1 j1 = R2 j2 from the accelerometers (the centre's acceleration along the axis)";
   } else {
-    const HingeSignEvidence evidence =
-        hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity, j1, j2);
+    HingeSignEvidence evidence;
+    if (runs.size() == 1) {
+      const JointSamples& samples = *runs.front();
+      evidence = hingeRelativeSign(samples.time, samples.main.angular_velocity, samples.secondary.angular_velocity,
+                                   j1, j2);
+    } else {
+      double same = 0.0, flipped = 0.0;
+      for (const JointSamples* samples : runs) {
+        const HingeSignEvidence e = hingeRelativeSign(samples->time, samples->main.angular_velocity,
+                                                      samples->secondary.angular_velocity, j1, j2);
+        same += e.spread_same * samples->size();
+        flipped += e.spread_flipped * samples->size();
+      }
+      evidence = hingeSignFromSpreads(same / totalSamples(runs), flipped / totalSamples(runs));
+    }
     j2 *= evidence.relative_sign;
     *how = evidence.decided ? "R1 j1 = R2 j2 from the phase of the perpendicular angular velocities"
                                 : "relative sign of axis_secondary not determined by these gyroscope data "
@@ -310,15 +362,26 @@ void setNuisance(const JointSamples& samples, const NuisanceSelection& nuisance,
   }
 }
 
-HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& options, int shift,
+/// The fit of `runs` with the clock offset's whole samples given (0 without
+/// one; a clock offset and biases only on one recording). Several
+/// recordings add their residual kinds side by side, each with its own
+/// noise (its own third differences, its own weight): one axis pair.
+HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, int shift,
                          const Unfiltered& unfiltered = Unfiltered()) {
   const auto start_time = std::chrono::steady_clock::now();
-  DataSelection data = hingeData(samples, options);
-  requireEnoughSamples(samples.size(), options);
+  const JointSamples& samples = *runs.front();
+  DataSelection data = hingeData(runs, options);
+  requireEnoughSamples(totalSamples(runs), options);
   const NuisanceSelection nuisance = nuisanceOf(samples, data, options);
+  const bool filtered = !unfiltered.samples.empty();
 
-  const std::vector<Eigen::Matrix3d> R12 =
-      data.orientations ? relativeOrientations(samples) : std::vector<Eigen::Matrix3d>();
+  std::vector<std::vector<Eigen::Matrix3d>> R12(runs.size());
+  std::vector<Eigen::Matrix3d> all_R12;
+  if (data.orientations)
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      R12[r] = relativeOrientations(*runs[r]);
+      all_R12.insert(all_R12.end(), R12[r].begin(), R12[r].end());
+    }
   std::vector<std::unique_ptr<ResidualKind>> kinds;
   std::vector<NamedStart> starts;
   int search_starts = 0;
@@ -326,37 +389,48 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   context.axis1 = "the axis in the main body '" + samples.main.name + "'";
   context.axis2 = "the axis in the secondary body '" + samples.secondary.name + "'";
   if (data.orientations) {
-    kinds.push_back(orientationKind(R12));
-    starts.push_back({hingeAxesFromOrientations(R12), "closed form (orientations)"});
+    for (std::size_t r = 0; r < runs.size(); ++r) kinds.push_back(orientationKind(R12[r], recordingLabel(runs, r)));
+    starts.push_back({hingeAxesFromOrientations(all_R12), "closed form (orientations)"});
     context.hint = kOrientationHint;
   }
   if (data.rates) {
     // The rates paired as the whole-sample clock offset says (as recorded without one).
     std::vector<Eigen::Vector3d> w1, w2;
-    for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
-      w1.push_back(samples.main.angular_velocity[k]);
-      w2.push_back(samples.secondary.angular_velocity[k - shift]);
-    }
+    for (const JointSamples* run : runs)
+      for (int k = std::max(0, shift); k < run->size() && k - shift < run->size(); ++k) {
+        w1.push_back(run->main.angular_velocity[k]);
+        w2.push_back(run->secondary.angular_velocity[k - shift]);
+      }
     if (!data.orientations) {
       rateStarts(samples, w1, w2, data.accelerometers, &starts, &search_starts);
       context.hint = kRateHint;
     }
-    // The gyroscopes' kind, with the nuisance block when biases or a clock
+    // The gyroscopes' kinds, with the nuisance block when biases or a clock
     // offset are estimated (its bias planes from the first start's axes).
     const AxisPair& at = starts.front().axes;
-    kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(samples, at.axis1, at.axis2, shift, options.fit_time_offset)
-                                         : gyroKind(samples, shift));
-    // (After a low-pass filter third differences no longer measure the noise.)
-    if (!unfiltered.samples)
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const JointSamples& run = *runs[r];
+      kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(run, at.axis1, at.axis2, shift, options.fit_time_offset)
+                                           : gyroKind(run, shift, recordingLabel(runs, r)));
+      // (After a low-pass filter third differences no longer measure the noise.)
+      if (filtered) continue;
+      std::vector<Eigen::Vector3d> v1, v2;
+      for (int k = std::max(0, shift); k < run.size() && k - shift < run.size(); ++k) {
+        v1.push_back(run.main.angular_velocity[k]);
+        v2.push_back(run.secondary.angular_velocity[k - shift]);
+      }
       kinds.back()->setIndependentNoise(
-          std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(w1), 2) + std::pow(whiteNoiseFromDifferences(w2), 2))),
+          std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(v1), 2) + std::pow(whiteNoiseFromDifferences(v2), 2))),
           "the third differences of the recorded angular velocities");
+    }
   }
-  const ResidualKind* accelerometers = nullptr;
-  AxisPair centre;
+  std::vector<const ResidualKind*> accelerometers;
+  std::vector<AxisPair> centres(runs.size());
   if (data.accelerometers) {
-    kinds.push_back(accelerometerKind(samples, &starts, &centre));
-    accelerometers = kinds.back().get();
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      kinds.push_back(accelerometerKind(*runs[r], &starts, &centres[r], recordingLabel(runs, r)));
+      accelerometers.push_back(kinds.back().get());
+    }
     context.hint = kAccelerometerHint;
   }
   for (std::size_t i = 0; i < options.extra_starts.size(); ++i)
@@ -367,24 +441,27 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   // A low-passed fit: the same kinds on the unfiltered signals (LowPassNoise).
   std::vector<std::unique_ptr<ResidualKind>> raw_kinds;
   LowPassNoise low_pass;
-  if (unfiltered.samples) {
-    const JointSamples& raw = *unfiltered.samples;
-    if (data.orientations) raw_kinds.push_back(orientationKind(R12));
+  if (filtered) {
+    const Recordings& raw = unfiltered.samples;
+    if (data.orientations)
+      for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(orientationKind(R12[r]));
     if (data.rates) {
       const AxisPair& at = starts.front().axes;
-      raw_kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(raw, at.axis1, at.axis2, shift, false)
-                                               : gyroKind(raw, shift));
+      for (const JointSamples* run : raw)
+        raw_kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(*run, at.axis1, at.axis2, shift, false)
+                                                 : gyroKind(*run, shift));
     }
-    if (data.accelerometers) raw_kinds.push_back(accelerometerKind(raw, nullptr, &centre));
+    if (data.accelerometers)
+      for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(accelerometerKind(*raw[r], nullptr, &centres[r]));
     low_pass.power_gain = unfiltered.power_gain;
     for (const auto& k : raw_kinds) low_pass.raw_kinds.push_back(k.get());
   }
   const TwoAxisSolution solution =
-      solveTwoAxes(kind_list, starts, options, context, nuisance, unfiltered.samples ? &low_pass : nullptr);
+      solveTwoAxes(kind_list, starts, options, context, nuisance, filtered ? &low_pass : nullptr);
 
   HingeFit fit;
   Eigen::Vector3d j1 = solution.axes.axis1, j2 = solution.axes.axis2;
-  relativeAxisSign(samples, data, R12, accelerometers, solution, j1, &j2, &fit.sign);
+  relativeAxisSign(runs, data, R12, accelerometers, solution, j1, &j2, &fit.sign);
   const double overall = canonicalSign(j1);
   fit.sign += "; overall sign: largest component of axis_main positive";
   fit.axis_main = overall * j1;
@@ -393,13 +470,13 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
   fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
   setNuisance(samples, nuisance, starts.front(), shift, solution, &fit);
-  modelMisfit(samples, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centre : nullptr, &fit);
+  modelMisfit(runs, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centres : nullptr, &fit);
   if (!data.rates) fit.gyro_misfit = -1.0;
   fit.information = solution.information;
   fit.summary = solution.summary;
   fit.summary.search_starts = search_starts;
   fit.summary.data = data.name();
-  fit.summary.samples = samples.size();
+  fit.summary.samples = totalSamples(runs);
   fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
 }
@@ -408,8 +485,9 @@ HingeFit fitHingeAtShift(const JointSamples& samples, const AxisFitOptions& opti
 /// maximum likelihood over the joint angle (hinge_likelihood.hpp), with the
 /// biases and the clock offset where the constraint fit estimated them
 /// (started from its values).
-void refineByLikelihood(const JointSamples& samples, const AxisFitOptions& options, int shift, HingeFit* fit_out) {
+void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, int shift, HingeFit* fit_out) {
   const auto start_time = std::chrono::steady_clock::now();
+  const JointSamples& samples = *runs.front();
   HingeFit& fit = *fit_out;
   HingeLikelihoodOptions ml_options;
   ml_options.progress = options.progress;
@@ -423,7 +501,7 @@ void refineByLikelihood(const JointSamples& samples, const AxisFitOptions& optio
     const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
     ml_options.offset_fraction_start = fit.time_offset - shift * h;
   }
-  const HingeLikelihoodFit ml = fitHingeLikelihood(samples, fit.axis_main, fit.axis_secondary, ml_options);
+  const HingeLikelihoodFit ml = fitHingeLikelihood(runs, fit.axis_main, fit.axis_secondary, ml_options);
   fit.constraint_sigma_main_deg = fit.sigma_main_deg;
   fit.constraint_sigma_secondary_deg = fit.sigma_secondary_deg;
   const double flip = canonicalSign(ml.axis_main);
@@ -463,12 +541,13 @@ void refineByLikelihood(const JointSamples& samples, const AxisFitOptions& optio
 /// above max_residual_to_noise times the noise that the biases would leave
 /// above it too is not flagged as a bias (a real knee: Δχ² 700–880, the
 /// residual still 9 times the noise).
-void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& options, HingeFit* fit) {
+void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& options, HingeFit* fit,
+                           const std::string& label = "") {
   // (Under a robust loss outliers would read as a bias: not checked.)
   if (options.fit_gyro_bias || !options.check_gyro_bias || options.loss != RobustLoss::kNone) return;
   const ResidualStats* plain = nullptr;
   for (const ResidualStats& r : fit->summary.residuals)
-    if (r.kind.rfind("gyroscope hinge constraint", 0) == 0) plain = &r;
+    if (r.kind == kGyroKindName + label) plain = &r;
   if (!plain || !(plain->independent_noise > 0.0)) return;
   const std::unique_ptr<ResidualKind> kind = gyroNuisanceKind(samples, fit->axis_main, fit->axis_secondary, 0, false);
   NuisanceSelection biases;
@@ -480,7 +559,7 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
   if (!gaussNewtonStep(problem, &step)) return;
   const double sigma2 = plain->independent_noise * plain->independent_noise;
   const double delta = 2.0 * step.decrease / sigma2;
-  fit->summary.bias_check_delta_chi_square = delta;
+  fit->summary.bias_check_delta_chi_square = std::max(fit->summary.bias_check_delta_chi_square, delta);
   if (delta <= kBiasChiSquare) return;
   // A residual far above the noise that the biases would not bring near it
   // is another misfit (the fit already says so); the bias is not its cause.
@@ -490,16 +569,22 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
   const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(fit->axis_main), B2 = perpendicularBasis(fit->axis_secondary);
   const double bias = std::max((B1 * step.step.segment<2>(4)).norm(), (B2 * step.step.segment<2>(6)).norm());
   fit->summary.converged = false;
-  fit->summary.message = "the gyroscopes carry a constant bias: fitting one (--fit-gyro-bias) lowers the gyroscope "
-                         "residual by delta chi-square " + formatNumber(delta) + " (above " +
-                         formatNumber(kBiasChiSquare) + "; biases up to " + formatNumber(bias) +
-                         " rad/s), and axes fitted without it can be many sigma off; rerun with --fit-gyro-bias";
+  const std::string found = "lowers the gyroscope residual by delta chi-square " + formatNumber(delta) + " (above " +
+                            formatNumber(kBiasChiSquare) + "; biases up to " + formatNumber(bias) +
+                            " rad/s), and axes fitted without it can be many sigma off";
+  fit->summary.message =
+      label.empty()
+          ? "the gyroscopes carry a constant bias: fitting one (--fit-gyro-bias) " + found + "; rerun with --fit-gyro-bias"
+          : "the gyroscopes of " + samples.source + " carry a constant bias: fitting one " + found +
+                "; a fit over several recordings does not estimate biases: fit that recording alone with "
+                "--fit-gyro-bias";
 }
 
 namespace {
 
 /// fitHinge with options.estimator chosen (not kAuto).
-HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions& options) {
+HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& options) {
+  const JointSamples& samples = *runs.front();
   const bool likelihood = options.estimator == HingeEstimator::kLikelihood;
   if (options.low_pass_hz > 0.0) {
     // The likelihood fit and the clock offset model white gyroscope noise
@@ -509,23 +594,29 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
                                              (likelihood ? "--estimator likelihood" : "--fit-time-offset") +
                                              ": it models the gyroscopes' white noise sample by sample, which a "
                                              "filter colours; fit without --low-pass");
+    // Each recording filtered alone (a filter's memory does not cross from one to the next).
     LowPassFilter filter;
-    JointSamples trimmed;
-    const JointSamples filtered = lowPassed(samples, options.low_pass_hz, "--low-pass", &filter, &trimmed);
+    std::vector<JointSamples> filtered(runs.size()), trimmed(runs.size());
+    Recordings filtered_runs;
     Unfiltered raw;
-    raw.samples = &trimmed;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      filtered[r] = lowPassed(*runs[r], options.low_pass_hz, "--low-pass", &filter, &trimmed[r]);
+      filtered_runs.push_back(&filtered[r]);
+      raw.samples.push_back(&trimmed[r]);
+    }
     raw.power_gain = filter.noisePowerGain();
-    HingeFit fit = fitHingeAtShift(filtered, options, 0, raw);
+    HingeFit fit = fitHingeAtShift(filtered_runs, options, 0, raw);
     fit.low_pass_hz = options.low_pass_hz;
     fit.low_pass_noise_gain = raw.power_gain;
     return fit;
   }
   if (!options.fit_time_offset) {
-    HingeFit fit = fitHingeAtShift(samples, options, 0);
-    checkForGyroscopeBias(samples, options, &fit);
-    if (likelihood) refineByLikelihood(samples, options, 0, &fit);
+    HingeFit fit = fitHingeAtShift(runs, options, 0);
+    for (std::size_t r = 0; r < runs.size(); ++r) checkForGyroscopeBias(*runs[r], options, &fit, recordingLabel(runs, r));
+    if (likelihood) refineByLikelihood(runs, options, 0, &fit);
     return fit;
   }
+  // (A clock offset is fitted on one recording: fitHinge refuses it on several.)
   // The profile over whole samples: the fit at every shift within
   // ±kOffsetProfile of the search's (wholeSampleOffset), recentred while the
   // best lies on the window's edge; the least residual wins, and every fit
@@ -542,7 +633,7 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
     for (int m = std::max(-reach, best - kOffsetProfile); m <= std::min(reach, best + kOffsetProfile); ++m) {
       if (fits.count(m)) continue;
       try {
-        fits.emplace(m, fitHingeAtShift(samples, options, m));
+        fits.emplace(m, fitHingeAtShift(runs, options, m));
       } catch (const NotIdentifiable&) {
       }
     }
@@ -553,7 +644,7 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
            })->first;
     if (std::abs(best - previous) < kOffsetProfile) break;
   }
-  if (fits.empty()) return fitHingeAtShift(samples, options, best);  // throws why
+  if (fits.empty()) return fitHingeAtShift(runs, options, best);  // throws why
   const HingeFit& fit = fits.at(best);
   const double noise = std::pow(fit.summary.residuals.front().independent_noise, 2);
   for (const auto& entry : fits) {
@@ -575,7 +666,7 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
   // its fraction says another whole sample is nearer (|ν| > h/2).
   int shift = clampedInt(std::round(fit.time_offset / h), -samples.size(), samples.size());
   HingeFit refined = fit;
-  refineByLikelihood(samples, options, shift, &refined);
+  refineByLikelihood(runs, options, shift, &refined);
   for (int round = 0; round < kOffsetRefits; ++round) {
     const int step = clampedInt(std::round((refined.time_offset - shift * h) / h), -samples.size(), samples.size());
     if (step == 0 || std::abs(shift + step) > reach) break;
@@ -583,50 +674,103 @@ HingeFit fitHingeWithEstimator(const JointSamples& samples, const AxisFitOptions
     const double estimate = refined.time_offset;  // the fraction starts from the likelihood's estimate
     refined = fit;
     refined.time_offset = estimate;
-    refineByLikelihood(samples, options, shift, &refined);
+    refineByLikelihood(runs, options, shift, &refined);
   }
   return refined;
 }
 
 }  // namespace
 
-HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
-  // The filter first (a filtered fit takes the constraint estimator), then the estimator.
-  AxisFitOptions chosen = options;
-  std::string low_pass_reason;
+namespace {
+
+/// The filter of a fit without --low-pass HZ: none when asked for, else the
+/// first recording whose gyroscopes wobble (wobble_check.hpp) sets it for all.
+void chooseFilter(const Recordings& runs, const AxisFitOptions& options, AxisFitOptions* chosen, std::string* reason) {
   if (options.low_pass_hz > 0.0) {
-    low_pass_reason = "asked for (--low-pass " + formatNumber(options.low_pass_hz) + ")";
-  } else if (!options.low_pass_auto) {
-    low_pass_reason = "no filter: asked for (--low-pass none)";
-  } else {
-    const LowPassChoice wobble = chooseLowPass(samples);
-    const bool white = options.estimator == HingeEstimator::kLikelihood || options.fit_time_offset;
-    if (wobble.cutoff_hz > 0.0 && white) {
-      low_pass_reason = "no filter although " + wobble.reason.substr(0, wobble.reason.find("; low-passed")) + ": " +
-                        (options.fit_time_offset ? "--fit-time-offset" : "--estimator likelihood") +
-                        " models white gyroscope noise, which a filter colours";
-    } else {
-      chosen.low_pass_hz = wobble.cutoff_hz;
-      low_pass_reason = wobble.reason;
-    }
+    *reason = "asked for (--low-pass " + formatNumber(options.low_pass_hz) + ")";
+    return;
   }
-  const HingeEstimatorChoice choice = chooseHingeEstimator(samples, chosen);
-  chosen.estimator = choice.estimator;
-  HingeFit fit = fitHingeWithEstimator(samples, chosen);
+  if (!options.low_pass_auto) {
+    *reason = "no filter: asked for (--low-pass none)";
+    return;
+  }
+  LowPassChoice wobble = chooseLowPass(*runs.front());
+  for (std::size_t r = 1; r < runs.size() && !(wobble.cutoff_hz > 0.0); ++r) {
+    wobble = chooseLowPass(*runs[r]);
+    if (wobble.cutoff_hz > 0.0) wobble.reason = runs[r]->source + ": " + wobble.reason;
+  }
+  const bool white = options.estimator == HingeEstimator::kLikelihood || options.fit_time_offset;
+  if (wobble.cutoff_hz > 0.0 && white) {
+    *reason = "no filter although " + wobble.reason.substr(0, wobble.reason.find("; low-passed")) + ": " +
+              (options.fit_time_offset ? "--fit-time-offset" : "--estimator likelihood") +
+              " models white gyroscope noise, which a filter colours";
+  } else {
+    chosen->low_pass_hz = wobble.cutoff_hz;
+    *reason = wobble.reason;
+  }
+}
+
+/// The filter, then the estimator, then the fit; the model check is the caller's.
+HingeFit fitHingeChosen(const Recordings& runs, const AxisFitOptions& options, AxisFitOptions* chosen) {
+  *chosen = options;
+  std::string low_pass_reason;
+  chooseFilter(runs, options, chosen, &low_pass_reason);
+  const HingeEstimatorChoice choice = chooseHingeEstimator(*runs.front(), *chosen);
+  chosen->estimator = choice.estimator;
+  HingeFit fit = fitHingeWithEstimator(runs, *chosen);
   fit.estimator = choice.estimator;
   fit.estimator_reason = choice.reason;
   fit.low_pass_reason = low_pass_reason;
+  return fit;
+}
+
+/// σ of the recordings: the whole fit's and the spread one hinge leaves
+/// across the segments (hinge_segments.hpp), when they disagree.
+void widenBySpread(HingeFit* fit) {
+  if (!fit->model_check.disagree) return;
+  fit->sigma_main_deg = std::hypot(fit->sigma_main_deg, fit->model_check.spread_main_deg);
+  fit->sigma_secondary_deg = std::hypot(fit->sigma_secondary_deg, fit->model_check.spread_secondary_deg);
+}
+
+}  // namespace
+
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  AxisFitOptions chosen;
+  HingeFit fit = fitHingeChosen({&samples}, options, &chosen);
   if (!options.check_segments) return fit;
   if (options.fit_time_offset) {
     fit.model_check.note = "not checked across segments: each segment would profile its own clock offset";
     return fit;
   }
   fit.model_check = checkHingeAcrossSegments(samples, chosen, fit.axis_main, fit.axis_secondary);
-  if (fit.model_check.disagree) {
-    // σ of the recording: the whole fit's and the spread one hinge leaves (hinge_segments.hpp).
-    fit.sigma_main_deg = std::hypot(fit.sigma_main_deg, fit.model_check.spread_main_deg);
-    fit.sigma_secondary_deg = std::hypot(fit.sigma_secondary_deg, fit.model_check.spread_secondary_deg);
+  widenBySpread(&fit);
+  return fit;
+}
+
+HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options) {
+  if (recordings.empty()) throw std::invalid_argument("fitHinge: no recording");
+  if (recordings.size() == 1) return fitHinge(recordings.front(), options);
+  const JointSamples& first = recordings.front();
+  for (const JointSamples& r : recordings) {
+    if (r.main.name != first.main.name || r.secondary.name != first.secondary.name)
+      throw InvalidInput(r.source, "joins bodies '" + r.main.name + "' and '" + r.secondary.name + "' where " +
+                                       first.source + " joins '" + first.main.name + "' and '" +
+                                       first.secondary.name + "': the recordings of one fit are of one joint "
+                                       "(name the bodies with --main and --secondary)");
+    if (options.fit_gyro_bias || options.fit_time_offset)
+      throw InvalidInput(r.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
+                                       " with several recordings: each recording's " +
+                                       (options.fit_gyro_bias ? "biases" : "clock offset") +
+                                       " would be its own, and the fit over several recordings does not estimate "
+                                       "them; fit each recording alone with it");
   }
+  Recordings runs;
+  for (const JointSamples& r : recordings) runs.push_back(&r);
+  AxisFitOptions chosen;
+  HingeFit fit = fitHingeChosen(runs, options, &chosen);
+  if (!options.check_segments) return fit;
+  fit.model_check = checkHingeAcrossRecordings(recordings, chosen, fit.axis_main, fit.axis_secondary);
+  widenBySpread(&fit);
   return fit;
 }
 

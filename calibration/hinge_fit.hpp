@@ -35,6 +35,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -93,6 +94,16 @@ struct HingeFit : SensorNuisanceEstimate {
 /// needs (or that options.use asks for), NotIdentifiable when the data cannot
 /// determine the axes.
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options = AxisFitOptions());
+
+/// One axis pair from several recordings of the same joint (the same two
+/// bodies, the same columns): each recording keeps its own time series (its
+/// own filter, noise level, joint angle and sampling interval; no stencil
+/// reaches from one into the next), and they share j₁ and j₂. Biases and a
+/// clock offset are not estimated over several recordings (InvalidInput
+/// with fit_gyro_bias or fit_time_offset; the bias check runs on each). The
+/// model check fits each recording alone (checkHingeAcrossRecordings): where
+/// they disagree beyond their σ, σ includes their spread.
+HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options = AxisFitOptions());
 
 }  // namespace calibration
 }  // namespace lieflow

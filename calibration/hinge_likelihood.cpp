@@ -3,6 +3,7 @@
 #include <cmath>
 #include <complex>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include <ceres/ceres.h>
@@ -104,32 +105,50 @@ double uniformStep(const std::vector<double>& t, const std::string& source) {
   return h;
 }
 
+/// Where each recording's samples begin in the concatenated lists (one
+/// entry per recording and a last one, the total) and each one's sampling
+/// interval: the joint angle's stencils stay within a recording (samples of
+/// two recordings are not neighbours in time).
+struct Runs {
+  std::vector<int> begin;
+  std::vector<double> step;
+  int count() const { return static_cast<int>(step.size()); }
+  int size(int r) const { return begin[r + 1] - begin[r]; }
+  static Runs one(int n, double h) { return Runs{{0, n}, {h}}; }
+};
+
 /// The least-squares problem of the header on `p`, residuals times `weight`.
 class LikelihoodProblem {
  public:
   /// With `biases`, b₁ and b₂ are unknowns, with `offset` ν (else held at
   /// their values); `slopes` the secondary's rate slopes (empty: zero).
+  /// Several recordings share j₁, C and the biases; each has its own
+  /// angles, of which only the first recording's φ₀ is held (the gauge).
   LikelihoodProblem(Parameters* p, const std::vector<Eigen::Vector3d>& m1, const std::vector<Eigen::Vector3d>& m2,
-                    double h, double weight, bool biases, bool offset = false,
+                    const Runs& runs, double weight, bool biases, bool offset = false,
                     const std::vector<Eigen::Vector3d>& slopes = {})
       : problem_(options()) {
     const int n = static_cast<int>(p->w1.size());
     // The secondary's rows need a full stencil of angles: fewer samples leave
     // the axis, the rotation and φ out of the problem (Ceres would end the
     // process setting their manifolds).
-    if (n < 2 * kHalfStencil + 2)
-      throw NotIdentifiable("the likelihood fit needs at least " + std::to_string(2 * kHalfStencil + 2) +
-                            " samples (the recording has " + std::to_string(n) + ")");
+    for (int r = 0; r < runs.count(); ++r)
+      if (runs.size(r) < 2 * kHalfStencil + 2)
+        throw NotIdentifiable("the likelihood fit needs at least " + std::to_string(2 * kHalfStencil + 2) +
+                              " samples per recording (one has " + std::to_string(runs.size(r)) + ")");
     for (int k = 0; k < n; ++k)
       problem_.AddResidualBlock(
           new ceres::AutoDiffCostFunction<MainGyro, 3, 3, 3>(new MainGyro{m1[k], p->B1, weight}), nullptr,
           p->w1[k].data(), p->b1);
-    for (int k = kHalfStencil; k + kHalfStencil < n; ++k)
-      problem_.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2, 1>(new SecondaryGyro{
-              m2[k], slopes.empty() ? Eigen::Vector3d::Zero() : slopes[k], p->E2, 1.0 / h, weight}),
-          nullptr, p->w1[k].data(), &p->phi[k - 2], &p->phi[k - 1], &p->phi[k], &p->phi[k + 1], &p->phi[k + 2], p->j1,
-          p->q, p->b2, &p->nu);
+    for (int r = 0; r < runs.count(); ++r)
+      for (int k = runs.begin[r] + kHalfStencil; k + kHalfStencil < runs.begin[r + 1]; ++k) {
+        problem_.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2, 1>(new SecondaryGyro{
+                m2[k], slopes.empty() ? Eigen::Vector3d::Zero() : slopes[k], p->E2, 1.0 / runs.step[r], weight}),
+            nullptr, p->w1[k].data(), &p->phi[k - 2], &p->phi[k - 1], &p->phi[k], &p->phi[k + 1], &p->phi[k + 2],
+            p->j1, p->q, p->b2, &p->nu);
+        residuals_ += 3;
+      }
     problem_.SetManifold(p->j1, &sphere_);
     problem_.SetManifold(p->q, &quaternion_);
     problem_.SetParameterBlockConstant(&p->phi[0]);  // gauge: φ₀ against C's turn about j₁
@@ -138,7 +157,7 @@ class LikelihoodProblem {
       problem_.SetParameterBlockConstant(p->b2);
     }
     if (!offset) problem_.SetParameterBlockConstant(&p->nu);
-    residuals_ = 3 * n + 3 * (n - 2 * kHalfStencil);
+    residuals_ += 3 * n;
     free_parameters_ = 3 * n + (n - 1) + 2 + 3 + (biases ? 5 : 0) + (offset ? 1 : 0);
   }
 
@@ -223,32 +242,45 @@ bool axisSigmas(LikelihoodProblem& lp, Parameters& p, double scale, double* sigm
 /// The start from a constraint fit's axes: φ̇ = j₂·ω₂ − j₁·ω₁ integrated
 /// (trapezoid), C = exp(γ j₁) C₀ with C₀ j₂ = j₁ and γ the weighted circular
 /// mean of angle(ω₁⊥) − φ − angle(C₀ω₂⊥) about j₁; returns the coherence
-/// |Σ w e^{iΔ}| / Σ w (1 for a perfect hinge), which picks j₂'s sign.
+/// |Σ w e^{iΔ}| / Σ w (1 for a perfect hinge), which picks j₂'s sign. Each
+/// further recording's angles start where its own circular mean puts them
+/// against the first recording's γ (its φ₀ is not known from the rates).
 double startFrom(const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std::vector<Eigen::Vector3d>& m1,
-                 const std::vector<Eigen::Vector3d>& m2, double h, Parameters* p) {
+                 const std::vector<Eigen::Vector3d>& m2, const Runs& runs, Parameters* p) {
   const int n = static_cast<int>(m1.size());
   const Eigen::Vector3d j1 = a1.normalized(), j2 = a2.normalized();
   p->w1 = m1;
   p->phi.assign(n, 0.0);
-  double previous = j2.dot(m2[0]) - j1.dot(m1[0]);
-  for (int k = 1; k < n; ++k) {
-    const double rate = j2.dot(m2[k]) - j1.dot(m1[k]);
-    p->phi[k] = p->phi[k - 1] + 0.5 * h * (previous + rate);
-    previous = rate;
+  for (int r = 0; r < runs.count(); ++r) {
+    const int first = runs.begin[r];
+    double previous = j2.dot(m2[first]) - j1.dot(m1[first]);
+    for (int k = first + 1; k < runs.begin[r + 1]; ++k) {
+      const double rate = j2.dot(m2[k]) - j1.dot(m1[k]);
+      p->phi[k] = p->phi[k - 1] + 0.5 * runs.step[r] * (previous + rate);
+      previous = rate;
+    }
   }
   const Eigen::Quaterniond c0 = Eigen::Quaterniond::FromTwoVectors(j2, j1);
   const Eigen::Vector3d e1 = orthogonalUnit(j1), e2 = j1.cross(e1);
-  std::complex<double> sum(0.0, 0.0);
+  std::vector<std::complex<double>> sums(runs.count(), std::complex<double>(0.0, 0.0));
   double total = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d u = m1[k], v = c0 * m2[k];
-    const std::complex<double> zu(u.dot(e1), u.dot(e2)), zv(v.dot(e1), v.dot(e2));
-    const double w = std::abs(zu) * std::abs(zv);
-    if (w <= 0.0) continue;
-    sum += w * std::polar(1.0, std::arg(zu) - p->phi[k] - std::arg(zv));
-    total += w;
+  for (int r = 0; r < runs.count(); ++r)
+    for (int k = runs.begin[r]; k < runs.begin[r + 1]; ++k) {
+      const Eigen::Vector3d u = m1[k], v = c0 * m2[k];
+      const std::complex<double> zu(u.dot(e1), u.dot(e2)), zv(v.dot(e1), v.dot(e2));
+      const double w = std::abs(zu) * std::abs(zv);
+      if (w <= 0.0) continue;
+      sums[r] += w * std::polar(1.0, std::arg(zu) - p->phi[k] - std::arg(zv));
+      total += w;
+    }
+  const double gamma = std::arg(sums.front());
+  double resultant = 0.0;
+  for (int r = 0; r < runs.count(); ++r) {
+    resultant += std::abs(sums[r]);
+    if (r == 0) continue;
+    const double offset = std::arg(sums[r]) - gamma;
+    for (int k = runs.begin[r]; k < runs.begin[r + 1]; ++k) p->phi[k] += offset;
   }
-  const double gamma = std::arg(sum);
   const Eigen::Quaterniond c = Eigen::Quaterniond(Eigen::AngleAxisd(gamma, j1)) * c0;
   for (int i = 0; i < 3; ++i) p->j1[i] = j1[i];
   p->B1 << perpendicularBasis(j1), j1;
@@ -257,30 +289,48 @@ double startFrom(const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std
   p->q[1] = c.x();
   p->q[2] = c.y();
   p->q[3] = c.z();
-  return total > 0.0 ? std::abs(sum) / total : 0.0;
+  return total > 0.0 ? resultant / total : 0.0;
 }
 
 }  // namespace
 
 HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
                                       const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options_in) {
-  if (!samples.hasAngularVelocities())
-    throw InvalidInput(samples.source, "the likelihood hinge fit needs both bodies' gyroscopes");
-  // Consecutive samples of the uniform series stay uniform: one step h for
-  // the paired ones below.
-  const double h = uniformStep(samples.time, samples.source);
+  return fitHingeLikelihood(std::vector<const JointSamples*>{&samples}, axis_main, axis_secondary, options_in);
+}
+
+HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& recordings,
+                                      const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary,
+                                      const HingeLikelihoodOptions& options_in) {
+  if (recordings.empty()) throw std::invalid_argument("fitHingeLikelihood: no recording");
+  for (const JointSamples* samples : recordings)
+    if (!samples->hasAngularVelocities())
+      throw InvalidInput(samples->source, "the likelihood hinge fit needs both bodies' gyroscopes");
+  const bool offset = options_in.fit_time_offset;
+  if (offset && recordings.size() > 1)
+    throw InvalidInput(recordings[1]->source, "the likelihood hinge fit estimates a clock offset on one recording "
+                                              "only (fit each recording alone for its clock offset)");
   // The samples paired across the clock offset's whole samples: main k with
   // secondary k − shift, and the secondary's slope there (its window inside).
-  const bool offset = options_in.fit_time_offset;
-  const int all = samples.size(), shift = offset ? options_in.offset_shift : 0, edge = offset ? kRateWindow : 0;
+  // Consecutive samples of a uniform series stay uniform: one step h per
+  // recording for the paired ones.
   std::vector<Eigen::Vector3d> m1, m2, slopes;
-  for (int k = 0; k < all; ++k) {
-    const int k2 = k - shift;
-    if (k2 < edge || k2 >= all - edge) continue;
-    m1.push_back(samples.main.angular_velocity[k]);
-    m2.push_back(samples.secondary.angular_velocity[k2]);
-    if (offset) slopes.push_back(rateDerivative(samples.time, samples.secondary.angular_velocity, k2));
+  Runs runs;
+  runs.begin.push_back(0);
+  for (const JointSamples* samples : recordings) {
+    runs.step.push_back(uniformStep(samples->time, samples->source));
+    const int all = samples->size(), shift = offset ? options_in.offset_shift : 0, edge = offset ? kRateWindow : 0;
+    for (int k = 0; k < all; ++k) {
+      const int k2 = k - shift;
+      if (k2 < edge || k2 >= all - edge) continue;
+      m1.push_back(samples->main.angular_velocity[k]);
+      m2.push_back(samples->secondary.angular_velocity[k2]);
+      if (offset) slopes.push_back(rateDerivative(samples->time, samples->secondary.angular_velocity, k2));
+    }
+    runs.begin.push_back(static_cast<int>(m1.size()));
   }
+  const double h = runs.step.front();
+  const int shift = offset ? options_in.offset_shift : 0;
   const int n = static_cast<int>(m1.size());
   if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
   // With biases, the start's rates are the measured ones less the start's
@@ -293,8 +343,8 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
     }
   // j₂'s sign: the start whose perpendicular rates turn into each other.
   Parameters p, turned;
-  const double coherence = startFrom(axis_main, axis_secondary, c1, c2, h, &p);
-  if (startFrom(axis_main, -axis_secondary, c1, c2, h, &turned) > coherence) p = turned;
+  const double coherence = startFrom(axis_main, axis_secondary, c1, c2, runs, &p);
+  if (startFrom(axis_main, -axis_secondary, c1, c2, runs, &turned) > coherence) p = turned;
   p.nu = offset ? options_in.offset_fraction_start : 0.0;
   if (options_in.fit_gyro_bias) {
     const Eigen::Vector3d b1 = p.B1.transpose() * options_in.gyro_bias_main_start;
@@ -303,7 +353,7 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
     for (int i = 0; i < 2; ++i) p.b2[i] = b2[i];
   }
 
-  LikelihoodProblem lp(&p, m1, m2, h, 1.0, options_in.fit_gyro_bias, offset, slopes);
+  LikelihoodProblem lp(&p, m1, m2, runs, 1.0, options_in.fit_gyro_bias, offset, slopes);
   ceres::Solver::Options options;
   // Sparse Cholesky of the whole normal equations (banded: each sample's
   // unknowns meet its stencil's angles only) costs less per iteration than
@@ -371,7 +421,7 @@ HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
   p.q[3] = c.z();
   // Exact "measurements": the model's own values, so the Jacobian is the truth's.
   std::vector<Eigen::Vector3d> m2(n, Eigen::Vector3d::Zero());
-  LikelihoodProblem lp(&p, truth.main_rate, m2, h, 1.0 / rate_sigma, false);
+  LikelihoodProblem lp(&p, truth.main_rate, m2, Runs::one(n, h), 1.0 / rate_sigma, false);
   HingeBound bound;
   double sigma1 = 0.0, sigma2 = 0.0;
   if (!axisSigmas(lp, p, 1.0, &sigma1, &sigma2)) throw NotIdentifiable("the recording's information is singular");

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -83,6 +84,14 @@ struct HingeLikelihoodFit : SensorNuisanceEstimate {
 /// gyroscopes or with non-uniform times, FitFailed when the solve fails.
 HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::Vector3d& axis_main,
                                       const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options = {});
+
+/// The same over several recordings of one joint: one j₁ and C (and the
+/// biases with fit_gyro_bias), each recording's joint angle its own (its
+/// samples are not neighbours of another's in time, its sampling interval
+/// its own). InvalidInput with fit_time_offset and more than one recording.
+HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& recordings,
+                                      const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary,
+                                      const HingeLikelihoodOptions& options = {});
 
 /// The true motion of a hinge recording, for the bound.
 struct HingeTruthSamples {

@@ -36,28 +36,28 @@ JointSamples segmentOf(const JointSamples& s, int begin, int end) {
 
 }  // namespace
 
-ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOptions& options,
-                                    const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary) {
+namespace {
+
+/// Fits each piece alone with `options` (no filter choice of its own, no
+/// check of its own) and compares its axes with the whole fit's (the χ² of
+/// the file comment); `what` names the pieces in the notes ("segments").
+ModelCheck checkPieces(const std::vector<JointSamples>& pieces, const AxisFitOptions& options,
+                       const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary, const std::string& what,
+                       bool name_sources) {
   ModelCheck check;
-  const int n = samples.size();
-  if (n < kModelSegments * kMinModelSegmentSamples) {
-    check.note = "not checked across segments: " + std::to_string(n) + " samples, fewer than " +
-                 std::to_string(kModelSegments) + " segments of " + std::to_string(kMinModelSegmentSamples);
-    return check;
-  }
-  AxisFitOptions segment_options = options;
-  segment_options.check_segments = false;
-  segment_options.low_pass_auto = false;  // the whole fit's filter (options.low_pass_hz) or none
-  segment_options.progress = nullptr;
+  AxisFitOptions piece_options = options;
+  piece_options.check_segments = false;
+  piece_options.low_pass_auto = false;  // the whole fit's filter (options.low_pass_hz) or none
+  piece_options.progress = nullptr;
   double sum = 0.0, d2[2] = {0.0, 0.0}, s2[2] = {0.0, 0.0};
   int answered = 0;
-  for (int k = 0; k < kModelSegments; ++k) {
-    const int begin = k * n / kModelSegments, end = (k + 1) * n / kModelSegments;
+  for (const JointSamples& piece : pieces) {
     SegmentFit seg;
-    seg.t_start = samples.time[begin];
-    seg.t_end = samples.time[end - 1];
+    seg.t_start = piece.time.front();
+    seg.t_end = piece.time.back();
+    if (name_sources) seg.source = piece.source;
     try {
-      const HingeFit f = fitHinge(segmentOf(samples, begin, end), segment_options);
+      const HingeFit f = fitHinge(piece, piece_options);
       seg.answered = true;
       seg.axis_main = f.axis_main;
       seg.axis_secondary = f.axis_secondary;
@@ -82,9 +82,9 @@ ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOp
     }
     check.segments.push_back(seg);
   }
+  const std::string count = std::to_string(answered) + " of " + std::to_string(pieces.size()) + " " + what;
   if (answered < 2) {
-    check.note = "not checked across segments: " + std::to_string(answered) + " of " +
-                 std::to_string(kModelSegments) + " segments answered alone";
+    check.note = "not checked across " + what + ": " + count + " answered alone";
     return check;
   }
   check.ran = true;
@@ -93,14 +93,35 @@ ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOp
   if (check.disagree) {
     check.spread_main_deg = std::sqrt(std::max(0.0, (d2[0] - s2[0]) / answered));
     check.spread_secondary_deg = std::sqrt(std::max(0.0, (d2[1] - s2[1]) / answered));
-    check.note = "the " + std::to_string(answered) + " segments that answered alone disagree beyond their sigma "
-                 "(chi-square " + formatNumber(check.chi_square, 3) + " times its mean): one hinge does not describe "
-                 "the whole recording; sigma includes their spread";
+    check.note = "the " + std::to_string(answered) + " " + what + " that answered alone disagree beyond their sigma "
+                 "(chi-square " + formatNumber(check.chi_square, 3) + " times its mean): one hinge does not describe " +
+                 (name_sources ? "all the recordings" : "the whole recording") + "; sigma includes their spread";
   } else {
-    check.note = "the " + std::to_string(answered) + " segments that answered alone agree within their sigma "
+    check.note = "the " + std::to_string(answered) + " " + what + " that answered alone agree within their sigma "
                  "(chi-square " + formatNumber(check.chi_square, 3) + " times its mean)";
   }
   return check;
+}
+
+}  // namespace
+
+ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOptions& options,
+                                    const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary) {
+  const int n = samples.size();
+  if (n < kModelSegments * kMinModelSegmentSamples) {
+    ModelCheck check;
+    check.note = "not checked across segments: " + std::to_string(n) + " samples, fewer than " +
+                 std::to_string(kModelSegments) + " segments of " + std::to_string(kMinModelSegmentSamples);
+    return check;
+  }
+  std::vector<JointSamples> pieces;
+  for (int k = 0; k < kModelSegments; ++k) pieces.push_back(segmentOf(samples, k * n / kModelSegments, (k + 1) * n / kModelSegments));
+  return checkPieces(pieces, options, axis_main, axis_secondary, "segments", false);
+}
+
+ModelCheck checkHingeAcrossRecordings(const std::vector<JointSamples>& recordings, const AxisFitOptions& options,
+                                      const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary) {
+  return checkPieces(recordings, options, axis_main, axis_secondary, "recordings", true);
 }
 
 }  // namespace calibration

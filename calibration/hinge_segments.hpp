@@ -10,7 +10,8 @@
 ///   s² = max(0, mean(d²) − mean(σ²)) per axis
 /// is what one hinge leaves unexplained across the recording, and the whole
 /// fit's σ becomes √(σ² + s²) (`model_spread_deg` = the larger s). The
-/// segments' spans and axes are reported either way (`segments`).
+/// segments' spans and axes are reported either way (`segments`). A fit
+/// over several recordings takes the recordings as its segments.
 #pragma once
 
 #include <string>
@@ -35,6 +36,7 @@ constexpr double kSegmentChiSquare = 3.0;
 
 struct SegmentFit {
   double t_start = 0.0, t_end = 0.0;
+  std::string source;  ///< the recording (a fit over several recordings: one segment per recording)
   bool answered = false;
   std::string why;  ///< why not, when it did not answer
   Eigen::Vector3d axis_main = Eigen::Vector3d::Zero(), axis_secondary = Eigen::Vector3d::Zero();
@@ -55,6 +57,12 @@ struct ModelCheck {
 /// estimator already chosen) whose axes are `axis_main`, `axis_secondary`.
 ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOptions& options,
                                     const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary);
+
+/// The same check for a fit over several recordings of one joint
+/// (fitHinge's recordings overload): each recording is a segment, fitted
+/// alone (its own clock, biases and noise), whatever its length.
+ModelCheck checkHingeAcrossRecordings(const std::vector<JointSamples>& recordings, const AxisFitOptions& options,
+                                      const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary);
 
 }  // namespace calibration
 }  // namespace lieflow

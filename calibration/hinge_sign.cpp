@@ -45,17 +45,21 @@ double phaseSpread(const std::vector<double>& time, const std::vector<Eigen::Vec
 
 }  // namespace
 
-HingeSignEvidence hingeRelativeSign(const std::vector<double>& time, const std::vector<Eigen::Vector3d>& w1,
-                                    const std::vector<Eigen::Vector3d>& w2, const Eigen::Vector3d& j1,
-                                    const Eigen::Vector3d& j2) {
+HingeSignEvidence hingeSignFromSpreads(double spread_same, double spread_flipped) {
   HingeSignEvidence e;
-  e.spread_same = phaseSpread(time, w1, w2, j1, j2, 1.0);
-  e.spread_flipped = phaseSpread(time, w1, w2, j1, j2, -1.0);
+  e.spread_same = spread_same;
+  e.spread_flipped = spread_flipped;
   const double low = std::min(e.spread_same, e.spread_flipped);
   const double high = std::max(e.spread_same, e.spread_flipped);
   e.decided = low < kSignDecisionRatio * high;
   e.relative_sign = e.decided && e.spread_flipped < e.spread_same ? -1 : 1;
   return e;
+}
+
+HingeSignEvidence hingeRelativeSign(const std::vector<double>& time, const std::vector<Eigen::Vector3d>& w1,
+                                    const std::vector<Eigen::Vector3d>& w2, const Eigen::Vector3d& j1,
+                                    const Eigen::Vector3d& j2) {
+  return hingeSignFromSpreads(phaseSpread(time, w1, w2, j1, j2, 1.0), phaseSpread(time, w1, w2, j1, j2, -1.0));
 }
 
 }  // namespace calibration

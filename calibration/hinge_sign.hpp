@@ -41,6 +41,10 @@ struct HingeSignEvidence {
   double spread_flipped = 0.0;    ///< ... with −j₂
 };
 
+/// The decision from the two circular variances (of one recording, or the
+/// sample-weighted mean of several recordings' own).
+HingeSignEvidence hingeSignFromSpreads(double spread_same, double spread_flipped);
+
 HingeSignEvidence hingeRelativeSign(const std::vector<double>& time, const std::vector<Eigen::Vector3d>& w1,
                                     const std::vector<Eigen::Vector3d>& w2, const Eigen::Vector3d& j1,
                                     const Eigen::Vector3d& j2);

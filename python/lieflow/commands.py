@@ -576,28 +576,51 @@ def _calibrate(kind, recording, spec, values, partial):
     if not _lieflow.have_calibration:
         raise InputError(f"calibrate_{kind}: this lieflow was built without Ceres (apt-get install libceres-dev, "
                          "then rebuild with -DLIEFLOW_BUILD_CALIBRATION=ON)")
+    several = isinstance(recording, (list, tuple))
+    if several and kind != "hinge":
+        raise InputError(f"calibrate_{kind}: recording: one recording (a list of several is for calibrate_hinge)")
+    if several and not recording:
+        raise InputError("calibrate_hinge: recording: an empty list")
+    recordings = list(recording) if several else [recording]
     temporary = None
+    written = {}  # path -> how the message names the dict it was written from
     try:
-        if isinstance(recording, (str, os.PathLike)):
-            path = os.fspath(recording)
-        else:
-            temporary = tempfile.mkdtemp(prefix="lieflow-recording-")
-            path = os.path.join(temporary, "recording.csv")
-            _write_recording(recording, path)
-        tokens = [kind, path] + _flags(spec, values)
+        paths = []
+        for i, r in enumerate(recordings):
+            if isinstance(r, (str, os.PathLike)):
+                paths.append(os.fspath(r))
+                continue
+            if temporary is None:
+                temporary = tempfile.mkdtemp(prefix="lieflow-recording-")
+            path = os.path.join(temporary, f"recording{i}.csv")
+            _write_recording(r, path)
+            written[path] = f"recording[{i}] dict" if several else "recording dict"
+            paths.append(path)
+        tokens = [kind] + paths + _flags(spec, values)
+
+        def named(text):
+            # The messages name the file a dict was written to: name the dict.
+            for path, name in written.items():
+                text = text.replace(path, name)
+            return text
+
         try:
             text, status, error = _lieflow.calibrate(tokens)
         except InputError as e:
-            if temporary is None:
+            if not written:
                 raise
-            # The messages name the file the dict was written to: name the dict.
-            raise InputError(str(e).replace(path, "recording dict")) from None
-        if temporary is not None:
-            error = error.replace(path, "recording dict")
+            raise InputError(named(str(e))) from None
+        error = named(error)
     finally:
         if temporary:
             shutil.rmtree(temporary, ignore_errors=True)
     result = json.loads(text) if text else None
+    if result and written:
+        for entry in result.get("recordings", []):
+            entry["file"] = written.get(entry.get("file"), entry.get("file"))
+        for entry in result.get("segments", []):
+            if "recording" in entry:
+                entry["recording"] = written.get(entry["recording"], entry["recording"])
     if status != 0:
         if not partial:
             failure = ComputationError(error)
@@ -625,7 +648,10 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
                     max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False, fit_time_offset=False,
                     estimator=None, low_pass=None, partial=False):
     """The hinge axis in both bodies' frames, as ``lieflow calibrate hinge``.
-    recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...).
+    recording: a CSV file or a dict of columns (t, B.wx, ..., B.qw, ...), or
+    a list of them: several recordings of the same joint, one axis pair (as
+    ``lieflow calibrate hinge A.csv B.csv``; the result's "recordings" and
+    "segments" name them).
     Returns the command's JSON object as a dict (axis_main, axis_secondary,
     axis_sigma_deg, rms_residual, converged, message, ...). A fit the data do
     not identify, or one that does not converge, raises ComputationError (its

@@ -184,6 +184,34 @@ def test_calibrate_hinge_gyro_bias_and_clock_offset(tmp_path, run_command):
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
+def test_calibrate_hinge_from_several_recordings(tmp_path, run_command):
+    paths = []
+    for seed in (1, 2):
+        path = tmp_path / f"rec{seed}.csv"
+        status, _, err = run_command("simulate", "hinge-pair", "--every", "10", "--noise-gyro", "0.05", "--seed",
+                                     str(seed), "--out", path, "--quiet")
+        assert status == 0, err
+        paths.append(path)
+    status, out, err = run_command("calibrate", "hinge", *paths)
+    assert status == 0, err
+    command = json.loads(out)
+    assert [r["file"] for r in command["recordings"]] == [str(p) for p in paths]
+    assert [s["recording"] for s in command["segments"]] == [str(p) for p in paths]
+    fit = lieflow.calibrate_hinge([str(p) for p in paths])
+    for key in set(command) - TIMING:
+        assert fit[key] == command[key], key
+    # Dicts of columns, named in the result and in errors by their place in the list.
+    columns = [lieflow.simulate("hinge-pair", every=10, noise={"gyro": 0.05, "seed": seed}).columns for seed in (1, 2)]
+    fit = lieflow.calibrate_hinge(columns)
+    assert [r["file"] for r in fit["recordings"]] == ["recording[0] dict", "recording[1] dict"]
+    assert fit["axis_main"] == command["axis_main"]
+    with pytest.raises(lieflow.InputError, match=r"recording\[0\] dict: --fit-gyro-bias with several recordings"):
+        lieflow.calibrate_hinge(columns, fit_gyro_bias=True)
+    with pytest.raises(lieflow.InputError, match="for calibrate_hinge"):
+        lieflow.calibrate_universal(columns)
+
+
+@pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
 def test_calibrate_universal_gyro_bias(tmp_path, run_command):
     status, _, err = run_command("simulate", "universal-pair", "--every", "10", "--noise-gyro", "0.01", "--noise-quat",
                                  "0.003", "--bias-gyro", "0.05", "--seed", "4", "--out", tmp_path / "rec.csv", "--quiet")
