@@ -27,6 +27,7 @@
 #include "app/run_setup.hpp"
 #include "calibration/hinge_fit.hpp"
 #include "calibration/low_pass.hpp"
+#include "calibration/spherical_fit.hpp"
 #include "calibration/joint_centre.hpp"
 #include "calibration/mechanism_spring_fit.hpp"
 #include "calibration/recording.hpp"
@@ -44,22 +45,25 @@ using calibration::AxisFitOptions;
 using calibration::AxisFitSummary;
 using Json = nlohmann::ordered_json;
 
-/// The hinge fit's check across segments (calibration/hinge_segments.hpp):
-/// model_spread_deg (null when not checked), model_check, segments.
-void addModelCheck(Json& j, const calibration::ModelCheck& check) {
-  j["model_spread_deg"] = check.ran ? Json(std::max(check.spread_main_deg, check.spread_secondary_deg)) : Json(nullptr);
+/// A fit's check across segments (calibration/model_check.hpp):
+/// model_spread_deg or _m (null when not checked), model_check, segments.
+/// The check's keys; `main` and `secondary` name the segments' answers
+/// ("axis_main" in degrees, "anchor_main" in metres) and `unit` their unit.
+void addModelCheck(Json& j, const calibration::ModelCheck& check, const std::string& main = "axis_main",
+                   const std::string& secondary = "axis_secondary", const std::string& unit = "deg") {
+  j["model_spread_" + unit] = check.ran ? Json(std::max(check.spread_main, check.spread_secondary)) : Json(nullptr);
   j["model_check"] = check.note;
   Json segments = Json::array();
   for (const calibration::SegmentFit& s : check.segments) {
     Json seg = {{"t_start", s.t_start}, {"t_end", s.t_end}};
     if (!s.source.empty()) seg["recording"] = s.source;
     if (s.answered) {
-      seg["axis_main"] = {s.axis_main.x(), s.axis_main.y(), s.axis_main.z()};
-      seg["axis_secondary"] = {s.axis_secondary.x(), s.axis_secondary.y(), s.axis_secondary.z()};
-      seg["axis_main_sigma_deg"] = s.sigma_main_deg;
-      seg["axis_secondary_sigma_deg"] = s.sigma_secondary_deg;
-      seg["axis_main_apart_deg"] = s.apart_main_deg;
-      seg["axis_secondary_apart_deg"] = s.apart_secondary_deg;
+      seg[main] = {s.main.x(), s.main.y(), s.main.z()};
+      seg[secondary] = {s.secondary.x(), s.secondary.y(), s.secondary.z()};
+      seg[main + "_sigma_" + unit] = s.sigma_main;
+      seg[secondary + "_sigma_" + unit] = s.sigma_secondary;
+      seg[main + "_apart_" + unit] = s.apart_main;
+      seg[secondary + "_apart_" + unit] = s.apart_secondary;
     } else {
       seg["not_answered"] = s.why;
     }
@@ -123,10 +127,12 @@ constexpr const char* kUsage =
     "  --low-pass auto|none|HZ   hinge, spherical: low-pass the gyroscopes and accelerometers at\n"
     "                            HZ before fitting (zero-phase Butterworth; sensors wobbling on\n"
     "                            soft tissue); sigma accounts for the filter, gyro_misfit says\n"
-    "                            how well a hinge explains the filtered rates. Default auto (hinge):\n"
-    "                            filtered when a gyroscope wobbles (power above 7 Hz far above\n"
-    "                            its white noise's), at the cutoff that keeps the motion's band;\n"
-    "                            low_pass_hz (null: unfiltered) and low_pass_reason say so\n"
+    "                            how well a hinge explains the filtered rates. Default auto\n"
+    "                            (hinge, spherical): filtered when a gyroscope wobbles (power\n"
+    "                            above 7 Hz far above its white noise's), at the cutoff that\n"
+    "                            keeps the motion's band; low_pass_hz (null: unfiltered) and\n"
+    "                            low_pass_reason say so. universal is never filtered: with a\n"
+    "                            wobble (and --use auto) it reads the orientations alone\n"
     "  --loss-scale K            its threshold in units of the estimated noise (default 3)\n"
     "  --start-main X,Y,Z --start-secondary X,Y,Z\n"
     "                            an extra starting point (the closed-form one is always tried)\n"
@@ -298,32 +304,25 @@ CommandOutcome failed(const std::string& what, const std::exception& e) {
   return {Json(), kComputationFailed, what + ": " + e.what()};
 }
 
-/// `calibrate spherical`: the centre of a ball joint (calibration/joint_centre.hpp).
-CommandOutcome runSpherical(const calibration::JointSamples& recorded, const std::string& what, double low_pass_hz) {
-  for (const calibration::BodySamples* b : {&recorded.main, &recorded.secondary})
-    if (!b->hasAngularVelocity() || !b->hasSpecificForce())
-      throw InvalidInput(recorded.source, "calibrate spherical needs both bodies' gyroscopes and accelerometers: body '" +
-                                           b->name + "' has no " + (b->hasAngularVelocity() ? "B.ax, B.ay, B.az" : "B.wx, B.wy, B.wz") +
-                                           " columns");
-  calibration::LowPassFilter filter;
-  const calibration::JointSamples joint =
-      low_pass_hz > 0.0 ? calibration::lowPassed(recorded, low_pass_hz, "--low-pass", &filter) : recorded;
+/// `calibrate spherical`: the centre of a ball joint (calibration/spherical_fit.hpp).
+CommandOutcome runSpherical(const calibration::JointSamples& recorded, const std::string& what,
+                            const AxisFitOptions& options) {
   try {
-    const calibration::JointCentreFit c = calibration::fitJointCentre(
-        joint, nullptr, nullptr, low_pass_hz > 0.0 ? calibration::lowPassCorrelationSamples(filter) : 0);
+    const calibration::SphericalFit fit = calibration::fitSpherical(recorded, options);
+    const calibration::JointCentreFit& c = fit.centre;
     Json j;
     putJointCentre(j, c, false);
-    if (low_pass_hz > 0.0) {
-      j["low_pass_hz"] = low_pass_hz;
-      j["low_pass_noise_gain"] = filter.noisePowerGain();
-    }
+    j["low_pass_hz"] = fit.low_pass_hz > 0.0 ? Json(fit.low_pass_hz) : Json(nullptr);
+    j["low_pass_reason"] = fit.low_pass_reason;
+    if (fit.low_pass_hz > 0.0) j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
+    addModelCheck(j, fit.model_check, "anchor_main", "anchor_secondary", "m");
     j["rms_residual"] = c.rms_residual;
     j["rms_residual_unit"] = "m/s^2";
     j["iterations"] = c.iterations;
     j["converged"] = c.converged;
     j["message"] = c.message;
-    j["main"] = joint.main.name;
-    j["secondary"] = joint.secondary.name;
+    j["main"] = recorded.main.name;
+    j["secondary"] = recorded.secondary.name;
     j["samples"] = c.samples;
     return finish(j, c.converged, c.message, what);
   } catch (const calibration::NotIdentifiable& e) {
@@ -646,7 +645,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
     for (const char* flag : {"--use", "--loss", "--loss-scale", "--start-main", "--start-secondary", "--max-sigma-deg", "--estimator",
                            "--fit-gyro-bias", "--fit-time-offset"})
       if (args.has(flag)) throw UsageError(std::string(flag) + " is an option of the axis fits, not of spherical");
-    return runSpherical(joint, what, options.low_pass_hz);
+    return runSpherical(joint, what, options);
   }
   try {
     Json j;
@@ -727,6 +726,9 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
       j["time_offset"] = fit.time_offset;
       j["time_offset_sigma"] = fit.time_offset_sigma;
     }
+    j["low_pass_hz"] = nullptr;
+    j["low_pass_reason"] = fit.low_pass_reason;
+    addModelCheck(j, fit.model_check, "axis1_main", "axis2_secondary");
     addJointCentre(j, joint, nullptr, nullptr);
     return finish(j, fit.summary.converged, fit.summary.message, what);
   } catch (const calibration::NotIdentifiable& e) {

@@ -725,11 +725,10 @@ HingeFit fitHingeChosen(const Recordings& runs, const AxisFitOptions& options, A
 }
 
 /// σ of the recordings: the whole fit's and the spread one hinge leaves
-/// across the segments (hinge_segments.hpp), when they disagree.
+/// across the segments (model_check.hpp), when they disagree.
 void widenBySpread(HingeFit* fit) {
-  if (!fit->model_check.disagree) return;
-  fit->sigma_main_deg = std::hypot(fit->sigma_main_deg, fit->model_check.spread_main_deg);
-  fit->sigma_secondary_deg = std::hypot(fit->sigma_secondary_deg, fit->model_check.spread_secondary_deg);
+  fit->sigma_main_deg = fit->model_check.widened(fit->sigma_main_deg, 0);
+  fit->sigma_secondary_deg = fit->model_check.widened(fit->sigma_secondary_deg, 1);
 }
 
 }  // namespace

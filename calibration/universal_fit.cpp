@@ -15,6 +15,7 @@
 #include "calibration/unit_axis.hpp"
 #include "calibration/universal_initial.hpp"
 #include "calibration/universal_residuals.hpp"
+#include "calibration/wobble_check.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/input_number.hpp"
 
@@ -217,13 +218,15 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
 
 }  // namespace
 
-UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+namespace {
+
+UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.estimator == HingeEstimator::kLikelihood)
     throw InvalidInput(samples.source, "--estimator likelihood is an option of the hinge fit");
   if (options.low_pass_hz > 0.0)
     throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
                                        "gyroscope residual by the rates' white noise, which a filter colours)");
-  const DataSelection data = selectData(samples, options.use, "universal joint");
+  DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)
     throw NotIdentifiable(
         "a universal joint's axes need both bodies' orientations (" + samples.main.name + ".qw.. and " +
@@ -269,6 +272,62 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
     if (std::abs(best) > reach) break;
     fit = fitUniversalAtShift(samples, options, best, data);
   }
+  return fit;
+}
+
+}  // namespace
+
+UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+  // A wobble on soft tissue (wobble_check.hpp): with --use auto the fit
+  // leaves the gyroscopes out (their residual is weighted by white noise,
+  // which a filter would colour) and reads the orientations alone.
+  AxisFitOptions chosen = options;
+  std::string reason = "no filter: the universal fit weighs its gyroscope residual by the rates' white noise";
+  if (!options.low_pass_auto) {
+    reason = "no filter: asked for (--low-pass none)";
+  } else if (samples.hasAngularVelocities()) {
+    const LowPassChoice wobble = chooseLowPass(samples);
+    if (wobble.cutoff_hz > 0.0) {
+      const std::string found = wobble.reason.substr(0, wobble.reason.find("; low-passed"));
+      if (options.use == DataUse::kAuto && samples.hasOrientations() && !options.fit_gyro_bias &&
+          !options.fit_time_offset) {
+        chosen.use = DataUse::kOrientations;
+        reason = "no filter although " + found + ": the universal fit weighs its gyroscope residual by the rates' "
+                 "white noise, which a filter colours, so it reads the orientations alone (--low-pass none keeps "
+                 "the gyroscopes)";
+      } else {
+        reason = "no filter although " + found + ": the universal fit weighs its gyroscope residual by the rates' "
+                 "white noise, which a filter colours";
+      }
+    } else {
+      reason = wobble.reason;
+    }
+  }
+  UniversalFit fit = fitUniversalAsked(samples, chosen);
+  fit.low_pass_reason = reason;
+  if (!options.check_segments) return fit;
+  if (options.fit_time_offset) {
+    fit.model_check.note = "not checked across segments: each segment would search its own clock offset";
+    return fit;
+  }
+  std::string why;
+  const std::vector<JointSamples> quarters = timeSegments(samples, &why);
+  if (quarters.empty()) {
+    fit.model_check.note = "not checked across segments: " + why;
+    return fit;
+  }
+  AxisFitOptions piece = chosen;
+  piece.check_segments = false;
+  piece.low_pass_auto = false;
+  piece.progress = nullptr;
+  const PieceFit fitPiece = [piece](const JointSamples& s) {
+    const UniversalFit f = fitUniversalAsked(s, piece);
+    return PieceAnswer{f.axis1_main, f.axis2_secondary, f.sigma1_deg, f.sigma2_deg};
+  };
+  fit.model_check = checkAcrossPieces(quarters, fitPiece, lineDistanceDeg, fit.axis1_main, fit.axis2_secondary,
+                                      "universal joint", "segments", "the whole recording", false);
+  fit.sigma1_deg = fit.model_check.widened(fit.sigma1_deg, 0);
+  fit.sigma2_deg = fit.model_check.widened(fit.sigma2_deg, 1);
   return fit;
 }
 

@@ -24,11 +24,14 @@
 /// the constraints are even in a₁ and in a₂ separately.
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 
 #include "calibration/fit_types.hpp"
 #include "calibration/identifiability.hpp"
 #include "calibration/joint_samples.hpp"
+#include "calibration/model_check.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -45,6 +48,15 @@ struct UniversalFit : SensorNuisanceEstimate {
   Eigen::Matrix4d covariance;       ///< rad², axis angles (a₁'s two, then a₂'s)
   AxisInformation information;
   AxisFitSummary summary;
+  /// The gyroscopes checked for a wobble on soft tissue (wobble_check.hpp):
+  /// the universal fit weighs its relative-rate residual by the rates' white
+  /// noise, which a filter would colour, so a wobbling recording (with
+  /// `use` auto) is fitted from its orientations alone; this says what was
+  /// found and done (never filtered: `low_pass_hz` is null).
+  std::string low_pass_reason;
+  /// The model checked across the recording's quarters (model_check.hpp):
+  /// when they disagree, sigma1_deg and sigma2_deg include their spread.
+  ModelCheck model_check;
 };
 
 /// Throws lieflow::InvalidInput when columns are missing, NotIdentifiable

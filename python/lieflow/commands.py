@@ -616,11 +616,12 @@ def _calibrate(kind, recording, spec, values, partial):
             shutil.rmtree(temporary, ignore_errors=True)
     result = json.loads(text) if text else None
     if result and written:
-        for entry in result.get("recordings", []):
-            entry["file"] = written.get(entry.get("file"), entry.get("file"))
-        for entry in result.get("segments", []):
-            if "recording" in entry:
-                entry["recording"] = written.get(entry["recording"], entry["recording"])
+        # (A spring fit's "segments" is a count, not the check's list.)
+        for key, field in (("recordings", "file"), ("segments", "recording")):
+            entries = result.get(key)
+            for entry in entries if isinstance(entries, list) else []:
+                if isinstance(entry, dict) and field in entry:
+                    entry[field] = written.get(entry[field], entry[field])
     if status != 0:
         if not partial:
             failure = ComputationError(error)

@@ -169,10 +169,10 @@ TEST(CalibRealKnee, FourWindowsAsFourRecordingsOfOneKnee) {
     EXPECT_FALSE(s.source.empty());
     if (!s.answered) continue;
     ++answered;
-    EXPECT_LT(f.sigma_main_deg, s.sigma_main_deg) << s.source;
-    EXPECT_LT(f.sigma_secondary_deg, s.sigma_secondary_deg) << s.source;
-    EXPECT_LT(s.apart_main_deg, std::max(3.0, 3.0 * s.sigma_main_deg)) << s.source;
-    EXPECT_LT(s.apart_secondary_deg, std::max(3.0, 3.0 * s.sigma_secondary_deg)) << s.source;
+    EXPECT_LT(f.sigma_main_deg, s.sigma_main) << s.source;
+    EXPECT_LT(f.sigma_secondary_deg, s.sigma_secondary) << s.source;
+    EXPECT_LT(s.apart_main, std::max(3.0, 3.0 * s.sigma_main)) << s.source;
+    EXPECT_LT(s.apart_secondary, std::max(3.0, 3.0 * s.sigma_secondary)) << s.source;
   }
   EXPECT_GE(answered, 3);
   std::printf("four windows as recordings: thigh %.3f %.3f %.3f (sigma %.2f deg), shank %.3f %.3f %.3f (sigma %.2f "

@@ -145,10 +145,10 @@ TEST(CalibHingeRecordings, RecordingsOfTwoHingesDisagreeAndSigmaSaysSo) {
   EXPECT_NE(f.model_check.note.find("all the recordings"), std::string::npos) << f.model_check.note;
   const double apart = lineErrorDeg(m.axisSecondary(), m2.axisSecondary());
   EXPECT_NEAR(apart, 8.0, 1e-9);
-  EXPECT_GT(f.model_check.spread_secondary_deg, 0.25 * apart);
-  EXPECT_GE(f.sigma_secondary_deg, f.model_check.spread_secondary_deg);
+  EXPECT_GT(f.model_check.spread_secondary, 0.25 * apart);
+  EXPECT_GE(f.sigma_secondary_deg, f.model_check.spread_secondary);
   std::printf("two hinges 8 deg apart: spread %.2f deg, sigma %.2f deg, chi-square %.1f times its mean\n",
-              f.model_check.spread_secondary_deg, f.sigma_secondary_deg, f.model_check.chi_square);
+              f.model_check.spread_secondary, f.sigma_secondary_deg, f.model_check.chi_square);
 }
 
 /// What a fit over several recordings refuses, naming the recording: biases

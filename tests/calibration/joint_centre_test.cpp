@@ -20,6 +20,8 @@
 #include "app/recording_noise.hpp"
 #include "calibration/fit_types.hpp"
 #include "calibration/joint_centre.hpp"
+#include "calibration/spherical_fit.hpp"
+#include "calibration/wobble_check.hpp"
 #include "calibration/low_pass.hpp"
 #include "calibration_test_helpers.hpp"
 #include "model/scene.hpp"
@@ -225,6 +227,57 @@ TEST(CalibJointCentre, SphericalSigmaIsHonest) { expectHonest("spherical", 52); 
 TEST(CalibJointCentre, LowPassedWobblingSensorsAreHonest) {
   expectHonest("spherical", 53, 10.0, true);
   expectHonest("revolute", 54, 10.0, true);
+}
+
+/// No flag (issue 31): `calibrate spherical` finds the wobble by itself
+/// (fitSpherical: low-passed at kWobbleCutoffHz, saying so), the answers are
+/// as honest as with --low-pass 5 above, and on 40 s recordings the check
+/// across the quarters (10 s each: kMinCentreSegmentSamples) runs and agrees;
+/// a recording without a wobble stays unfiltered, and 10 s are too short
+/// for the check (it says so).
+TEST(CalibJointCentre, SphericalDefaultsFilterAWobbleAndCheckTheQuarters) {
+  std::mt19937 gen(55);
+  std::uniform_real_distribution<double> rate(-4.0, 4.0);
+  constexpr int kTrials = test::kSanitized ? 2 : 12;
+  int covered = 0, agreed = 0;
+  double ratio_sq = 0.0;
+  for (int t = 0; t < kTrials; ++t) {
+    const Eigen::Vector3d w1(rate(gen), rate(gen), rate(gen)), w2(rate(gen), rate(gen), rate(gen));
+    app::NoiseOptions noise;
+    noise.gyro = 0.01;
+    noise.acc = 0.05;
+    noise.seed = gen();
+    const JointSamples recorded = record(pairScene("spherical", w1, w2), 40.0, noise, Wobble(1.0, 2.0, gen));
+    const SphericalFit fit = fitSpherical(recorded);
+    EXPECT_EQ(fit.low_pass_hz, kWobbleCutoffHz);
+    EXPECT_NE(fit.low_pass_reason.find("wobbles on soft tissue"), std::string::npos) << fit.low_pass_reason;
+    agreed += fit.model_check.ran && !fit.model_check.disagree;
+    const double error[2] = {(fit.centre.anchor_main + kSensorUpper).norm(),
+                             (fit.centre.anchor_secondary + kSensorLower).norm()};
+    const double sigma[2] = {fit.centre.sigma_main, fit.centre.sigma_secondary};
+    for (int b = 0; b < 2; ++b) {
+      covered += error[b] <= 3.0 * sigma[b];
+      ratio_sq += error[b] * error[b] / (sigma[b] * sigma[b]) / 2.0;
+    }
+  }
+  ratio_sq /= kTrials;
+  std::printf("spherical, wobbling, no flag: within 3 sigma %d / %d anchors, mean (error/sigma)^2 %.2f, model check "
+              "agreeing in %d of %d\n",
+              covered, 2 * kTrials, ratio_sq, agreed, kTrials);
+  EXPECT_GE(covered, 2 * kTrials - 3);
+  EXPECT_GT(ratio_sq, 0.4);
+  EXPECT_LT(ratio_sq, 1.8);
+  EXPECT_GE(agreed, kTrials - 2);
+  app::NoiseOptions noise;
+  noise.gyro = 0.01;
+  noise.acc = 0.05;
+  noise.seed = 9;
+  const SphericalFit plain =
+      fitSpherical(record(pairScene("spherical", Eigen::Vector3d(1, -2, 3), Eigen::Vector3d(-3, 1, 2)), 10.0, noise));
+  EXPECT_EQ(plain.low_pass_hz, 0.0);
+  EXPECT_NE(plain.low_pass_reason.find("no gyroscope wobbles"), std::string::npos) << plain.low_pass_reason;
+  EXPECT_FALSE(plain.model_check.ran);
+  EXPECT_NE(plain.model_check.note.find("fewer than 4 segments of 1000"), std::string::npos) << plain.model_check.note;
 }
 
 }  // namespace
