@@ -72,7 +72,7 @@ void addModelCheck(Json& j, const calibration::ModelCheck& check, const std::str
   j["segments"] = segments;
 }
 
-constexpr const char* kUsage =
+constexpr const char* kCalibrateUsage =
     "usage: lieflow calibrate hinge|universal RECORDING.csv [--main A] [--secondary B] [options]\n"
     "       lieflow calibrate hinge A.csv B.csv ... [options]   (one axis pair from several recordings)\n"
     "       lieflow calibrate spherical RECORDING.csv [--main A] [--secondary B]\n"
@@ -584,13 +584,106 @@ const std::set<std::string>& calibrateSwitches() {
 int runCalibrate(int argc, char** argv) {
   const Arguments args(argc, argv, calibrateValueFlags(), calibrateSwitches());
   if (args.help()) {
-    std::cout << kUsage;
+    std::cout << kCalibrateUsage;
     return kSuccess;
   }
   const CommandOutcome outcome = calibrate(args);
   if (!outcome.json.is_null()) std::cout << jsonLine(outcome.json) << "\n";
   if (!outcome.error.empty()) std::cerr << "lieflow: " << outcome.error << "\n";
   return outcome.status;
+}
+
+/// `calibrate hinge` of one or several recordings of the joint: its JSON.
+CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, const AxisFitOptions& options,
+                        const std::string& what) {
+  const calibration::JointSamples& joint = joints.front();
+  Json j;
+  const calibration::HingeFit fit = calibration::fitHinge(joints, options);
+  if (joints.size() > 1) {
+    Json recordings = Json::array();
+    for (const calibration::JointSamples& r : joints)
+      recordings.push_back({{"file", r.source}, {"samples", r.size()}, {"t_start", r.time.front()},
+                            {"t_end", r.time.back()}});
+    j["recordings"] = recordings;
+  }
+  j["axis_main"] = vector3(fit.axis_main);
+  j["axis_secondary"] = vector3(fit.axis_secondary);
+  j["axis_sigma_deg"] = fit.axisSigmaDeg();
+  j["axis_main_sigma_deg"] = fit.sigma_main_deg;
+  j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
+  addSummary(j, fit.summary, joint);
+  j["sign"] = fit.sign;
+  if (fit.fitted_gyro_bias) {
+    j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
+    j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
+    j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
+    j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+    j["gyro_bias_note"] =
+        fit.likelihood.fitted_gyro_bias
+            ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
+              "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
+            : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
+              "axis: reported 0)";
+  }
+  j["estimator"] = calibration::hingeEstimatorName(fit.estimator);
+  j["estimator_reason"] = fit.estimator_reason;
+  if (fit.estimator == calibration::HingeEstimator::kLikelihood) {
+    j["constraint_axis_main_sigma_deg"] = fit.constraint_sigma_main_deg;
+    j["constraint_axis_secondary_sigma_deg"] = fit.constraint_sigma_secondary_deg;
+    j["likelihood_noise_sigma"] = fit.likelihood.noise_sigma;
+    j["likelihood_iterations"] = fit.likelihood.iterations;
+  }
+  if (fit.fitted_time_offset) {
+    j["time_offset"] = fit.time_offset;
+    j["time_offset_sigma"] = fit.time_offset_sigma;
+  }
+  if (fit.gyro_misfit >= 0.0) j["gyro_misfit"] = fit.gyro_misfit;
+  if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;
+  j["low_pass_hz"] = fit.low_pass_hz > 0.0 ? Json(fit.low_pass_hz) : Json(nullptr);
+  j["low_pass_reason"] = fit.low_pass_reason;
+  addModelCheck(j, fit.model_check);
+  if (fit.low_pass_hz > 0.0) {
+    j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
+    calibration::LowPassFilter filter;
+    const calibration::JointSamples filtered = calibration::lowPassed(joint, fit.low_pass_hz, "--low-pass", &filter);
+    addJointCentre(j, filtered, &fit.axis_main, &fit.axis_secondary,
+                   calibration::lowPassCorrelationSamples(filter));
+  } else {
+    addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
+  }
+  // The joint centre is the first recording's (its sensors' points, from its samples alone).
+  if (joints.size() > 1 && (j.contains("anchor_main") || j.contains("anchor_note"))) j["anchor_recording"] = joint.source;
+  return finish(j, fit.summary.converged, fit.summary.message, what);
+}
+
+/// `calibrate universal`: its JSON.
+CommandOutcome runUniversal(const calibration::JointSamples& joint, const AxisFitOptions& options,
+                            const std::string& what) {
+  Json j;
+  const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);
+  j["axis1_main"] = vector3(fit.axis1_main);
+  j["axis2_secondary"] = vector3(fit.axis2_secondary);
+  j["axis1_main_sigma_deg"] = fit.sigma1_deg;
+  j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
+  addSummary(j, fit.summary, joint);
+  j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
+  if (fit.fitted_gyro_bias) {
+    j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
+    j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
+    j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
+    j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+    j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to that body's axis (the joint does not "
+                          "observe a bias along its axes: reported 0)";
+  }
+  if (fit.fitted_time_offset) {
+    j["time_offset"] = fit.time_offset;
+    j["time_offset_sigma"] = fit.time_offset_sigma;
+  }
+  j["low_pass_hz"] = nullptr;
+  j["low_pass_reason"] = fit.low_pass_reason;
+  addModelCheck(j, fit.model_check, "axis1_main", "axis2_secondary");
+  addJointCentre(j, joint, nullptr, nullptr);
+  return finish(j, fit.summary.converged, fit.summary.message, what);
 }
 
 CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& interrupted) {
@@ -648,89 +741,7 @@ CommandOutcome calibrate(const Arguments& args, const std::function<bool()>& int
     return runSpherical(joint, what, options);
   }
   try {
-    Json j;
-    if (kind == "hinge") {
-      const calibration::HingeFit fit = calibration::fitHinge(joints, options);
-      if (joints.size() > 1) {
-        Json recordings = Json::array();
-        for (const calibration::JointSamples& r : joints)
-          recordings.push_back({{"file", r.source}, {"samples", r.size()}, {"t_start", r.time.front()},
-                                {"t_end", r.time.back()}});
-        j["recordings"] = recordings;
-      }
-      j["axis_main"] = vector3(fit.axis_main);
-      j["axis_secondary"] = vector3(fit.axis_secondary);
-      j["axis_sigma_deg"] = fit.axisSigmaDeg();
-      j["axis_main_sigma_deg"] = fit.sigma_main_deg;
-      j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
-      addSummary(j, fit.summary, joint);
-      j["sign"] = fit.sign;
-      if (fit.fitted_gyro_bias) {
-        j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
-        j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
-        j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
-        j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
-        j["gyro_bias_note"] =
-            fit.likelihood.fitted_gyro_bias
-                ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
-                  "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
-                : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
-                  "axis: reported 0)";
-      }
-      j["estimator"] = calibration::hingeEstimatorName(fit.estimator);
-      j["estimator_reason"] = fit.estimator_reason;
-      if (fit.estimator == calibration::HingeEstimator::kLikelihood) {
-        j["constraint_axis_main_sigma_deg"] = fit.constraint_sigma_main_deg;
-        j["constraint_axis_secondary_sigma_deg"] = fit.constraint_sigma_secondary_deg;
-        j["likelihood_noise_sigma"] = fit.likelihood.noise_sigma;
-        j["likelihood_iterations"] = fit.likelihood.iterations;
-      }
-      if (fit.fitted_time_offset) {
-        j["time_offset"] = fit.time_offset;
-        j["time_offset_sigma"] = fit.time_offset_sigma;
-      }
-      if (fit.gyro_misfit >= 0.0) j["gyro_misfit"] = fit.gyro_misfit;
-      if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;
-      j["low_pass_hz"] = fit.low_pass_hz > 0.0 ? Json(fit.low_pass_hz) : Json(nullptr);
-      j["low_pass_reason"] = fit.low_pass_reason;
-      addModelCheck(j, fit.model_check);
-      if (fit.low_pass_hz > 0.0) {
-        j["low_pass_noise_gain"] = fit.low_pass_noise_gain;
-        calibration::LowPassFilter filter;
-        const calibration::JointSamples filtered = calibration::lowPassed(joint, fit.low_pass_hz, "--low-pass", &filter);
-        addJointCentre(j, filtered, &fit.axis_main, &fit.axis_secondary,
-                       calibration::lowPassCorrelationSamples(filter));
-      } else {
-        addJointCentre(j, joint, &fit.axis_main, &fit.axis_secondary);
-      }
-      // The joint centre is the first recording's (its sensors' points, from its samples alone).
-      if (joints.size() > 1 && (j.contains("anchor_main") || j.contains("anchor_note"))) j["anchor_recording"] = joint.source;
-      return finish(j, fit.summary.converged, fit.summary.message, what);
-    }
-    const calibration::UniversalFit fit = calibration::fitUniversal(joint, options);
-    j["axis1_main"] = vector3(fit.axis1_main);
-    j["axis2_secondary"] = vector3(fit.axis2_secondary);
-    j["axis1_main_sigma_deg"] = fit.sigma1_deg;
-    j["axis2_secondary_sigma_deg"] = fit.sigma2_deg;
-    addSummary(j, fit.summary, joint);
-    j["sign"] = "each axis: largest component positive (the joint does not fix the axes' signs)";
-    if (fit.fitted_gyro_bias) {
-      j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
-      j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
-      j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
-      j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
-      j["gyro_bias_note"] = "rad/s in each body's axes, perpendicular to that body's axis (the joint does not "
-                            "observe a bias along its axes: reported 0)";
-    }
-    if (fit.fitted_time_offset) {
-      j["time_offset"] = fit.time_offset;
-      j["time_offset_sigma"] = fit.time_offset_sigma;
-    }
-    j["low_pass_hz"] = nullptr;
-    j["low_pass_reason"] = fit.low_pass_reason;
-    addModelCheck(j, fit.model_check, "axis1_main", "axis2_secondary");
-    addJointCentre(j, joint, nullptr, nullptr);
-    return finish(j, fit.summary.converged, fit.summary.message, what);
+    return kind == "hinge" ? runHinge(joints, options, what) : runUniversal(joint, options, what);
   } catch (const calibration::NotIdentifiable& e) {
     return failed(what, e);
   } catch (const calibration::FitFailed& e) {

@@ -26,7 +26,7 @@ namespace lieflow {
 namespace app {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kSimulateUsage =
     "usage: lieflow simulate SCENE [--integrator NAME] [--dt H] [--t-end T] [--out FILE.csv]\n"
     "                        [--every N] [--stats] [--options KEY=VALUE,...] [--view FILE.html]\n"
     "                        [--formulation maximal|joint]\n"
@@ -86,7 +86,7 @@ constexpr const char* kUsage =
 int runSimulate(int argc, char** argv) {
   const Arguments args(argc, argv, simulateValueFlags(), simulateSwitches());
   if (args.help()) {
-    std::cout << kUsage;
+    std::cout << kSimulateUsage;
     return kSuccess;
   }
   SimulateRequest request = simulateRequestFrom(args);

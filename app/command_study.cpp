@@ -15,7 +15,7 @@ namespace lieflow {
 namespace app {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kStudyUsage =
     "usage: lieflow study SCENE [--integrators a,b,...] [--dt h1,h2,...] [--t-end T] [--out DIR]\n"
     "                     [--min-time SECONDS] [--options KEY=VALUE,...] [--no-plots] [--view]\n"
     "                     [--formulation maximal|joint] [--with-mujoco]\n"
@@ -82,7 +82,7 @@ int studyAndReport(const Simulation& sim, double t_end, StudyOptions options, bo
 int runStudy(int argc, char** argv) {
   const Arguments args(argc, argv, studyValueFlags(), studySwitches());
   if (args.help()) {
-    std::cout << kUsage;
+    std::cout << kStudyUsage;
     return kSuccess;
   }
   StudyRequest request = studyRequestFrom(args);

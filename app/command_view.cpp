@@ -14,7 +14,7 @@ namespace app {
 
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kViewUsage =
     "usage: lieflow view RUN.csv --scene SCENE [--out FILE.html] [--frames N]\n"
     "                    [--ignore LIST] [--keyframe K] [--floating-base] [--spin WX,WY,WZ]\n"
     "                    [--max-input-mb N] [--max-rows N] [--max-bodies N] [--quiet]\n"
@@ -44,7 +44,7 @@ int runView(int argc, char** argv) {
   switches.insert(modelSwitches().begin(), modelSwitches().end());
   const Arguments args(argc, argv, flags, switches);
   if (args.help()) {
-    std::cout << kUsage;
+    std::cout << kViewUsage;
     return kSuccess;
   }
   if (args.positional().size() != 1) throw UsageError("view needs exactly one RUN.csv (see lieflow view --help)");

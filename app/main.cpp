@@ -12,7 +12,7 @@
 
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kMainUsage =
     "usage: lieflow [COMMAND] [OPTIONS]\n"
     "\n"
     "Geometric integration of rigid bodies on Lie groups.\n"
@@ -44,7 +44,7 @@ int dispatch(int argc, char** argv) {
   const int rest_argc = argc - 2;
   char** rest_argv = argv + 2;
   if (command == "--help" || command == "-h" || command == "help") {
-    std::cout << kUsage;
+    std::cout << kMainUsage;
     return kSuccess;
   }
   if (command == "simulate") return runSimulate(rest_argc, rest_argv);

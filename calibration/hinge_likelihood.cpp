@@ -22,7 +22,7 @@ namespace calibration {
 namespace {
 
 /// Solver limits: far below any gyroscope's noise.
-constexpr int kMaxIterations = 100;
+constexpr int kMaxLikelihoodIterations = 100;
 constexpr double kTolerance = 1e-12;
 /// Levenberg–Marquardt's first trust region (Ceres' default 1e4): the start
 /// is the constraint fit's, close enough for Gauss–Newton steps.
@@ -364,7 +364,7 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   // 121–126 ms with the Schur complement and Ceres' first radius.
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   options.initial_trust_region_radius = kInitialTrustRegion;
-  options.max_num_iterations = kMaxIterations;
+  options.max_num_iterations = kMaxLikelihoodIterations;
   options.function_tolerance = kTolerance;
   options.gradient_tolerance = kTolerance;
   options.parameter_tolerance = kTolerance;

@@ -20,7 +20,7 @@ namespace {
 /// Solver stopping tolerances: far below the noise of any accelerometer.
 constexpr double kFunctionTolerance = 1e-14;
 constexpr double kParameterTolerance = 1e-14;
-constexpr int kMaxIterations = 200;
+constexpr int kMaxCentreIterations = 200;
 /// The gauge row's weight against the data rows' Jacobian scale.
 constexpr double kGaugeWeight = 1e4;
 /// Smallest eigenvalue of the information matrix, relative to the largest,
@@ -136,7 +136,7 @@ ceres::Solver::Summary solveCentre(const JointSamples& samples, const Eigen::Vec
   options.linear_solver_type = ceres::DENSE_QR;
   options.function_tolerance = kFunctionTolerance;
   options.parameter_tolerance = kParameterTolerance;
-  options.max_num_iterations = kMaxIterations;
+  options.max_num_iterations = kMaxCentreIterations;
   options.logging_type = ceres::SILENT;
   options.num_threads = 1;
   ceres::Solver::Summary summary;

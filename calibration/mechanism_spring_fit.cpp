@@ -13,7 +13,7 @@
 
 #include "calibration/fit_types.hpp"
 #include "calibration/solver_options.hpp"
-#include "calibration/mechanism_dynamics.hpp"
+#include "calibration/mechanism_flow.hpp"
 #include "calibration/mechanism_spring_residuals.hpp"
 #include "calibration/mechanism_spring_start.hpp"
 #include "calibration/shooting_grid.hpp"

@@ -5,7 +5,7 @@
 /// three — from the recorded joint angles (`J.phi`, `J.phi1`, `J.phi2`) or
 /// from the bodies' gyroscopes alone (`B.wx, B.wy, B.wz`).
 ///
-/// Model: the tree in joint coordinates (mechanism_dynamics.hpp), templated
+/// Model: the tree in joint coordinates (mechanism_flow.hpp), templated
 /// on the scalar, advanced between samples by classical RK4 (on ℝ²ⁿ, RKMK4 is
 /// RK4) with `substeps` steps per interval, in ceres::Jet arithmetic: the
 /// derivatives are those of the discrete integrator, exact.

@@ -1,6 +1,6 @@
 /// \file
 /// The residuals of the mechanism spring fit (mechanism_spring_fit.hpp): one
-/// shooting segment of the tree in joint coordinates (mechanism_dynamics.hpp),
+/// shooting segment of the tree in joint coordinates (mechanism_flow.hpp),
 /// advanced by classical RK4 in the scalar Ceres asks for, so the Jacobian is
 /// the exact derivative of the discrete flow.
 ///
@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "calibration/mechanism_dynamics.hpp"
+#include "calibration/mechanism_flow.hpp"
 #include "dynamics/joint_space/articulated_model.hpp"
 
 namespace lieflow {

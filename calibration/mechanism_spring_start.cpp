@@ -8,7 +8,7 @@
 
 #include <Eigen/Dense>
 
-#include "calibration/mechanism_dynamics.hpp"
+#include "calibration/mechanism_flow.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "liegroup/input_number.hpp"
 

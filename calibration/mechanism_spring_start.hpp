@@ -4,7 +4,7 @@
 /// inverse dynamics, linear in the unknowns.
 ///
 /// Along the recorded motion the joints transmit τ(q, q̇, q̈) (recursive
-/// Newton–Euler of the scene's bodies and gravity, mechanism_dynamics.hpp),
+/// Newton–Euler of the scene's bodies and gravity, dynamics/joint_space/scalar_dynamics.hpp),
 /// and the joints' springs, dashpots and applied moments M(t) supply it:
 ///   τ_j(t) − M_j(t) = −k_j (q_j − q₀ⱼ) − c_j q̇_j,
 /// linear in (k_j, c_j, k_j q₀ⱼ): the inverse-dynamics identification of

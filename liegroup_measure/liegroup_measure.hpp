@@ -20,11 +20,15 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace lieflow {
 namespace measure {
+
+/// The target of a row that has none (an Eigen baseline, an information row).
+constexpr double kNoTarget = std::numeric_limits<double>::quiet_NaN();
 
 // ---------------------------------------------------------------------------
 // Precision

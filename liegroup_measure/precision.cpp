@@ -31,7 +31,6 @@ namespace measure {
 
 namespace {
 
-constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 
 /// Targets (bench/README.md): SO(3) error ≤ 2e-15·max(1, ‖w‖), SE(3) ≤ 1e-14.
@@ -120,15 +119,15 @@ enum Op {
 const Operation kOperations[kOpCount] = {
     {"SO3 log(exp(w)) − w", kSO3Target, true},
     {"SO3 log(exp(w)) − w, ÷ max(1,‖w‖)", kSO3Target, false},
-    {"SO3 log(exp(w)) − w, ÷ ‖w‖ (info)", kNone, false},
+    {"SO3 log(exp(w)) − w, ÷ ‖w‖ (info)", kNoTarget, false},
     {"SO3 exp(w) − q_ref (long double)", kSO3Target, true},
     {"SO3 Jr(w)·JrInv(w) − I", kSO3Target, true},
     {"SE3 log(exp(ξ)) − ξ, ρ ∈ [−1,1]³", kSE3Target, false},
     {"SE3 Jr(ξ)·JrInv(ξ) − I, ρ ∈ [−1,1]³", kSE3Target, false},
-    {"Eigen AngleAxis round trip − w", kNone, false},
-    {"Eigen AngleAxis round trip − w, ÷ max(1,‖w‖)", kNone, false},
-    {"Eigen AngleAxis round trip − w, ÷ ‖w‖", kNone, false},
-    {"Eigen Quaternion(AngleAxis) − q_ref", kNone, false},
+    {"Eigen AngleAxis round trip − w", kNoTarget, false},
+    {"Eigen AngleAxis round trip − w, ÷ max(1,‖w‖)", kNoTarget, false},
+    {"Eigen AngleAxis round trip − w, ÷ ‖w‖", kNoTarget, false},
+    {"Eigen Quaternion(AngleAxis) − q_ref", kNoTarget, false},
 };
 
 /// max |q − q_ref| over the four components, q_ref = (cos(θ/2), sin(θ/2)/θ · w)
@@ -221,11 +220,11 @@ std::vector<PrecisionRow> measurePrecision(int samples_per_band, std::uint64_t s
       row.operation = kOperations[op].name;
       row.band = bandName(band);
       row.samples = samples_per_band;
-      row.max_error = tally[op].nan ? kNone : tally[op].max_error;
+      row.max_error = tally[op].nan ? kNoTarget : tally[op].max_error;
       row.target = kOperations[op].target;
       row.target_scales_with_norm = kOperations[op].scales;
-      row.worst_target_fraction = row.hasTarget() ? (tally[op].nan ? kNone : tally[op].worst_fraction)
-                                                  : kNone;
+      row.worst_target_fraction = row.hasTarget() ? (tally[op].nan ? kNoTarget : tally[op].worst_fraction)
+                                                  : kNoTarget;
       rows.push_back(row);
     }
   }

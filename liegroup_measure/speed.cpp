@@ -37,8 +37,6 @@ namespace measure {
 
 namespace {
 
-constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-
 /// Length of one timed batch. Short, so that on a loaded machine most batches
 /// run without being descheduled, and many, so that the median ignores those
 /// that were: at 200 µs a batch spans a small part of a scheduler time slice.
@@ -137,13 +135,13 @@ const std::vector<SpeedTarget>& speedTargets() {
       {"SO3 log", "Eigen Quaternion->AngleAxis", 1.0, "0.94 / 1.01 / 0.94"},
       {"SO3 compose", "Eigen quaternion product", 1.5, "2.9 / 8.0 / 5.5"},
       {"SO3 act", "Eigen quaternion*vector", 1.05, "1.03 / 4.2 / 1.2"},
-      {"SO3 inverse", "Eigen quaternion conjugate", kNone, ""},
-      {"SO3 Jr", "Eigen AngleAxis->matrix", kNone, ""},
-      {"SO3 JrInv", "Eigen AngleAxis->matrix", kNone, ""},
+      {"SO3 inverse", "Eigen quaternion conjugate", kNoTarget, ""},
+      {"SO3 Jr", "Eigen AngleAxis->matrix", kNoTarget, ""},
+      {"SO3 JrInv", "Eigen AngleAxis->matrix", kNoTarget, ""},
       {"SE3 exp", "Eigen AngleAxis->Quaternion", 2.5, "4.2 / 5.6 / 8.0"},
       {"SE3 log", "Eigen Quaternion->AngleAxis", 2.5, "3.5 / 4.8 / 5.4"},
       {"SE3 compose", "Eigen quaternion product", 3.0, "5.4 / 24 / 11"},
-      {"SE3 act", "Eigen quaternion*vector", kNone, ""},
+      {"SE3 act", "Eigen quaternion*vector", kNoTarget, ""},
   };
   return targets;
 }

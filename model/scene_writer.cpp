@@ -6,52 +6,52 @@ namespace lieflow {
 
 namespace {
 
-using json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
-json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-json quat(const Eigen::Quaterniond& q) { return json::array({q.w(), q.x(), q.y(), q.z()}); }
+OrderedJson vec(const Eigen::Vector3d& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
+OrderedJson quat(const Eigen::Quaterniond& q) { return OrderedJson::array({q.w(), q.x(), q.y(), q.z()}); }
 
-json inertia(const Eigen::Matrix3d& I) {
+OrderedJson inertia(const Eigen::Matrix3d& I) {
   if (I.isDiagonal(0.0)) return vec(I.diagonal());
-  json rows = json::array();
+  OrderedJson rows = OrderedJson::array();
   for (int r = 0; r < 3; ++r) rows.push_back(vec(I.row(r).transpose()));
   return rows;
 }
 
-json timeFunction(const TimeFunction& f) {
+OrderedJson timeFunction(const TimeFunction& f) {
   using K = TimeFunction::Kind;
   switch (f.kind) {
     case K::kConstant: return f.value;
-    case K::kRamp: return json{{"type", "ramp"}, {"initial", f.initial}, {"rate", f.rate}};
+    case K::kRamp: return OrderedJson{{"type", "ramp"}, {"initial", f.initial}, {"rate", f.rate}};
     case K::kSine:
-      return json{{"type", "sine"}, {"amplitude", f.amplitude}, {"frequency", f.frequency},
+      return OrderedJson{{"type", "sine"}, {"amplitude", f.amplitude}, {"frequency", f.frequency},
                   {"phase", f.phase}, {"offset", f.offset}};
     case K::kTable: {
-      json points = json::array();
-      for (const auto& p : f.points) points.push_back(json::array({p.first, p.second}));
-      return json{{"type", "table"}, {"points", points}};
+      OrderedJson points = OrderedJson::array();
+      for (const auto& p : f.points) points.push_back(OrderedJson::array({p.first, p.second}));
+      return OrderedJson{{"type", "table"}, {"points", points}};
     }
   }
   return f.value;
 }
 
 /// spring/damper/moment/prescribed of one coordinate (suffix "", "1", "2").
-void writeCoordinate(const CoordinateDescription& c, const std::string& suffix, bool sliding, json* j) {
+void writeCoordinate(const CoordinateDescription& c, const std::string& suffix, bool sliding, OrderedJson* j) {
   if (c.stiffness != 0.0 || c.rest_angle != 0.0)
-    (*j)["spring" + suffix] = json{{"stiffness", c.stiffness}, {sliding ? "rest_position" : "rest_angle", c.rest_angle}};
-  if (c.damping != 0.0) (*j)["damper" + suffix] = json{{"damping", c.damping}};
+    (*j)["spring" + suffix] = OrderedJson{{"stiffness", c.stiffness}, {sliding ? "rest_position" : "rest_angle", c.rest_angle}};
+  if (c.damping != 0.0) (*j)["damper" + suffix] = OrderedJson{{"damping", c.damping}};
   if (c.moment) (*j)[(sliding ? "force" : "moment") + suffix] = timeFunction(*c.moment);
   if (c.prescribed) (*j)["prescribed" + suffix] = timeFunction(*c.prescribed);
 }
 
-json nodeAxes(const NodeAxesDescription& n) {
-  json a{{"r", vec(n.r)}, {"s", vec(n.s)}};
+OrderedJson nodeAxes(const NodeAxesDescription& n) {
+  OrderedJson a{{"r", vec(n.r)}, {"s", vec(n.s)}};
   if (n.has_t) a["t"] = vec(n.t);
   return a;
 }
 
-json joint(const JointDescription& d) {
-  json j{{"name", d.name}, {"type", d.type}, {"main", d.main}, {"secondary", d.secondary}};
+OrderedJson joint(const JointDescription& d) {
+  OrderedJson j{{"name", d.name}, {"type", d.type}, {"main", d.main}, {"secondary", d.secondary}};
   if (d.isGear()) {
     j["ratio"] = d.ratio;
     j["carrier"] = d.carrier;
@@ -83,7 +83,7 @@ json joint(const JointDescription& d) {
     j["axis2_main"] = vec(d.axis2_main);
     j["axis3_main"] = vec(d.axis3_main);
     if (d.initial_angles != std::array<double, 3>{{0.0, 0.0, 0.0}})
-      j["initial_angles"] = json::array({d.initial_angles[0], d.initial_angles[1], d.initial_angles[2]});
+      j["initial_angles"] = OrderedJson::array({d.initial_angles[0], d.initial_angles[1], d.initial_angles[2]});
     for (int i = 0; i < 3; ++i) writeCoordinate(d.coordinates[i], std::to_string(i + 1), false, &j);
   } else if (d.type == "prismatic") {
     j["axis_main"] = vec(d.axis_main);
@@ -93,7 +93,7 @@ json joint(const JointDescription& d) {
     j["axis2_secondary"] = vec(d.axis_secondary);
     if (d.offset) j["offset"] = true;
     if (d.initial_angles[0] != 0.0 || d.initial_angles[1] != 0.0)
-      j["initial_angles"] = json::array({d.initial_angles[0], d.initial_angles[1]});
+      j["initial_angles"] = OrderedJson::array({d.initial_angles[0], d.initial_angles[1]});
     writeCoordinate(d.coordinates[0], "1", false, &j);
     writeCoordinate(d.coordinates[1], "2", false, &j);
   }
@@ -103,13 +103,13 @@ json joint(const JointDescription& d) {
 }  // namespace
 
 std::string sceneToJson(const SceneDescription& scene) {
-  json out;
+  OrderedJson out;
   out["name"] = scene.name;
   if (!scene.description.empty()) out["description"] = scene.description;
   out["gravity"] = vec(scene.gravity);
-  json bodies = json::array();
+  OrderedJson bodies = OrderedJson::array();
   for (const BodyDescription& b : scene.bodies) {
-    json j{{"name", b.name}, {"mass", b.mass}, {"inertia", inertia(b.inertia)}};
+    OrderedJson j{{"name", b.name}, {"mass", b.mass}, {"inertia", inertia(b.inertia)}};
     if (b.rotation_only) j["rotation_only"] = true;
     j["orientation"] = quat(b.orientation);
     j["position"] = vec(b.position);
@@ -117,20 +117,20 @@ std::string sceneToJson(const SceneDescription& scene) {
     if (!b.rotation_only) j["velocity"] = vec(b.velocity);
     if (b.sensor != Eigen::Vector3d::Zero()) j["sensor"] = vec(b.sensor);
     if (b.spring_stiffness > 0.0)
-      j["torsional_spring"] = json{{"stiffness", b.spring_stiffness}, {"rest_orientation", quat(b.spring_rest)}};
+      j["torsional_spring"] = OrderedJson{{"stiffness", b.spring_stiffness}, {"rest_orientation", quat(b.spring_rest)}};
     bodies.push_back(j);
   }
   out["bodies"] = bodies;
-  json joints = json::array();
+  OrderedJson joints = OrderedJson::array();
   for (const JointDescription& d : scene.joints) joints.push_back(joint(d));
   out["joints"] = joints;
   if (scene.has_integrator) {
-    json integrator{{"name", scene.integrator.name}, {"dt", scene.integrator.dt}};
+    OrderedJson integrator{{"name", scene.integrator.name}, {"dt", scene.integrator.dt}};
     for (const auto& [key, value] : scene.integrator.options) integrator[key] = value;
     out["integrator"] = integrator;
   }
   if (scene.has_t_end) out["t_end"] = scene.t_end;
-  return out.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+  return out.dump(2, ' ', false, OrderedJson::error_handler_t::replace) + "\n";
 }
 
 }  // namespace lieflow

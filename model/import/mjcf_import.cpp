@@ -53,9 +53,9 @@ namespace {
 /// Two hinges of one body make a universal joint when their axes are
 /// orthogonal to this |cos| (through one point, or offset: universal.hpp,
 /// offset_universal.hpp); three make a gimbal (gimbal.hpp) when they are
-/// also through one point to kSamePoint (m).
+/// also through one point to kSameAnchorPoint (m).
 constexpr double kOrthogonal = 1e-9;
-constexpr double kSamePoint = 1e-12;
+constexpr double kSameAnchorPoint = 1e-12;
 
 
 static_assert(std::is_same<mjtNum, double>::value, "lieflow reads MuJoCo built with double mjtNum");
@@ -412,7 +412,7 @@ class ElementLines {
 
 /// Below this norm a quaternion in a keyframe's qpos is refused: MuJoCo
 /// would turn it silently into the identity.
-constexpr double kMinQuaternionNorm = 1e-6;
+constexpr double kMinKeyframeQuaternionNorm = 1e-6;
 
 /// The qpos of keyframe `key` as the file writes it: MuJoCo's compiler
 /// normalizes the keyframes' quaternions (one of norm 0 becomes the
@@ -443,7 +443,7 @@ void requireUnitQuaternions(const mjModel* m, const std::string& path, int key, 
     const int at = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
     const double* q = qpos.data() + at;
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (!(norm >= kMinQuaternionNorm)) {
+    if (!(norm >= kMinKeyframeQuaternionNorm)) {
       const std::string name = keyframeName(m, key);
       throw InvalidInput(path + ": " + elementLabel("key", name, xml.line("key", name)) + ", attribute qpos",
                          "the quaternion of joint '" + nameOf(m, mjOBJ_JOINT, j, "joint") + "' (qpos[" +
@@ -623,8 +623,8 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
     };
     const bool universal = count == 2 && hinges && orthogonal(j0, j1);
     const bool gimbal = count == 3 && hinges && orthogonal(j0, j1) && orthogonal(j0, j2) && orthogonal(j1, j2) &&
-                        (vec3(d->xanchor + 3 * j1) - mj.anchor_world).norm() <= kSamePoint &&
-                        (vec3(d->xanchor + 3 * j2) - mj.anchor_world).norm() <= kSamePoint;
+                        (vec3(d->xanchor + 3 * j1) - mj.anchor_world).norm() <= kSameAnchorPoint &&
+                        (vec3(d->xanchor + 3 * j2) - mj.anchor_world).norm() <= kSameAnchorPoint;
     if (gimbal) {
       mj.type = ModelJointType::kGimbal;
       mj.name = mj.name + "+" + nameOf(m.get(), mjOBJ_JOINT, j1, "joint") + "+" + nameOf(m.get(), mjOBJ_JOINT, j2, "joint");

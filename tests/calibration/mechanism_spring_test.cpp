@@ -1,8 +1,9 @@
 /// \file
 /// The spring/dashpot fit of whole mechanisms (mechanism_spring_fit.hpp) and
-/// the templated joint-coordinate dynamics it integrates
-/// (mechanism_dynamics.hpp), checked against the simulator's articulated-body
-/// algorithm (dynamics/joint_space/) on the same scenes.
+/// the joint-coordinate dynamics on any scalar it integrates
+/// (dynamics/joint_space/scalar_dynamics.hpp, through mechanism_flow.hpp),
+/// checked against the simulator's articulated-body algorithm on the
+/// mechanisms the fit takes (every joint kind: tests/dynamics/scalar_dynamics_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -16,7 +17,7 @@
 
 #include <ceres/jet.h>
 
-#include "calibration/mechanism_dynamics.hpp"
+#include "calibration/mechanism_flow.hpp"
 #include "calibration/mechanism_spring_fit.hpp"
 #include "calibration/mechanism_spring_start.hpp"
 #include "calibration/recording.hpp"

@@ -236,8 +236,9 @@ BiasTally universalBiasTrials(bool fit_bias, int trials, double bias = 0.05, dou
 
 TEST(CalibUniversal, GyroscopeBiasesFitted) {
   constexpr int kTrials = test::kSanitized ? 10 : 50;
-  const BiasTally plain = universalBiasTrials(false, kTrials, 0.05, 0.0, false, false);
-  const BiasTally checked = universalBiasTrials(false, kTrials);
+  const BiasTally plain = test::kSanitized ? BiasTally() : universalBiasTrials(false, kTrials, 0.05, 0.0, false, false);
+  // (The check's tally repeats the plain one with four more fits each: not under the sanitizers.)
+  const BiasTally checked = test::kSanitized ? BiasTally() : universalBiasTrials(false, kTrials);
   const BiasTally fitted = universalBiasTrials(true, kTrials);
   EXPECT_EQ(fitted.answered, kTrials);
   for (int a = 0; a < 2; ++a) {
@@ -263,8 +264,9 @@ TEST(CalibUniversal, GyroscopeBiasesFitted) {
 /// The secondary sensor's clock off by up to ±50 ms (±5 samples), without biases.
 TEST(CalibUniversal, ClockOffsetFitted) {
   constexpr int kTrials = test::kSanitized ? 10 : 50;
-  const BiasTally plain = universalBiasTrials(false, kTrials, 0.0, 0.05, false, false);
-  const BiasTally checked = universalBiasTrials(false, kTrials, 0.0, 0.05, false);
+  const BiasTally plain =
+      test::kSanitized ? BiasTally() : universalBiasTrials(false, kTrials, 0.0, 0.05, false, false);
+  const BiasTally checked = test::kSanitized ? BiasTally() : universalBiasTrials(false, kTrials, 0.0, 0.05, false);
   const BiasTally fitted = universalBiasTrials(false, kTrials, 0.0, 0.05, true);
   EXPECT_EQ(fitted.answered, kTrials);
   for (int a = 0; a < 2; ++a) {

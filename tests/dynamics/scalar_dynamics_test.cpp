@@ -1,0 +1,212 @@
+/// \file
+/// The joint formulation's dynamics on any scalar (scalar_dynamics.hpp)
+/// against the simulator's articulated-body algorithm (articulated_system.hpp)
+/// on the same models: every joint kind it takes, on either side of its
+/// joint, at random states — u̇ to 1e-11 — and in ceres::Jet, whose value is
+/// the double result and whose derivative is the finite difference's.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <ceres/jet.h>
+
+#include "dynamics/joint_space/articulated_scene.hpp"
+#include "dynamics/joint_space/scalar_dynamics.hpp"
+#include "liegroup/invalid_input.hpp"
+#include "liegroup/so3.hpp"
+#include "model/scene.hpp"
+
+namespace lieflow {
+namespace articulated {
+namespace {
+
+/// Spherical joints with the parent main (top, ball) and secondary (socket:
+/// its main body e is the child), a universal and a revolute joint whose
+/// main bodies are the children, springs, dashpots and an applied moment.
+const char* kBalls = R"({"name": "balls", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "a", "mass": 1.2, "inertia": [0.02, 0.03, 0.025], "position": [0, 0, -0.3]},
+    {"name": "b", "mass": 0.8, "inertia": [0.01, 0.012, 0.006], "position": [0, 0, -0.85]},
+    {"name": "c", "mass": 0.5, "inertia": [0.002, 0.004, 0.005], "position": [0.35, 0, -0.95]},
+    {"name": "d", "mass": 0.7, "inertia": [0.004, 0.003, 0.002], "position": [0.5, 0, -1.15]},
+    {"name": "e", "mass": 0.4, "inertia": [0.003, 0.002, 0.004], "position": [0.5, 0.1, -1.6]}],
+  "joints": [
+    {"name": "top", "type": "spherical", "main": "ground", "secondary": "a",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.3]},
+    {"name": "cross", "type": "universal", "main": "b", "secondary": "a",
+     "anchor_main": [0, 0, 0.25], "anchor_secondary": [0, 0, -0.3],
+     "axis1_main": [1, 0, 0], "axis2_secondary": [0, 1, 0],
+     "spring1": {"stiffness": 2.0, "rest_angle": 0.3}, "damper2": {"damping": 0.05}},
+    {"name": "hinge", "type": "revolute", "main": "c", "secondary": "b",
+     "anchor_main": [-0.15, 0, 0], "anchor_secondary": [0.2, 0, -0.1], "axis_main": [0, 0.6, 0.8],
+     "moment": {"type": "sine", "amplitude": 0.3, "frequency": 1.5}},
+    {"name": "ball", "type": "spherical", "main": "c", "secondary": "d",
+     "anchor_main": [0.15, 0, 0], "anchor_secondary": [0, 0, 0.2]},
+    {"name": "socket", "type": "spherical", "main": "e", "secondary": "d",
+     "anchor_main": [0, -0.1, 0.25], "anchor_secondary": [0, 0, -0.2]}]})";
+
+/// Slides: a cart on a tilted sprung and damped rail, a pendulum hinged on
+/// it, a bead on the pendulum whose slide names the bead (the child) main,
+/// and a sine force on that slide.
+const char* kSlides = R"({"name": "slides", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "cart", "mass": 2.0, "inertia": [0.02, 0.03, 0.04]},
+    {"name": "arm", "mass": 0.6, "inertia": [0.01, 0.012, 0.002], "position": [0, 0, -0.3]},
+    {"name": "bead", "mass": 0.2, "inertia": [0.0004, 0.0004, 0.0002], "position": [0, 0, -0.4]}],
+  "joints": [
+    {"name": "rail", "type": "prismatic", "main": "ground", "secondary": "cart",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0], "axis_main": [0.9805806756909202, 0, 0.19611613513818404],
+     "spring": {"stiffness": 20.0, "rest_position": 0.05}, "damper": {"damping": 0.5}},
+    {"name": "pivot", "type": "revolute", "main": "cart", "secondary": "arm",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.3], "axis_main": [0, 1, 0]},
+    {"name": "slide", "type": "prismatic", "main": "bead", "secondary": "arm",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, -0.1], "axis_main": [0.6, 0, 0.8],
+     "spring": {"stiffness": 50.0, "rest_position": 0.02},
+     "force": {"type": "sine", "amplitude": 0.5, "frequency": 2.0}}]})";
+
+/// A gimbal hip (three hinges through one point) hanging from a pelvis on a
+/// hinge, sprung and damped, with a foot welded to the thigh.
+const char* kGimbal = R"({"name": "gimbal", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "pelvis", "mass": 4.0, "inertia": [0.04, 0.05, 0.06], "position": [0, 0, -0.1]},
+    {"name": "thigh", "mass": 1.5, "inertia": [0.02, 0.02, 0.004], "position": [0.05, 0, -0.5]},
+    {"name": "foot", "mass": 0.5, "inertia": [0.001, 0.003, 0.003], "position": [0.1, 0, -0.8]}],
+  "joints": [
+    {"name": "waist", "type": "revolute", "main": "ground", "secondary": "pelvis",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.1], "axis_main": [0, 0, 1],
+     "spring": {"stiffness": 4.0}},
+    {"name": "hip", "type": "gimbal", "main": "pelvis", "secondary": "thigh",
+     "anchor_main": [0, 0, -0.1], "anchor_secondary": [-0.05, 0, 0.2],
+     "axis1_main": [1, 0, 0], "axis2_main": [0, 0, 1], "axis3_main": [0, 1, 0],
+     "spring1": {"stiffness": 3.0, "rest_angle": 0.3}, "spring2": {"stiffness": 2.0, "rest_angle": -0.2},
+     "damper3": {"damping": 0.05}},
+    {"name": "ankle", "type": "fixed", "main": "thigh", "secondary": "foot",
+     "anchor_main": [0.05, 0, -0.3], "anchor_secondary": [0, 0, 0]}]})";
+
+/// A rotation-only flywheel on a sprung and damped hub, carrying a bob on a
+/// hinge skew to the hub's.
+const char* kFlywheel = R"({"name": "flywheel", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "wheel", "mass": 2.0, "inertia": [0.1, 0.05, 0.05], "rotation_only": true, "position": [0, 0, 0]},
+    {"name": "bob", "mass": 0.6, "inertia": [0.02, 0.01, 0.015], "position": [0, 0.3, -0.5]}],
+  "joints": [
+    {"name": "hub", "type": "revolute", "main": "ground", "secondary": "wheel", "anchor_main": [0, 0, 0],
+     "anchor_secondary": [0, 0, 0], "axis_main": [1, 0, 0], "spring": {"stiffness": 6.0}, "damper": {"damping": 0.04}},
+    {"name": "hanger", "type": "revolute", "main": "wheel", "secondary": "bob", "anchor_main": [0, 0.3, 0],
+     "anchor_secondary": [0, 0, 0.5], "axis_main": [0.6, 0.8, 0]}]})";
+
+struct Tree {
+  SceneDescription scene;
+  Tree() = default;
+  Tree(SceneDescription s, std::unique_ptr<ArticulatedScene> a) : scene(std::move(s)), assembled(std::move(a)) {}
+  std::unique_ptr<ArticulatedScene> assembled;
+  const ArticulatedModel& model() const { return assembled->system->model(); }
+};
+
+Tree tree(const char* json) {
+  Tree t(parseScene(json, "test.json"), nullptr);
+  t.assembled = assembleArticulated(t.scene);
+  return t;
+}
+
+/// A random state of the tree: angles and slides, relative rotations, rates.
+ArticulatedState randomState(const Tree& t, std::mt19937& gen) {
+  std::uniform_real_distribution<double> angle(-1.2, 1.2), rate(-3.0, 3.0);
+  ArticulatedState y = t.assembled->y0;
+  for (int j = 0; j < y.q.size(); ++j) y.q[j] = 0.4 * angle(gen);
+  for (SO3d& N : y.N) N = SO3d::exp(Eigen::Vector3d(angle(gen), angle(gen), angle(gen)));
+  for (int j = 0; j < y.u.size(); ++j) y.u[j] = rate(gen);
+  return y;
+}
+
+template <typename T>
+std::vector<Eigen::Matrix<T, 3, 3>> rotationsOf(const ArticulatedState& y) {
+  std::vector<Eigen::Matrix<T, 3, 3>> out;
+  for (const SO3d& N : y.N) out.push_back(N.matrix().template cast<T>());
+  return out;
+}
+
+void expectSameAccelerations(const char* json, const std::string& what) {
+  SCOPED_TRACE(what);
+  Tree t;
+  try {
+    t = tree(json);
+  } catch (const std::exception& e) {
+    FAIL() << e.what();
+  }
+  ScalarDynamics<double> dynamics(t.model());
+  const CoordinateForces<double> forces = modelForces<double>(t.model());
+  std::mt19937 gen(11);
+  for (int trial = 0; trial < 6; ++trial) {
+    const ArticulatedState y = randomState(t, gen);
+    const double time = 0.37 * trial;
+    Eigen::VectorXd reference;
+    t.assembled->system->accelerations(time, y, &reference);
+    dynamics.setRotations(rotationsOf<double>(y));
+    const Eigen::VectorXd mine = dynamics.accelerations(time, y.q, y.u, forces);
+    ASSERT_EQ(mine.size(), reference.size());
+    EXPECT_LT((mine - reference).norm(), 1e-11 * (1.0 + reference.norm()))
+        << "trial " << trial << "\n  " << mine.transpose() << "\n  vs " << reference.transpose();
+  }
+}
+
+TEST(ScalarDynamics, AgreesWithTheArticulatedBodyAlgorithm) {
+  expectSameAccelerations(kBalls, "spherical joints both ways, universal and revolute with the child main");
+  expectSameAccelerations(kSlides, "slides both ways");
+  expectSameAccelerations(kGimbal, "a gimbal and a weld");
+  expectSameAccelerations(kFlywheel, "a rotation-only wheel carrying a bob");
+}
+
+/// In ceres::Jet the value part is the double evaluation, and the derivative
+/// along a joint coordinate and along a stiffness is the central difference's.
+TEST(ScalarDynamics, JetsCarryTheDerivatives) {
+  using Jet = ceres::Jet<double, 2>;
+  const Tree t = tree(kSlides);
+  std::mt19937 gen(3);
+  const ArticulatedState y = randomState(t, gen);
+  const ScalarDynamics<double> plain(t.model());
+  const ScalarDynamics<Jet> jets(t.model());
+  const CoordinateForces<double> forces = modelForces<double>(t.model());
+  CoordinateForces<Jet> jet_forces = modelForces<Jet>(t.model());
+  Eigen::Matrix<Jet, Eigen::Dynamic, 1> q = y.q.cast<Jet>(), u = y.u.cast<Jet>();
+  q[1].v[0] = 1.0;                   // d/d(pivot angle)
+  jet_forces.stiffness[0].v[1] = 1.0;  // d/d(rail stiffness)
+  const Eigen::Matrix<Jet, Eigen::Dynamic, 1> a = jets.accelerations(0.2, q, u, jet_forces);
+  const Eigen::VectorXd a0 = plain.accelerations(0.2, y.q, y.u, forces);
+  constexpr double h = 1e-6;
+  Eigen::VectorXd qp = y.q, qm = y.q;
+  qp[1] += h;
+  qm[1] -= h;
+  const Eigen::VectorXd dq = (plain.accelerations(0.2, qp, y.u, forces) - plain.accelerations(0.2, qm, y.u, forces)) / (2 * h);
+  CoordinateForces<double> kp = forces, km = forces;
+  kp.stiffness[0] += h;
+  km.stiffness[0] -= h;
+  const Eigen::VectorXd dk = (plain.accelerations(0.2, y.q, y.u, kp) - plain.accelerations(0.2, y.q, y.u, km)) / (2 * h);
+  for (int j = 0; j < a0.size(); ++j) {
+    EXPECT_NEAR(a[j].a, a0[j], 1e-13 * (1.0 + std::abs(a0[j]))) << j;
+    EXPECT_NEAR(a[j].v[0], dq[j], 1e-6 * (1.0 + std::abs(dq[j]))) << j;
+    EXPECT_NEAR(a[j].v[1], dk[j], 1e-6 * (1.0 + std::abs(dk[j]))) << j;
+  }
+}
+
+/// What it does not take is refused, naming the body: a free root.
+TEST(ScalarDynamics, RefusesFreeRoots) {
+  const Tree t = tree(R"({"name": "free", "gravity": [0, 0, -9.81],
+    "bodies": [{"name": "stone", "mass": 1, "inertia": [0.01, 0.02, 0.03]},
+               {"name": "bob", "mass": 1, "inertia": [0.01, 0.01, 0.01], "position": [0, 0, -1]}],
+    "joints": [{"name": "hinge", "type": "revolute", "main": "ground", "secondary": "bob",
+                "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 1], "axis_main": [0, 1, 0]}]})");
+  try {
+    ScalarDynamics<double> d(t.model(), "free.json");
+    FAIL() << "a free root";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'stone' is a free root"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace articulated
+}  // namespace lieflow
