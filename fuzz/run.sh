@@ -3,7 +3,8 @@
 # build-fuzz/ and runs each for SECONDS (default 30) from a seed corpus made
 # of scenes/*.json, fuzz/corpus/, the test models and MuJoCo's sample models
 # and, when build/app/lieflow exists, a recording it writes. Prints executions, corpus size and crashes per target;
-# exits 1 when a target found a crash (its input is saved in build-fuzz/).
+# exits 1 when a target found a crash (its input is saved in build-fuzz/ as
+# fuzz_T-crash-...). The targets run side by side, one per core.
 # Usage: bash fuzz/run.sh [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -50,10 +51,10 @@ if [ -x "$root/build/app/lieflow" ]; then
   "$root/build/app/lieflow" simulate double-pendulum --every 50 --t-end 0.5 --out "$out/corpus-run/double-pendulum.csv" >/dev/null
 fi
 
-status=0
-for t in "${targets[@]}"; do
-  log="$out/fuzz_$t.log"
-  extra=()
+# One target for SECONDS; its exit status in fuzz_T.rc. The targets run as
+# many at a time as the machine has cores (each fuzzer uses one).
+run_target() {
+  local t=$1 log="$out/fuzz_$1.log" extra=()
   case $t in
     mjcf|urdf) extra=(-dict="$root/fuzz/$t.dict" -max_len=65536) ;;
     *) extra=(-max_len=8192) ;;
@@ -61,14 +62,33 @@ for t in "${targets[@]}"; do
   set +e
   (cd "$out" && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions="$root/fuzz/lsan.supp" \
       "./fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-      "${extra[@]}" "corpus-$t" >"$log" 2>&1)
-  rc=$?
+      -artifact_prefix="$out/fuzz_$t-" "${extra[@]}" "corpus-$t" >"$log" 2>&1)
+  echo $? >"$out/fuzz_$t.rc"
   set -e
+}
+
+jobs_at_once=$(nproc)
+running=0
+for t in "${targets[@]}"; do
+  run_target "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs_at_once" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+done
+wait
+
+status=0
+for t in "${targets[@]}"; do
+  log="$out/fuzz_$t.log"
+  rc=$(cat "$out/fuzz_$t.rc")
   execs=$(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}' || true)
   corpus=$(find "$out/corpus-$t" -type f | wc -l)
-  crashes=$(find "$out" -maxdepth 1 \( -name 'crash-*' -o -name 'timeout-*' -o -name 'leak-*' -o -name 'oom-*' \) | wc -l)
+  crashes=$(find "$out" -maxdepth 1 \( -name "fuzz_$t-crash-*" -o -name "fuzz_$t-timeout-*" -o -name "fuzz_$t-leak-*" \
+                                     -o -name "fuzz_$t-oom-*" \) | wc -l)
   echo "fuzz_$t: ${execs:-?} executions in ${seconds} s, corpus ${corpus} inputs, exit ${rc}"
-  if [ $rc -ne 0 ]; then
+  if [ "$rc" -ne 0 ]; then
     status=1
     echo "fuzz_$t FOUND A PROBLEM ($crashes saved inputs); the log's end:"
     tail -30 "$log"
