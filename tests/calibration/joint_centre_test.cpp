@@ -264,10 +264,13 @@ TEST(CalibJointCentre, SphericalDefaultsFilterAWobbleAndCheckTheQuarters) {
   std::printf("spherical, wobbling, no flag: within 3 sigma %d / %d anchors, mean (error/sigma)^2 %.2f, model check "
               "agreeing in %d of %d\n",
               covered, 2 * kTrials, ratio_sq, agreed, kTrials);
-  EXPECT_GE(covered, 2 * kTrials - 3);
-  EXPECT_GT(ratio_sq, 0.4);
-  EXPECT_LT(ratio_sq, 1.8);
-  EXPECT_GE(agreed, kTrials - 2);
+  // (Statistics over 12 recordings; the sanitized run's 2 only run the code.)
+  if (!test::kSanitized) {
+    EXPECT_GE(covered, 2 * kTrials - 3);
+    EXPECT_GT(ratio_sq, 0.4);
+    EXPECT_LT(ratio_sq, 1.8);
+    EXPECT_GE(agreed, kTrials - 2);
+  }
   app::NoiseOptions noise;
   noise.gyro = 0.01;
   noise.acc = 0.05;

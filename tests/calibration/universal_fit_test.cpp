@@ -85,9 +85,12 @@ TEST(CalibUniversal, DefaultsLeaveWobblingGyroscopesOut) {
   std::printf("universal, gyroscopes wobbling 1 rad/s, no flag: mean (error/sigma)^2 %.2f, model check agreeing in %d "
               "of %d\n",
               ratio, checked, kTrials);
-  EXPECT_GT(ratio, 0.4);
-  EXPECT_LT(ratio, 1.8);
-  EXPECT_GE(checked, kTrials - 2);
+  // (Statistics over 20 recordings; the sanitized run's 4 only run the code.)
+  if (!test::kSanitized) {
+    EXPECT_GT(ratio, 0.4);
+    EXPECT_LT(ratio, 1.8);
+    EXPECT_GE(checked, kTrials - 2);
+  }
   // Without a wobble the gyroscopes stay in, saying why.
   const UniversalFit plain =
       fitUniversal(recordMotion(randomUniversalMotion(gen), kSamples, kRateHz, RecordingNoise{0.01, 0.5 * kDeg, true, true}, gen));
