@@ -639,7 +639,8 @@ _AXIS_FIT = {"main": ("--main", _text), "secondary": ("--secondary", _text), "us
              "max_iterations": ("--max-iterations", _integer), "max_sigma_deg": ("--max-sigma-deg", _number),
              "min_samples": ("--min-samples", _integer), "max_input_mb": ("--max-input-mb", _integer),
              "max_rows": ("--max-rows", _integer), "verbose": ("--verbose", None)}
-_UNIVERSAL_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None))
+_UNIVERSAL_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
+                      low_pass=("--low-pass", _low_pass))
 _HINGE_FIT = dict(_AXIS_FIT, fit_gyro_bias=("--fit-gyro-bias", None), fit_time_offset=("--fit-time-offset", None),
                   estimator=("--estimator", _text), low_pass=("--low-pass", _low_pass))
 
@@ -679,15 +680,19 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
 def calibrate_universal(recording, main=None, secondary=None, use=None, loss=None, loss_scale=None,
                         start_main=None, start_secondary=None, max_iterations=None, max_sigma_deg=None,
                         min_samples=None, max_input_mb=None, max_rows=None, verbose=False, fit_gyro_bias=False,
-                        fit_time_offset=False, partial=False):
+                        fit_time_offset=False, low_pass=None, partial=False):
     """Both axes of a universal joint, as ``lieflow calibrate universal``
     (needs orientations); arguments and errors as calibrate_hinge
     (fit_gyro_bias: the gyroscopes' biases perpendicular to each body's axis;
-    fit_time_offset: the secondary sensor's clock offset, time_offset)."""
+    fit_time_offset: the secondary sensor's clock offset, time_offset).
+    Never filtered: with low_pass=None (auto) gyroscopes that wobble on soft
+    tissue are left out and the orientations answer ("low_pass_reason" says
+    so); low_pass="none" keeps them. From 1000 samples the fit checks its
+    quarters ("model_check", "model_spread_deg", "segments")."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
                   min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
-                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset)
+                  fit_gyro_bias=fit_gyro_bias, fit_time_offset=fit_time_offset, low_pass=low_pass)
     return _calibrate("universal", recording, _UNIVERSAL_FIT, values, partial)
 
 
@@ -703,7 +708,10 @@ def calibrate_spherical(recording, main=None, secondary=None, max_input_mb=None,
     accelerometers (B.wx.., B.ax..), as ``lieflow calibrate spherical``:
     anchor_main, anchor_secondary [m] from each sensor point in its body's
     axes, their _sigma, rms_residual, converged, message; errors as
-    calibrate_hinge. low_pass=HZ low-passes both first (as calibrate_hinge)."""
+    calibrate_hinge. low_pass=None (auto) low-passes both at 4 Hz when a
+    gyroscope wobbles, "none" never, HZ at that cutoff (as calibrate_hinge);
+    "low_pass_hz" and "low_pass_reason" say which. From 4000 samples the fit
+    checks its quarters' anchors ("model_check", "model_spread_m", "segments")."""
     values = dict(main=main, secondary=secondary, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
                   low_pass=low_pass)
     return _calibrate("spherical", recording, _CENTRE_FIT, values, partial)

@@ -228,6 +228,10 @@ def test_calibrate_universal_gyro_bias(tmp_path, run_command):
     fit = lieflow.calibrate_universal(str(tmp_path / "rec.csv"), fit_gyro_bias=True, fit_time_offset=True)
     for key in set(command) - TIMING:
         assert fit[key] == command[key], key
+    # Never filtered; low_pass="none" as --low-pass none.
+    assert fit["low_pass_hz"] is None
+    plain = lieflow.calibrate_universal(str(tmp_path / "rec.csv"), low_pass="none", partial=True)
+    assert plain["low_pass_reason"] == "no filter: asked for (--low-pass none)"
 
 
 @pytest.mark.skipif(not lieflow._lieflow.have_calibration, reason="built without Ceres")
