@@ -45,10 +45,10 @@ using calibration::AxisFitOptions;
 using calibration::AxisFitSummary;
 using Json = nlohmann::ordered_json;
 
-/// A fit's check across segments (calibration/model_check.hpp):
-/// model_spread_deg or _m (null when not checked), model_check, segments.
-/// The check's keys; `main` and `secondary` name the segments' answers
-/// ("axis_main" in degrees, "anchor_main" in metres) and `unit` their unit.
+/// A fit's check across segments (calibration/model_check.hpp): the keys
+/// model_spread_UNIT (null when not checked), model_check and segments, whose
+/// answers `main` and `secondary` name ("axis_main" with `unit` "deg",
+/// "anchor_main" with "m").
 void addModelCheck(Json& j, const calibration::ModelCheck& check, const std::string& main = "axis_main",
                    const std::string& secondary = "axis_secondary", const std::string& unit = "deg") {
   j["model_spread_" + unit] = check.ran ? Json(std::max(check.spread_main, check.spread_secondary)) : Json(nullptr);

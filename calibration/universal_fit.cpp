@@ -216,17 +216,13 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
   return fit;
 }
 
-}  // namespace
-
-namespace {
-
 UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.estimator == HingeEstimator::kLikelihood)
     throw InvalidInput(samples.source, "--estimator likelihood is an option of the hinge fit");
   if (options.low_pass_hz > 0.0)
     throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
                                        "gyroscope residual by the rates' white noise, which a filter colours)");
-  DataSelection data = selectData(samples, options.use, "universal joint");
+  const DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)
     throw NotIdentifiable(
         "a universal joint's axes need both bodies' orientations (" + samples.main.name + ".qw.. and " +
@@ -282,7 +278,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   // leaves the gyroscopes out (their residual is weighted by white noise,
   // which a filter would colour) and reads the orientations alone.
   AxisFitOptions chosen = options;
-  std::string reason = "no filter: the universal fit weighs its gyroscope residual by the rates' white noise";
+  std::string reason = "no filter: the recording has no gyroscopes";
   if (!options.low_pass_auto) {
     reason = "no filter: asked for (--low-pass none)";
   } else if (samples.hasAngularVelocities()) {
