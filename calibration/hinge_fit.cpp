@@ -283,6 +283,17 @@ HingeFit fitHingeChosen(const Recordings& runs, const AxisFitOptions& options, A
   return fit;
 }
 
+/// Whether two recordings hold the same samples (the same file twice, or a copy).
+bool sameSamples(const JointSamples& a, const JointSamples& b) {
+  const auto same = [](const BodySamples& x, const BodySamples& y) {
+    if (x.orientation.size() != y.orientation.size()) return false;
+    for (std::size_t k = 0; k < x.orientation.size(); ++k)
+      if (x.orientation[k].quaternion().coeffs() != y.orientation[k].quaternion().coeffs()) return false;
+    return x.angular_velocity == y.angular_velocity && x.specific_force == y.specific_force;
+  };
+  return a.time == b.time && same(a.main, b.main) && same(a.secondary, b.secondary);
+}
+
 /// σ of the recordings: the whole fit's and the spread one hinge leaves
 /// across the segments (model_check.hpp), when they disagree.
 void widenBySpread(HingeFit* fit) {
@@ -322,6 +333,13 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
                                        " would be its own, and the fit over several recordings does not estimate "
                                        "them; fit each recording alone with it");
   }
+  // A recording given twice would count its information twice (σ √2 too small).
+  for (std::size_t a = 0; a < recordings.size(); ++a)
+    for (std::size_t b = a + 1; b < recordings.size(); ++b)
+      if (sameSamples(recordings[a], recordings[b]))
+        throw InvalidInput(recordings[b].source, "holds the same samples as " + recordings[a].source +
+                                                     ": a recording given twice would count its information twice "
+                                                     "(sigma too small by the square root of 2)");
   Recordings runs;
   for (const JointSamples& r : recordings) runs.push_back(&r);
   AxisFitOptions chosen;

@@ -328,6 +328,10 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
       if (offset) slopes.push_back(rateDerivative(samples->time, samples->secondary.angular_velocity, k2));
     }
     runs.begin.push_back(static_cast<int>(m1.size()));
+    const int paired = runs.size(runs.count() - 1);
+    if (recordings.size() > 1 && paired < 2 * kHalfStencil + 2)
+      throw NotIdentifiable(samples->source + " has " + std::to_string(paired) + " samples: the likelihood fit needs " +
+                            "at least " + std::to_string(2 * kHalfStencil + 2) + " in each recording");
   }
   const double h = runs.step.front();
   const int shift = offset ? options_in.offset_shift : 0;

@@ -188,6 +188,15 @@ TEST(CalibHingeRecordings, RefusesWhatItCannotFitNamingTheRecording) {
     EXPECT_NE(std::string(e.what()).find("a.csv"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("--use"), std::string::npos) << e.what();
   }
+  // The same samples twice (a file given twice, or its copy) would count
+  // their information twice: refused, naming both.
+  try {
+    fitHinge(std::vector<JointSamples>{a, b, named(a, "copy.csv")}, AxisFitOptions());
+    FAIL() << "a recording twice";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("copy.csv"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("same samples as a.csv"), std::string::npos) << e.what();
+  }
   // With --use gyroscopes the two give the fit the same columns.
   AxisFitOptions gyros;
   gyros.use = DataUse::kAngularVelocities;
