@@ -50,8 +50,6 @@ void addModelCheck(Json& j, const calibration::ModelCheck& check, const std::str
   j["segments"] = segments;
 }
 
-
-/// The keys every calibration prints, after the fit's own.
 /// The joint centre's keys: anchor_main, anchor_secondary, their _sigma and
 /// the frame they are in.
 void putJointCentre(Json& j, const calibration::JointCentreFit& c, bool hinge) {
@@ -83,6 +81,7 @@ void addJointCentre(Json& j, const calibration::JointSamples& joint, const Eigen
   }
 }
 
+/// The keys every axis fit prints after its own: the solve's summary.
 void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSamples& joint) {
   j["rms_residual"] = s.rms_residual;
   j["iterations"] = s.iterations;
@@ -116,7 +115,6 @@ void addSummary(Json& j, const AxisFitSummary& s, const calibration::JointSample
   j["seconds"] = s.seconds;
 }
 
-/// Prints the JSON; exit 1 with the solver's message when it did not converge.
 /// The first non-finite number in j ("stiffness_sigma", "axis_main[1]"), or "".
 std::string nonFiniteKey(const Json& j, const std::string& path = "") {
   if (j.is_number_float() && !std::isfinite(j.get<double>())) return path.empty() ? "value" : path;
@@ -137,6 +135,7 @@ std::string nonFiniteKey(const Json& j, const std::string& path = "") {
 
 Json vector3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
+/// The JSON; exit 1 with the solver's message when it did not converge.
 CommandOutcome finish(const Json& j, bool converged, const std::string& message, const std::string& what) {
   // Never a NaN or inf in the output (nlohmann would print it as null, or
   // -nan where it is not JSON): the fit failed, and says which figure.

@@ -365,13 +365,23 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
     context.hint = kOrientationHint;
   }
   if (data.rates) {
-    // The rates paired as the whole-sample clock offset says (as recorded without one).
+    // The rates paired as the whole-sample clock offset says (as recorded
+    // without one): all of them for the starts, each recording's for its
+    // noise (after a low-pass filter third differences no longer measure it).
     std::vector<Eigen::Vector3d> w1, w2;
-    for (const JointSamples* run : runs)
+    std::vector<double> run_noise;
+    for (const JointSamples* run : runs) {
+      std::vector<Eigen::Vector3d> v1, v2;
       for (int k = std::max(0, shift); k < run->size() && k - shift < run->size(); ++k) {
-        w1.push_back(run->main.angular_velocity[k]);
-        w2.push_back(run->secondary.angular_velocity[k - shift]);
+        v1.push_back(run->main.angular_velocity[k]);
+        v2.push_back(run->secondary.angular_velocity[k - shift]);
       }
+      if (!filtered)
+        run_noise.push_back(
+            std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(v1), 2) + std::pow(whiteNoiseFromDifferences(v2), 2))));
+      w1.insert(w1.end(), v1.begin(), v1.end());
+      w2.insert(w2.end(), v2.begin(), v2.end());
+    }
     if (!data.orientations) {
       rateStarts(samples, w1, w2, data.accelerometers, &starts, &search_starts);
       context.hint = kRateHint;
@@ -383,16 +393,8 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
       const JointSamples& run = *runs[r];
       kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(run, at.axis1, at.axis2, shift, options.fit_time_offset)
                                            : gyroKind(run, shift, recordingLabel(runs, r)));
-      // (After a low-pass filter third differences no longer measure the noise.)
-      if (filtered) continue;
-      std::vector<Eigen::Vector3d> v1, v2;
-      for (int k = std::max(0, shift); k < run.size() && k - shift < run.size(); ++k) {
-        v1.push_back(run.main.angular_velocity[k]);
-        v2.push_back(run.secondary.angular_velocity[k - shift]);
-      }
-      kinds.back()->setIndependentNoise(
-          std::sqrt(0.5 * (std::pow(whiteNoiseFromDifferences(v1), 2) + std::pow(whiteNoiseFromDifferences(v2), 2))),
-          "the third differences of the recorded angular velocities");
+      if (!filtered)
+        kinds.back()->setIndependentNoise(run_noise[r], "the third differences of the recorded angular velocities");
     }
   }
   std::vector<const ResidualKind*> accelerometers;

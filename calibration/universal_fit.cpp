@@ -284,16 +284,12 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   } else if (samples.hasAngularVelocities()) {
     const LowPassChoice wobble = chooseLowPass(samples);
     if (wobble.cutoff_hz > 0.0) {
-      const std::string found = wobble.reason.substr(0, wobble.reason.find("; low-passed"));
+      reason = "no filter although " + wobble.reason.substr(0, wobble.reason.find("; low-passed")) +
+               ": the universal fit weighs its gyroscope residual by the rates' white noise, which a filter colours";
       if (options.use == DataUse::kAuto && samples.hasOrientations() && !options.fit_gyro_bias &&
           !options.fit_time_offset) {
         chosen.use = DataUse::kOrientations;
-        reason = "no filter although " + found + ": the universal fit weighs its gyroscope residual by the rates' "
-                 "white noise, which a filter colours, so it reads the orientations alone (--low-pass none keeps "
-                 "the gyroscopes)";
-      } else {
-        reason = "no filter although " + found + ": the universal fit weighs its gyroscope residual by the rates' "
-                 "white noise, which a filter colours";
+        reason += ", so it reads the orientations alone (--low-pass none keeps the gyroscopes)";
       }
     } else {
       reason = wobble.reason;

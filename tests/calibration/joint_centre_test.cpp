@@ -161,6 +161,16 @@ TEST(CalibJointCentre, NeedsBothAccelerometers) {
   EXPECT_THROW(fitJointCentre(joint, nullptr, nullptr), InvalidInput);
 }
 
+/// The sensors' noise of these tests: gyroscopes 0.01 rad/s, accelerometers
+/// 0.05 m/s², drawn from `seed`.
+app::NoiseOptions sensorNoise(unsigned long long seed) {
+  app::NoiseOptions noise;
+  noise.gyro = 0.01;
+  noise.acc = 0.05;
+  noise.seed = seed;
+  return noise;
+}
+
 /// 50 trials, random initial rates (2-4 rad/s per axis), gyroscope noise
 /// 0.01 rad/s and accelerometer noise 0.05 m/s² at 100 Hz for 10 s (also
 /// under the sanitizers: on 3 s recordings σ is too small, mean (error/σ)²
@@ -178,10 +188,7 @@ void expectHonest(const std::string& type, unsigned seed, double seconds = 10.0,
   constexpr int kTrials = 50;
   for (int t = 0; t < kTrials; ++t) {
     const Eigen::Vector3d w1(rate(gen), rate(gen), rate(gen)), w2(rate(gen), rate(gen), rate(gen));
-    app::NoiseOptions noise;
-    noise.gyro = 0.01;
-    noise.acc = 0.05;
-    noise.seed = gen();
+    const app::NoiseOptions noise = sensorNoise(gen());
     const JointSamples recorded =
         record(pairScene(type, w1, w2), seconds, noise, wobble ? Wobble(1.0, 2.0, gen) : Wobble());
     LowPassFilter filter;
@@ -243,10 +250,7 @@ TEST(CalibJointCentre, SphericalDefaultsFilterAWobbleAndCheckTheQuarters) {
   double ratio_sq = 0.0;
   for (int t = 0; t < kTrials; ++t) {
     const Eigen::Vector3d w1(rate(gen), rate(gen), rate(gen)), w2(rate(gen), rate(gen), rate(gen));
-    app::NoiseOptions noise;
-    noise.gyro = 0.01;
-    noise.acc = 0.05;
-    noise.seed = gen();
+    const app::NoiseOptions noise = sensorNoise(gen());
     const JointSamples recorded = record(pairScene("spherical", w1, w2), 40.0, noise, Wobble(1.0, 2.0, gen));
     const SphericalFit fit = fitSpherical(recorded);
     EXPECT_EQ(fit.low_pass_hz, kWobbleCutoffHz);
@@ -271,10 +275,7 @@ TEST(CalibJointCentre, SphericalDefaultsFilterAWobbleAndCheckTheQuarters) {
     EXPECT_LT(ratio_sq, 1.8);
     EXPECT_GE(agreed, kTrials - 2);
   }
-  app::NoiseOptions noise;
-  noise.gyro = 0.01;
-  noise.acc = 0.05;
-  noise.seed = 9;
+  const app::NoiseOptions noise = sensorNoise(9);
   const SphericalFit plain =
       fitSpherical(record(pairScene("spherical", Eigen::Vector3d(1, -2, 3), Eigen::Vector3d(-3, 1, 2)), 10.0, noise));
   EXPECT_EQ(plain.low_pass_hz, 0.0);
