@@ -6,7 +6,9 @@
 /// momentum drift over time; written as CSV and drawn with matplotlib. On an
 /// MJCF model, MuJoCo's own integrators may run beside lieflow's
 /// (--with-mujoco): their rows are named mujoco-euler, mujoco-rk4 and
-/// mujoco-implicit, their errors measured against the same reference.
+/// mujoco-implicit, their errors measured against MuJoCo's own converged run
+/// (its RK4 at the reference's step): each engine's integrator error on its
+/// own model, with how far the two references lie apart in words.
 #pragma once
 
 #include <functional>
@@ -80,6 +82,11 @@ struct StudyRow {
   double newton_iterations_mean = 0.0;
   bool failed = false;
   std::string failure;
+  /// What this row's errors are measured against, when not the study's
+  /// reference (MuJoCo's rows: MuJoCo's own converged run), and that run's
+  /// own estimated orientation error. Empty: StudyResult::reference.
+  std::string reference;
+  double reference_error = 0.0;
 };
 
 struct DriftSample {

@@ -113,16 +113,16 @@ def fastest_mujoco(all_series, level, only=None):
     return best, who
 
 
-def equal_time_rows(scene, s, floor=None, floor_factor=10.0):
+def equal_time_rows(scene, s, floor=None, floor_factor=10.0, floor_what="the references' own errors"):
     """The table rows of lieflow's best error at MuJoCo's fastest time for
     each level of LEVELS, and the ratios that could be evaluated. With
-    `floor` (the difference between the engines' own references), a level
-    below floor_factor times it is not compared (a row says so)."""
+    `floor` (what an error cannot be measured below, `floor_what` in words),
+    a level below floor_factor times it is not compared (a row says so)."""
     rows, ratios = [], []
     for level in LEVELS:
         if floor is not None and level < floor_factor * floor:
-            rows.append(f"| {scene} | {level:.0e} | not compared: within {floor_factor:g}x of the engines' model "
-                        f"difference ({floor:.2g} rad) | | | |")
+            rows.append(f"| {scene} | {level:.0e} | not compared: within {floor_factor:g}x of {floor_what} "
+                        f"({floor:.2g} rad) | | | |")
             continue
         t, who = fastest_mujoco(s, level)
         if t is None:
