@@ -130,38 +130,51 @@ void ArticulatedSystem::closureTerms(ClosureLevel level) const {
 }
 
 void ArticulatedSystem::closureInverseMass() const {
+  if (model_.closure_rows == 1)
+    closureInverseMassWith(data_.closure_column);
+  else
+    closureInverseMassWith(data_.closure_columns);
+}
+
+template <int C>
+void ArticulatedSystem::closureInverseMassWith(ArticulatedData::ClosureColumns<C>& w) const {
   // Y = M⁻¹ Gᵀ: the ABA's passes 2 and 3 at zero rates (Featherstone 2008,
   // Table 7.1) with the generalized forces τ = Gᵀ, all m columns in one sweep
   // (6 × m per body), with the factorization (U = I_A S, D⁻¹) of the last
   // solve(): leaves to root the subtrees' forces p_A, root to leaves the
   // accelerations. Prescribed entries stay 0.
   const int n = bodyCount();
+  const int m = model_.closure_rows;
   Eigen::MatrixXd& Y = data_.closure_Y;
+  const Eigen::MatrixXd& G = data_.closure_G;
+  // Row k of Y and column k of G, C wide (fixed for one row).
+  const auto y = [&](int k) { return Y.template block<1, C>(k, 0, 1, m); };
+  const auto gt = [&](int k) { return G.template block<C, 1>(0, k, m, 1).transpose(); };
   Y.setZero();
-  for (int i = 0; i < n; ++i) data_.closure_pA[i].setZero();
+  for (int i = 0; i < n; ++i) w.pA[i].setZero();
   for (int i = n - 1; i >= 0; --i) {
     const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& P = data_.closure_pA[i];
+    Eigen::Matrix<double, 6, C>& P = w.pA[i];
     // u = τ − Sᵀ p_A (kept in Y for pass 3), p_a = p_A + U D⁻¹ u.
     // (Each product assigned on its own: inside a sum Eigen would evaluate it
     // into a heap temporary.)
     for (int f = 0; f < d.free; ++f) {
-      Y.row(d.free_u[f]) = data_.closure_G.col(d.free_u[f]).transpose();
-      Y.row(d.free_u[f]).noalias() -= d.S.col(f).transpose() * P;
+      y(d.free_u[f]) = gt(d.free_u[f]);
+      y(d.free_u[f]).noalias() -= d.S.col(f).transpose() * P;
     }
     if (d.free == 1) {
-      P.noalias() += (d.Dinv(0, 0) * d.U.col(0)) * Y.row(d.free_u[0]);
+      P.noalias() += (d.Dinv(0, 0) * d.U.col(0)) * y(d.free_u[0]);
     } else {
       for (int f = 0; f < d.free; ++f)
-        for (int g = 0; g < d.free; ++g) P.noalias() += (d.Dinv(f, g) * d.U.col(f)) * Y.row(d.free_u[g]);
+        for (int g = 0; g < d.free; ++g) P.noalias() += (d.Dinv(f, g) * d.U.col(f)) * y(d.free_u[g]);
     }
     if (b.parent == kGround) continue;
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& parent = data_.closure_pA[b.parent];
+    Eigen::Matrix<double, 6, C>& parent = w.pA[b.parent];
     if (b.rotation_only) {
       // Pᵀ p_a = (n − c × f, 0), column by column.
       for (int k = 0; k < P.cols(); ++k)
-        parent.col(k).head<3>() += P.col(k).head<3>() - cross3(d.c, P.col(k).tail<3>());
+        parent.col(k).template head<3>() += P.col(k).template head<3>() - cross3(d.c, P.col(k).template tail<3>());
     } else {
       parent += P;
     }
@@ -169,51 +182,54 @@ void ArticulatedSystem::closureInverseMass() const {
   for (int i = 0; i < n; ++i) {
     const BodyData& d = data_.bodies[i];
     const ArticulatedBody& b = model_.bodies[i];
-    Eigen::Matrix<double, 6, Eigen::Dynamic>& a = data_.closure_pA[i];  // p_A is spent: the accelerations
+    Eigen::Matrix<double, 6, C>& a = w.pA[i];  // p_A is spent: the accelerations
     if (b.kind == JointKind::kFree) {
       // A floating root: I_A a = S⁻ᵀ τ − p_A with τ = Gᵀ's rows of its u
       // (S⁻ᵀ τ = (R τ_ω + c × τ_v, τ_v)), then its u̇ = S⁻¹ a
       // (ω̇ = Rᵀ α, v̇_c = a_O + α × c).
-      const int m = static_cast<int>(a.cols());
-      Eigen::Matrix<double, 6, Eigen::Dynamic>& f = data_.closure_root_force;  // sized at construction
-      f.topRows<3>().noalias() = d.R * data_.closure_G.middleCols<3>(b.u_rotation).transpose();
-      f.bottomRows<3>() = data_.closure_G.middleCols<3>(b.u_begin).transpose();
-      for (int k = 0; k < m; ++k) f.col(k).head<3>() += cross3(d.c, f.col(k).tail<3>());
+      Eigen::Matrix<double, 6, C>& f = w.root_force;  // sized at construction
+      f.template topRows<3>().noalias() = d.R * G.template block<C, 3>(0, b.u_rotation, m, 3).transpose();
+      f.template bottomRows<3>() = G.template block<C, 3>(0, b.u_begin, m, 3).transpose();
+      for (int k = 0; k < m; ++k) f.col(k).template head<3>() += cross3(d.c, f.col(k).template tail<3>());
       f -= a;
       const Eigen::LDLT<Matrix6> IA(d.IA);
       a = IA.solve(f);
-      Y.middleRows<3>(b.u_rotation).noalias() = d.R.transpose() * a.topRows<3>();
-      for (int k = 0; k < m; ++k) Y.middleRows<3>(b.u_begin).col(k) = a.col(k).tail<3>() + cross3(a.col(k).head<3>(), d.c);
+      Y.template block<3, C>(b.u_rotation, 0, 3, m).noalias() = d.R.transpose() * a.template topRows<3>();
+      for (int k = 0; k < m; ++k)
+        Y.template block<3, 1>(b.u_begin, k) = a.col(k).template tail<3>() + cross3(a.col(k).template head<3>(), d.c);
       continue;
     }
     if (b.parent == kGround) {
       a.setZero();
     } else if (b.rotation_only) {
-      const Eigen::Matrix<double, 6, Eigen::Dynamic>& ap = data_.closure_pA[b.parent];
+      const Eigen::Matrix<double, 6, C>& ap = w.pA[b.parent];
       for (int k = 0; k < a.cols(); ++k) {
-        a.col(k).head<3>() = ap.col(k).head<3>();
-        a.col(k).tail<3>() = cross3(d.c, ap.col(k).head<3>());
+        a.col(k).template head<3>() = ap.col(k).template head<3>();
+        a.col(k).template tail<3>() = cross3(d.c, ap.col(k).template head<3>());
       }
     } else {
-      a = data_.closure_pA[b.parent];
+      a = w.pA[b.parent];
     }
     if (d.free == 1) {
       // q̈ = D⁻¹ (u − Uᵀ a), a += S q̈.
-      data_.closure_rows3.row(0).noalias() = d.U.col(0).transpose() * a;
-      Y.row(d.free_u[0]) = d.Dinv(0, 0) * (Y.row(d.free_u[0]) - data_.closure_rows3.row(0));
-      a.noalias() += d.S.col(0) * Y.row(d.free_u[0]);
+      w.rows3.row(0).noalias() = d.U.col(0).transpose() * a;
+      y(d.free_u[0]) = d.Dinv(0, 0) * (y(d.free_u[0]) - w.rows3.row(0));
+      a.noalias() += d.S.col(0) * y(d.free_u[0]);
     } else if (d.free > 1) {
       const int nf = d.free;
-      data_.closure_rows3.topRows(nf).noalias() = -d.U.leftCols(nf).transpose() * a;
-      for (int f = 0; f < nf; ++f) data_.closure_rows3.row(f) += Y.row(d.free_u[f]);
+      w.rows3.topRows(nf).noalias() = -d.U.leftCols(nf).transpose() * a;
+      for (int f = 0; f < nf; ++f) w.rows3.row(f) += y(d.free_u[f]);
       for (int f = 0; f < nf; ++f) {
-        Y.row(d.free_u[f]).setZero();
-        for (int g = 0; g < nf; ++g) Y.row(d.free_u[f]) += d.Dinv(f, g) * data_.closure_rows3.row(g);
-        a.noalias() += d.S.col(f) * Y.row(d.free_u[f]);
+        y(d.free_u[f]).setZero();
+        for (int g = 0; g < nf; ++g) y(d.free_u[f]) += d.Dinv(f, g) * w.rows3.row(g);
+        a.noalias() += d.S.col(f) * y(d.free_u[f]);
       }
     }
   }
 }
+
+template void ArticulatedSystem::closureInverseMassWith(ArticulatedData::ClosureColumns<Eigen::Dynamic>&) const;
+template void ArticulatedSystem::closureInverseMassWith(ArticulatedData::ClosureColumns<1>&) const;
 
 int ArticulatedSystem::factorClosureRows() const {
   closureInverseMass();
@@ -292,6 +308,13 @@ bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, i
                                          std::string* why) const {
   *iterations = 0;
   if (!hasClosures()) return true;
+  if (coupling_G_.size() != 0) {
+    // Linear in joint coordinates: no poses needed to check it.
+    const int nq = y->scalarCount();
+    data_.closure_r = coupling_phi0_;
+    data_.closure_r.noalias() += coupling_G_.leftCols(nq) * y->q;
+    if (data_.closure_r.cwiseAbs().maxCoeff() <= tolerance) return true;
+  }
   double last = std::numeric_limits<double>::infinity();
   for (int it = 0;; ++it) {
     forwardPass(t, *y, false, false);  // poses only: most steps end here
@@ -321,6 +344,12 @@ bool ArticulatedSystem::projectPositions(double t, State* y, double tolerance, i
 bool ArticulatedSystem::projectVelocities(double t, State* y, std::string* why) const {
   (void)why;
   if (!hasClosures()) return true;
+  if (coupling_G_.size() != 0) {
+    data_.closure_r.noalias() = coupling_G_ * y->u;
+    const double floor = kCouplingRateUlps * std::numeric_limits<double>::epsilon() * coupling_G_max_ *
+                         y->u.cwiseAbs().maxCoeff();
+    if (data_.closure_r.cwiseAbs().maxCoeff() <= floor) return true;
+  }
   forwardPass(t, *y, true, true);
   solve(Vector6::Zero(), &data_.udot);
   closureTerms(ClosureLevel::kVelocity);

@@ -48,9 +48,10 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
     data_.closure_lambda.setZero(m);
     data_.closure_s.setZero(m);
     data_.closure_rhs.setZero(m);
-    data_.closure_pA.assign(model_.bodies.size(), Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m));
-    data_.closure_rows3.setZero(3, m);
-    data_.closure_root_force.setZero(6, m);
+    if (m == 1)
+      data_.closure_column.resize(model_.bodies.size(), 1);
+    else
+      data_.closure_columns.resize(model_.bodies.size(), m);
     data_.closure_x.setZero(n);
     data_.closure_perm.assign(m, 0);
     for (const ArticulatedClosure& c : model_.closures) data_.closure_phi.push_back(c.initial_angles);
@@ -74,6 +75,11 @@ ArticulatedSystem::ArticulatedSystem(ArticulatedModel model)
       closureTerms(ClosureLevel::kJacobian);
       coupling_G_ = data_.closure_G;
       coupling_G_ = (coupling_G_.array().abs() < 1e-12).select(0.0, coupling_G_);
+      coupling_G_max_ = coupling_G_.cwiseAbs().maxCoeff();
+      const auto unwrapped = data_.closure_phi;  // closureTerms may move them
+      closureTerms(ClosureLevel::kPosition);
+      coupling_phi0_ = data_.closure_r;
+      data_.closure_phi = unwrapped;
     }
   }
   findIndependentBlocks();

@@ -218,12 +218,21 @@ class ArticulatedSystem {
   static constexpr double kPositionRoundoffUlps = 16.0;
   /// Moves y's coordinates onto Φ = 0 by Gauss–Newton steps in the mass
   /// metric, δ = Y λ with G Y λ = −Φ, until max |Φ| ≤ tolerance (false with `why`
-  /// after max_iterations, or if a step does not reduce Φ).
+  /// after max_iterations, or if a step does not reduce Φ). Coupling rows
+  /// alone are linear in joint coordinates, Φ = G q + Φ(0), and are checked
+  /// so, without the bodies' poses: an explicit Runge–Kutta step keeps a
+  /// linear invariant exactly, so most steps end at that check.
   bool projectPositions(double t, State* y, double tolerance, int max_iterations, int* iterations,
                         std::string* why) const;
   /// Removes from y.u its part that violates Φ̇ = 0, in the mass metric:
-  /// u ← u + Y λ with G Y λ = −Φ̇ (prescribed rates stay).
+  /// u ← u + Y λ with G Y λ = −Φ̇ (prescribed rates stay). Coupling rows
+  /// alone: Φ̇ = G u, and a u whose G u lies within kCouplingRateUlps of
+  /// rounding (of max |G| max |u|) is left as it is: projecting it would
+  /// cost a dynamics evaluation (a fifth of an rkmk4 step) to move u by
+  /// rounding. Rounding accumulates across steps until it passes that floor,
+  /// then it is projected.
   bool projectVelocities(double t, State* y, std::string* why) const;
+  static constexpr double kCouplingRateUlps = 64.0;
 
   /// The joints' outputs by scene joint index (from a full dynamics solve at
   /// (t, y): the moment includes what prescribed motion needs and, in a
@@ -419,6 +428,9 @@ class ArticulatedSystem {
   /// data_.closure_Y = M⁻¹ Gᵀ with the factorization of the last solve() (all
   /// m columns in one pass down and one up the tree).
   void closureInverseMass() const;
+  /// Its passes on a workspace of C = m columns (Eigen::Dynamic, or 1).
+  template <int C>
+  void closureInverseMassWith(ArticulatedData::ClosureColumns<C>& w) const;
   /// closureInverseMass(), then G Y factored by pivoted Cholesky into
   /// data_.closure_A and closure_perm; returns its rank.
   int factorClosureRows() const;
@@ -501,6 +513,10 @@ class ArticulatedSystem {
   /// The coupling rows G (m × dofs) when every closure is a coupling (lgvi
   /// takes them), computed at construction; empty otherwise.
   Eigen::MatrixXd coupling_G_;
+  /// With coupling_G_: Φ at q = 0 (Φ(q) = G q + Φ(0) on the scalar
+  /// coordinates, which are all a coupling row touches) and max |G|.
+  Eigen::VectorXd coupling_phi0_;
+  double coupling_G_max_ = 0.0;
   /// Whether every closure is a coupling row.
   bool onlyCouplings() const;
   bool closure_rows_independent_ = true;
