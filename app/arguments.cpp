@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "app/flag_spelling.hpp"
 #include "model/import/model_import.hpp"
 #include "liegroup/input_number.hpp"
 
@@ -189,7 +190,7 @@ std::vector<std::string> summarizedNotes(const std::vector<std::string>& notes, 
 SceneDescription sceneFrom(const Arguments& args, const std::string& scene) {
   SceneDescription s = loadScene(scene, resourceLimitsFrom(args), modelImportOptionsFrom(args, scene));
   for (const std::string& note : summarizedNotes(s.import_notes, args.has("--verbose")))
-    std::cerr << "lieflow: " << scene << ": " << note << "\n";
+    std::cerr << "lieflow: " << scene << ": " << spellFlags(note) << "\n";
   return s;
 }
 

@@ -24,6 +24,7 @@
 #include "app/calibrate_outcome.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/flag_spelling.hpp"
 #include "app/progress.hpp"
 #include "app/run_setup.hpp"
 #include "calibration/hinge_fit.hpp"
@@ -433,7 +434,7 @@ int runCalibrate(int argc, char** argv) {
   }
   const CommandOutcome outcome = calibrate(args);
   if (!outcome.json.is_null()) std::cout << jsonLine(outcome.json) << "\n";
-  if (!outcome.error.empty()) std::cerr << "lieflow: " << outcome.error << "\n";
+  if (!outcome.error.empty()) std::cerr << "lieflow: " << spellFlags(outcome.error) << "\n";
   return outcome.status;
 }
 

@@ -7,6 +7,7 @@
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/flag_spelling.hpp"
 #include "integrators/registry.hpp"
 #include "model/scene.hpp"
 #include "simulation/stepper_table.hpp"
@@ -56,8 +57,8 @@ int runIntegrators(int argc, char** argv) {
               << i.description << "\n";
     const std::string indent(11, ' ');
     const std::string maximal = stepperUnavailable(i.name, SystemKind::kMaximal);
-    std::cout << indent << "with joints: " << (maximal.empty() ? i.joints_note : "no: " + maximal) << "\n";
-    std::cout << indent << "in joint coordinates:" << jointColumns(i.name) << "\n";
+    std::cout << indent << "with joints: " << spellFlags(maximal.empty() ? i.joints_note : "no: " + maximal) << "\n";
+    std::cout << indent << "in joint coordinates:" << spellFlags(jointColumns(i.name)) << "\n";
     for (const IntegratorOption& o : i.options) {
       std::ostringstream line;
       line << indent << "option " << o.name << " = " << o.default_value << " (" << o.meaning << "; "

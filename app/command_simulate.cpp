@@ -12,6 +12,7 @@
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "app/csv_writer.hpp"
+#include "app/flag_spelling.hpp"
 #include "app/output_files.hpp"
 #include "app/progress.hpp"
 #include "app/recording_noise.hpp"
@@ -140,7 +141,7 @@ int runSimulate(int argc, char** argv) {
   } catch (const NonFiniteOutput& e) {
     const std::string kept = file ? file->abandon() : "";
     std::cerr << "lieflow: simulation of " << simulation.scene().source << " with " << options.integrator
-              << ": the output would hold a non-finite number: " << e.what()
+              << ": the output would hold a non-finite number: " << spellFlags(e.what())
               << (noise.any() ? " (after the --noise-* perturbation)" : "") << (kept.empty() ? "" : "; " + kept)
               << "\n";
     return kComputationFailed;
@@ -149,7 +150,7 @@ int runSimulate(int argc, char** argv) {
     const std::string kept = file ? file->abandon() : "";
     if (stats) std::cout << jsonLine(statsJson(result)) << "\n";
     std::cerr << "lieflow: simulation of " << simulation.scene().source << " with " << result.integrator
-              << " failed: " << result.failure << (kept.empty() ? "" : "; " + kept) << "\n";
+              << " failed: " << spellFlags(result.failure) << (kept.empty() ? "" : "; " + kept) << "\n";
     return kComputationFailed;
   }
   if (file) file->commit();

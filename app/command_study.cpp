@@ -5,6 +5,7 @@
 #include "app/arguments.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/flag_spelling.hpp"
 #include "app/output_files.hpp"
 #include "app/replay_output.hpp"
 #include "app/run_setup.hpp"
@@ -69,7 +70,7 @@ int studyAndReport(const Simulation& sim, double t_end, StudyOptions options, bo
               << " frames)\n";
   }
   for (const StudyRow& r : result.rows)
-    if (r.failed) std::cout << "note: " << r.integrator << " at dt = " << r.dt << " failed: " << r.failure << "\n";
+    if (r.failed) std::cout << "note: " << r.integrator << " at dt = " << r.dt << " failed: " << spellFlags(r.failure) << "\n";
   if (result.capped_timings > 0)
     std::cout << "note: " << result.capped_timings << " of " << result.rows.size() << " runs were timed "
               << options.max_repeats << " times in less than --min-time " << options.min_timing_seconds

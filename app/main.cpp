@@ -8,6 +8,7 @@
 
 #include "app/cli.hpp"
 #include "app/commands.hpp"
+#include "app/flag_spelling.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace {
@@ -71,16 +72,16 @@ int main(int argc, char** argv) {
   try {
     return dispatch(argc, argv);
   } catch (const lieflow::app::UsageError& e) {
-    std::cerr << "lieflow: " << e.what() << "\n";
+    std::cerr << "lieflow: " << lieflow::app::spellFlags(e.what()) << "\n";
     return lieflow::app::kBadInput;
   } catch (const lieflow::InvalidInput& e) {
-    std::cerr << "lieflow: " << e.what() << "\n";
+    std::cerr << "lieflow: " << lieflow::app::spellFlags(e.what()) << "\n";
     return lieflow::app::kBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "lieflow: out of memory: the work asked for more memory than this machine gives it\n";
     return lieflow::app::kComputationFailed;
   } catch (const std::exception& e) {
-    std::cerr << "lieflow: error: " << e.what() << "\n";
+    std::cerr << "lieflow: error: " << lieflow::app::spellFlags(e.what()) << "\n";
     return lieflow::app::kComputationFailed;
   }
 }

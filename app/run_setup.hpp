@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/arguments.hpp"
+#include "app/flag_spelling.hpp"
 #include "simulation/simulation.hpp"
 
 namespace lieflow {
@@ -38,9 +39,10 @@ SimulationOptions simulationOptionsFrom(const SceneDescription& scene, const Arg
 nlohmann::ordered_json statsJson(const SimulationResult& result);
 
 /// `j` as one line of JSON, as every command prints its result; bytes that
-/// are not UTF-8 (a name taken from a file) are replaced, never thrown on.
+/// are not UTF-8 (a name taken from a file) are replaced, never thrown on;
+/// the library's `option` names spelled as flags (flag_spelling.hpp).
 inline std::string jsonLine(const nlohmann::ordered_json& j) {
-  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  return spellFlagsIn(j).dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 /// Parses "k=v,k=v" into a map; UsageError naming --options if malformed.

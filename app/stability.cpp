@@ -10,6 +10,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "app/flag_spelling.hpp"
 #include "app/plotting.hpp"
 #include "app/progress.hpp"
 #include "app/run_setup.hpp"
@@ -139,7 +140,7 @@ void writeStabilityCsv(const std::vector<StabilityRow>& rows, const std::string&
   if (!f) throw InvalidInput(path, "cannot open for writing");
   f << "scene,integrator,omega_c,h_omega_max,bounded_on_whole_grid,first_failure,options\n";
   for (const StabilityRow& r : rows) {
-    std::string why = r.first_failure;
+    std::string why = spellFlags(r.first_failure);
     std::replace(why.begin(), why.end(), '"', '\'');
     f << r.scene << "," << r.integrator << "," << r.omega_c << "," << r.h_omega_max << ","
       << (r.unbounded_grid ? "true" : "false") << ",\"" << why << "\",\"" << r.options << "\"\n";
@@ -155,7 +156,7 @@ void printStabilityTable(std::ostream& out, const std::vector<StabilityRow>& row
     out << "| " << r.scene << " | " << r.integrator << " | " << (r.options.empty() ? "-" : r.options) << " | "
         << r.omega_c << " | "
         << (r.unbounded_grid ? std::string(">= ") + h : (r.h_omega_max > 0 ? h : "< grid start")) << " | "
-        << (r.unbounded_grid ? "bounded on the whole grid" : r.first_failure) << " |\n";
+        << (r.unbounded_grid ? "bounded on the whole grid" : spellFlags(r.first_failure)) << " |\n";
   }
 }
 

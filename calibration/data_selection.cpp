@@ -62,7 +62,7 @@ DataSelection selectData(const JointSamples& samples, DataUse use, const std::st
       throw InvalidInput(samples.source, "body '" + b->name + "' has a different number of samples than t");
   const bool asks_accelerometers = use == DataUse::kGyroscopesAccelerometers || use == DataUse::kAll;
   if (asks_accelerometers && !accelerometers_used)
-    throw InvalidInput(samples.source, std::string("--use ") + dataUseName(use) + ": the " + joint +
+    throw InvalidInput(samples.source, std::string("`use` ") + dataUseName(use) + ": the " + joint +
                                            " fit does not use accelerometers (the hinge fit does; the joint "
                                            "centre is reported from them whenever both bodies have them)");
   DataSelection d;
@@ -125,8 +125,8 @@ void checkOrientationsAgreeWithRates(const JointSamples& samples) {
     why << "body '" << b->name << "': its quaternions (" << b->name << ".qw..qz) do not turn as its gyroscopes ("
         << b->name << ".wx..wz) say: their rates agree only after a constant rotation of " << deg
         << " degrees about (" << turn.axis().x() << ", " << turn.axis().y() << ", " << turn.axis().z()
-        << ") in the body frame, so the two are not in the same frame; fit one of them (--use gyroscopes or "
-           "--use orientations) or bring the quaternions into the gyroscopes' frame";
+        << ") in the body frame, so the two are not in the same frame; fit one of them (`use` gyroscopes or "
+           "`use` orientations) or bring the quaternions into the gyroscopes' frame";
     throw InvalidInput(samples.source, why.str());
   }
 }

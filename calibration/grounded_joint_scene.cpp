@@ -27,13 +27,13 @@ int findJoint(const SceneDescription& scene, const std::string& name) {
     }
   }
   if (!name.empty())
-    throw InvalidInput(scene.source + ": --joint",
+    throw InvalidInput(scene.source + ": `joint`",
                        "no joint '" + name + "' in the scene (joints: " + (available.empty() ? "none" : available) +
                            ")");
   if (candidates != 1)
-    throw InvalidInput(scene.source + ": --joint",
+    throw InvalidInput(scene.source + ": `joint`",
                        "the scene has " + std::to_string(candidates) +
-                           " revolute or universal joints: name the one to fit with --joint (joints: " +
+                           " revolute or universal joints: name the one to fit with `joint` (joints: " +
                            (available.empty() ? "none" : available) + ")");
   return only;
 }

@@ -72,20 +72,20 @@ NuisanceSelection nuisanceOf(const JointSamples& samples, const DataSelection& d
   NuisanceSelection n;
   if (!options.fit_gyro_bias && !options.fit_time_offset) return n;
   if (!data.rates)
-    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
-                                           " needs the gyroscopes in the fit (--use gyroscopes, both, "
+    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "`fit_gyro_bias`" : "`fit_time_offset`") +
+                                           " needs the gyroscopes in the fit (`use` gyroscopes, both, "
                                            "gyroscopes+accelerometers or all)");
   if (options.fit_gyro_bias) n.active[0] = n.active[1] = n.active[2] = n.active[3] = true;
   if (options.fit_time_offset) {
     const std::vector<double>& t = samples.time;
     if (t.size() < kMinOffsetSamples)
-      throw InvalidInput(samples.source, "--fit-time-offset needs at least " + std::to_string(kMinOffsetSamples) +
+      throw InvalidInput(samples.source, "`fit_time_offset` needs at least " + std::to_string(kMinOffsetSamples) +
                                              " samples (to shift one clock against the other); the recording has " +
                                              std::to_string(t.size()));
     const double h = (t.back() - t.front()) / (t.size() - 1);
     for (std::size_t k = 0; k + 1 < t.size(); ++k)
       if (std::abs(t[k + 1] - t[k] - h) > kUniformSampling * h)
-        throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
+        throw InvalidInput(samples.source, "`fit_time_offset` needs uniformly sampled times: t[" + std::to_string(k + 1) +
                                                "] - t[" + std::to_string(k) + "] differs from the mean interval " +
                                                "by more than " + formatNumber(kUniformSampling) + " of it");
     n.active[4] = true;
@@ -146,11 +146,11 @@ void modelMisfit(const Recordings& runs, int shift, const Eigen::Vector3d& j1, c
 DataSelection hingeData(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.estimator == HingeEstimator::kLikelihood) {
     if (options.use != DataUse::kAuto && options.use != DataUse::kAngularVelocities)
-      throw InvalidInput(samples.source, std::string("--estimator likelihood with --use ") + dataUseName(options.use) +
-                                             ": the likelihood fit models the two gyroscopes alone (use --use "
+      throw InvalidInput(samples.source, std::string("`estimator` likelihood with `use` ") + dataUseName(options.use) +
+                                             ": the likelihood fit models the two gyroscopes alone (use `use` "
                                              "gyroscopes or auto)");
     if (!samples.hasAngularVelocities())
-      throw InvalidInput(samples.source, "--estimator likelihood needs both bodies' gyroscopes");
+      throw InvalidInput(samples.source, "`estimator` likelihood needs both bodies' gyroscopes");
   }
   DataSelection data = selectData(samples, options.estimator == HingeEstimator::kLikelihood
                                                ? DataUse::kAngularVelocities : options.use,
@@ -158,11 +158,11 @@ DataSelection hingeData(const JointSamples& samples, const AxisFitOptions& optio
   if (options.fit_time_offset && (data.orientations || data.accelerometers)) {
     // The clock offset pairs the gyroscopes' samples; the other kinds pair at the recorded times.
     if (options.use != DataUse::kAuto)
-      throw InvalidInput(samples.source, std::string("--fit-time-offset with --use ") + dataUseName(options.use) +
-                                             ": the offset is estimated from the gyroscopes alone (use --use "
+      throw InvalidInput(samples.source, std::string("`fit_time_offset` with `use` ") + dataUseName(options.use) +
+                                             ": the offset is estimated from the gyroscopes alone (use `use` "
                                              "gyroscopes or auto)");
     data.orientations = data.accelerometers = false;
-    if (!data.rates) throw InvalidInput(samples.source, "--fit-time-offset needs both bodies' gyroscopes");
+    if (!data.rates) throw InvalidInput(samples.source, "`fit_time_offset` needs both bodies' gyroscopes");
   }
   return data;
 }
@@ -177,7 +177,7 @@ DataSelection hingeData(const Recordings& runs, const AxisFitOptions& options) {
     if (other.name() != data.name())
       throw InvalidInput(runs[r]->source, "gives the fit " + other.name() + " where " + runs.front()->source +
                                               " gives " + data.name() + ": a fit over several recordings uses the "
-                                              "same columns of each (choose them with --use)");
+                                              "same columns of each (choose them with `use`)");
   }
   return data;
 }

@@ -133,10 +133,10 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
                             " rad/s), and axes fitted without it can be many sigma off";
   fit->summary.message =
       label.empty()
-          ? "the gyroscopes carry a constant bias: fitting one (--fit-gyro-bias) " + found + "; rerun with --fit-gyro-bias"
+          ? "the gyroscopes carry a constant bias: fitting one (`fit_gyro_bias`) " + found + "; rerun with `fit_gyro_bias`"
           : "the gyroscopes of " + samples.source + " carry a constant bias: fitting one " + found +
                 "; a fit over several recordings does not estimate biases: fit that recording alone with "
-                "--fit-gyro-bias";
+                "`fit_gyro_bias`";
 }
 
 namespace {
@@ -149,17 +149,17 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
     // The likelihood fit and the clock offset model white gyroscope noise
     // sample by sample; the filtered residuals are neither white nor of that size.
     if (likelihood || options.fit_time_offset)
-      throw InvalidInput(samples.source, std::string("--low-pass with ") +
-                                             (likelihood ? "--estimator likelihood" : "--fit-time-offset") +
+      throw InvalidInput(samples.source, std::string("`low_pass` with ") +
+                                             (likelihood ? "`estimator` likelihood" : "`fit_time_offset`") +
                                              ": it models the gyroscopes' white noise sample by sample, which a "
-                                             "filter colours; fit without --low-pass");
+                                             "filter colours; fit without `low_pass`");
     // Each recording filtered alone (a filter's memory does not cross from one to the next).
     LowPassFilter filter;
     std::vector<JointSamples> filtered(runs.size()), trimmed(runs.size());
     Recordings filtered_runs;
     Unfiltered raw;
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      filtered[r] = lowPassed(*runs[r], options.low_pass_hz, "--low-pass", &filter, &trimmed[r]);
+      filtered[r] = lowPassed(*runs[r], options.low_pass_hz, "`low_pass`", &filter, &trimmed[r]);
       filtered_runs.push_back(&filtered[r]);
       raw.samples.push_back(&trimmed[r]);
     }
@@ -246,11 +246,11 @@ namespace {
 /// first recording whose gyroscopes wobble (wobble_check.hpp) sets it for all.
 void chooseFilter(const Recordings& runs, const AxisFitOptions& options, AxisFitOptions* chosen, std::string* reason) {
   if (options.low_pass_hz > 0.0) {
-    *reason = "asked for (--low-pass " + formatNumber(options.low_pass_hz) + ")";
+    *reason = "asked for (`low_pass` " + formatNumber(options.low_pass_hz) + ")";
     return;
   }
   if (!options.low_pass_auto) {
-    *reason = "no filter: asked for (--low-pass none)";
+    *reason = "no filter: asked for (`low_pass` none)";
     return;
   }
   LowPassChoice wobble = chooseLowPass(*runs.front());
@@ -261,7 +261,7 @@ void chooseFilter(const Recordings& runs, const AxisFitOptions& options, AxisFit
   const bool white = options.estimator == HingeEstimator::kLikelihood || options.fit_time_offset;
   if (wobble.cutoff_hz > 0.0 && white) {
     *reason = "no filter although " + wobble.reason.substr(0, wobble.reason.find("; low-passed")) + ": " +
-              (options.fit_time_offset ? "--fit-time-offset" : "--estimator likelihood") +
+              (options.fit_time_offset ? "`fit_time_offset`" : "`estimator` likelihood") +
               " models white gyroscope noise, which a filter colours";
   } else {
     chosen->low_pass_hz = wobble.cutoff_hz;
@@ -325,9 +325,9 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
       throw InvalidInput(r.source, "joins bodies '" + r.main.name + "' and '" + r.secondary.name + "' where " +
                                        first.source + " joins '" + first.main.name + "' and '" +
                                        first.secondary.name + "': the recordings of one fit are of one joint "
-                                       "(name the bodies with --main and --secondary)");
+                                       "(name the bodies with `main` and `secondary`)");
     if (options.fit_gyro_bias || options.fit_time_offset)
-      throw InvalidInput(r.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
+      throw InvalidInput(r.source, std::string(options.fit_gyro_bias ? "`fit_gyro_bias`" : "`fit_time_offset`") +
                                        " with several recordings: each recording's " +
                                        (options.fit_gyro_bias ? "biases" : "clock offset") +
                                        " would be its own, and the fit over several recordings does not estimate "

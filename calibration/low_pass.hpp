@@ -92,7 +92,7 @@ inline int lowPassCorrelationSamples(const LowPassFilter& f) {
 /// is not positive or not below kMaxLowPassNyquistFraction of the Nyquist
 /// frequency, for non-uniform times, or for a recording shorter than 4 trims
 /// plus 20 samples.
-JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field = "--low-pass",
+JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char* field = "`low_pass`",
                        LowPassFilter* filter = nullptr, JointSamples* unfiltered = nullptr);
 
 }  // namespace calibration

@@ -84,10 +84,10 @@ struct MechanismFitter {
   /// revolute joints too).
   void collectCoordinates() {
     std::string why;
-    if (!articulatedCovers(scene, &why)) throw InvalidInput("--scene", "the mechanism spring fit: " + why);
+    if (!articulatedCovers(scene, &why)) throw InvalidInput("`scene`", "the mechanism spring fit: " + why);
     tree = assembleArticulated(scene);
     const articulated::ArticulatedModel& model = tree->system->model();
-    requireMechanismSupported(model, "--scene");
+    requireMechanismSupported(model, "`scene`");
     p.model = &model;
     p.dofs = model.scalar_coordinates;
     p.time = recording.time;
@@ -122,7 +122,7 @@ struct MechanismFitter {
       }
     }
     if (p.fitted.empty())
-      throw InvalidInput("--scene", scene.source + ": no joint coordinate has a spring or a dashpot to fit");
+      throw InvalidInput("`scene`", scene.source + ": no joint coordinate has a spring or a dashpot to fit");
   }
 
   /// What the recording holds for the fit (every joint angle, or every
@@ -150,9 +150,9 @@ struct MechanismFitter {
                                                  list(missing_rates) + ")");
     }
     if (data == MechanismData::kAngles && !missing_angles.empty())
-      throw InvalidInput(recording.source, "--data angles: missing columns " + list(missing_angles));
+      throw InvalidInput(recording.source, "`data` angles: missing columns " + list(missing_angles));
     if (data == MechanismData::kGyroscopes && !missing_rates.empty())
-      throw InvalidInput(recording.source, "--data gyroscopes: missing columns " + list(missing_rates));
+      throw InvalidInput(recording.source, "`data` gyroscopes: missing columns " + list(missing_rates));
     p.gyroscopes = data == MechanismData::kGyroscopes;
     out.data = mechanismDataName(data);
     out.residual_unit = p.gyroscopes ? "rad/s" : "rad";
@@ -163,7 +163,7 @@ struct MechanismFitter {
       spring_parameters += c.stiffness_fitted + c.damping_fitted + (o.fit_rest_angle && c.stiffness_fitted);
     free_parameters = spring_parameters + 2 * static_cast<int>(p.axis_bodies.size()) + 2 * p.dofs;
     if (o.fit_axis && p.axis_bodies.empty())
-      throw InvalidInput("--fit-axis", "no sprung or damped revolute joint whose axis could be fitted");
+      throw InvalidInput("`fit_axis`", "no sprung or damped revolute joint whose axis could be fitted");
     // The axes, started at the scene's (unit, on the sphere).
     axes.resize(p.axis_bodies.size());
     for (std::size_t a = 0; a < axes.size(); ++a) {
@@ -193,7 +193,7 @@ struct MechanismFitter {
     }
     const bool have_angles = std::find(start_angles.begin(), start_angles.end(), nullptr) == start_angles.end();
     if (o.start == MechanismStartFrom::kInverseDynamics && !have_angles)
-      throw InvalidInput("--start", "inverse-dynamics needs every joint angle in the recording, or every body's "
+      throw InvalidInput("`start`", "inverse-dynamics needs every joint angle in the recording, or every body's "
                                     "gyroscopes on revolute and universal joints (missing: " +
                                         list(missing_angles) + ")");
     if (o.start == MechanismStartFrom::kInverseDynamics ||
@@ -240,7 +240,7 @@ struct MechanismFitter {
         o.substeps > 0 ? o.substeps : std::max(1.0, std::ceil(omega * max_interval / kMechanismStepTimesFrequency));
     if (!(per_interval * (n - 1) <= static_cast<double>(o.max_substeps)))
       throw limitExceeded(recording.source + ": t", "integration substeps", per_interval * (n - 1),
-                          static_cast<double>(o.max_substeps), "--max-substeps");
+                          static_cast<double>(o.max_substeps), "`max_substeps`");
     p.substeps = static_cast<int>(per_interval);
     out.substeps = p.substeps;
     period = omega > 0.0 ? 2.0 * kPi / omega : duration;

@@ -226,7 +226,7 @@ Recording parseRecording(std::istream& in, const std::string& source, long max_r
     if (first_blank) throw InvalidInput(where(source, first_blank), "empty row (missing values)");
     if (static_cast<long>(rec.time.size()) >= max_rows)
       throw limitExceeded(source, "data rows", static_cast<double>(max_rows) + 1, static_cast<double>(max_rows),
-                          "--max-rows");
+                          "`max_rows`");
     const std::vector<std::string> cells = splitCells(line);
     readRow(cells, header, source, line_number, &values);
     const double t = values[time_col];
@@ -277,7 +277,7 @@ Recording readRecording(const std::string& path, const ResourceLimits& limits) {
     const std::uintmax_t size = std::filesystem::file_size(path, ec);
     if (!ec && size > limits.max_input_bytes)
       throw limitExceeded(path, "bytes (the file's size)", static_cast<double>(size),
-                          static_cast<double>(limits.max_input_bytes), "--max-input-mb");
+                          static_cast<double>(limits.max_input_bytes), "`max_input_mb`");
     std::ifstream in(path);
     if (!in) throw InvalidInput(path, "cannot open the recording for reading");
     return parseRecording(in, path, limits.max_rows);
@@ -294,7 +294,7 @@ JointSamples selectJoint(const Recording& recording, std::string main, std::stri
   if (main.empty() || secondary.empty()) {
     if (recording.bodies.size() != 2)
       throw InvalidInput(source, "the recording has " + std::to_string(recording.bodies.size()) + " bodies (" +
-                                     recording.bodyList() + "): name them with --main and --secondary");
+                                     recording.bodyList() + "): name them with `main` and `secondary`");
     const std::string& first = recording.bodies[0].name;
     const std::string& second = recording.bodies[1].name;
     if (main.empty()) main = secondary == first ? second : first;

@@ -66,7 +66,7 @@ inline std::string solverStopMessage(const ceres::Solver::Summary& summary) {
       return "converged: the cost stopped changing, to a relative change below the tolerance (" + iterations + ")";
     case ceres::NO_CONVERGENCE:
       return "not converged: the solver stopped at its limit of iterations or time (" + iterations +
-             "; --max-iterations raises it)";
+             "; `max_iterations` raises it)";
     case ceres::USER_SUCCESS:
     case ceres::USER_FAILURE: return "stopped on request after " + iterations;
     case ceres::FAILURE: break;

@@ -16,7 +16,7 @@ namespace {
 JointCentreFit centreOf(const JointSamples& samples, double cutoff_hz, double* noise_gain) {
   if (!(cutoff_hz > 0.0)) return fitJointCentre(samples, nullptr, nullptr);
   LowPassFilter filter;
-  const JointSamples filtered = lowPassed(samples, cutoff_hz, "--low-pass", &filter);
+  const JointSamples filtered = lowPassed(samples, cutoff_hz, "`low_pass`", &filter);
   if (noise_gain) *noise_gain = filter.noisePowerGain();
   return fitJointCentre(filtered, nullptr, nullptr, lowPassCorrelationSamples(filter));
 }
@@ -35,9 +35,9 @@ SphericalFit fitSpherical(const JointSamples& samples, const AxisFitOptions& opt
   SphericalFit fit;
   if (options.low_pass_hz > 0.0) {
     fit.low_pass_hz = options.low_pass_hz;
-    fit.low_pass_reason = "asked for (--low-pass " + formatNumber(options.low_pass_hz) + ")";
+    fit.low_pass_reason = "asked for (`low_pass` " + formatNumber(options.low_pass_hz) + ")";
   } else if (!options.low_pass_auto) {
-    fit.low_pass_reason = "no filter: asked for (--low-pass none)";
+    fit.low_pass_reason = "no filter: asked for (`low_pass` none)";
   } else {
     const LowPassChoice wobble = chooseLowPass(samples);
     fit.low_pass_hz = wobble.cutoff_hz;

@@ -28,7 +28,7 @@ ButcherTableau tableauNamed(const std::string& name) {
   if (name == "rkmk-heun") return ButcherTableau::heun();
   if (name == "rkmk3") return ButcherTableau::kutta3();
   if (name == "rkmk4") return ButcherTableau::rk4();
-  throw InvalidInput("--integrator", "'" + name +
+  throw InvalidInput("`integrator`", "'" + name +
                                          "': calibrate spring integrates the reduced joint model with an explicit "
                                          "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
 }
@@ -44,7 +44,7 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage, con
   throw FitFailed(std::string("the fit failed in ") + stage +
                   ": the model could not be integrated from the start values (stiffness " + formatNumber(theta[0]) +
                   ", damping " + formatNumber(theta[1]) + ", rest angle " + formatNumber(theta[2]) +
-                  "); give starts of the recording's order of magnitude (--stiffness-start, --damping-start) "
+                  "); give starts of the recording's order of magnitude (`stiffness_start`, `damping_start`) "
                   "or none (" + solverFailureReason(summary) + ")");
 }
 
@@ -118,7 +118,7 @@ struct SpringFitter {
       }
       if (!scene_ok)
         throw NotIdentifiable("no start for the " + std::string(name) + ": " + est.why +
-                              "; give --stiffness-start and --damping-start");
+                              "; give `stiffness_start` and `damping_start`");
       from_scene += std::string(from_scene.empty() ? "" : ", ") + name;
       return scene_value;
     };
@@ -132,7 +132,7 @@ struct SpringFitter {
     else
       theta[2] = o.rest_angle_start ? *o.rest_angle_start : scene.rest_angle;
     if (!(theta[0] >= 0.0) || !(theta[1] >= 0.0))
-      throw InvalidInput("--stiffness-start/--damping-start", "starts must be >= 0");
+      throw InvalidInput("`stiffness_start`/`damping_start`", "starts must be >= 0");
     out.start_stiffness = theta[0];
     out.start_damping = theta[1];
     out.start_rest_angle = theta[2];
@@ -174,7 +174,7 @@ struct SpringFitter {
                           "integration substeps (the largest sample interval " + formatNumber(max_interval) +
                               " s at the start's frequency " + formatNumber(omega_max) +
                               " rad/s; is t in seconds, are the starts sane?)",
-                          total_substeps, static_cast<double>(o.max_substeps), "--max-substeps");
+                          total_substeps, static_cast<double>(o.max_substeps), "`max_substeps`");
     out.substeps = static_cast<int>(per_interval);
     p.substeps = out.substeps;
     period = 2.0 * kPi / omega;
@@ -308,10 +308,10 @@ struct SpringFitter {
                                formatNumber(k_gravity) + " N m/rad at the mean angle");
     if (o.hold_damping)
       out.held_fixed.push_back("damping " + formatNumber(out.damping) + " N m s/rad (" +
-                               (o.damping_start ? "--damping-start" : "scene") + ")");
+                               (o.damping_start ? "`damping_start`" : "scene") + ")");
     if (!o.fit_rest_angle)
       out.held_fixed.push_back("rest_angle " + formatNumber(out.rest_angle) + " rad (" +
-                               (o.rest_angle_start ? "--rest-angle-start" : "scene") + ")");
+                               (o.rest_angle_start ? "`rest_angle_start`" : "scene") + ")");
     for (int i = 0; i < N; ++i) {
       if (i != ic && (joint.drives[i].stiffness != 0.0 || joint.drives[i].damping != 0.0))
         out.held_fixed.push_back("coordinate " + std::to_string(i + 1) + " spring " +
@@ -369,7 +369,7 @@ Shooting parseShooting(const std::string& text, const std::string& field) {
 
 SpringFit fitSpring(const GroundedJointScene& joint, const SpringData& data, const SpringFitOptions& options) {
   if (options.coordinate < 0 || options.coordinate >= joint.coordinates)
-    throw InvalidInput("--coordinate", "joint '" + joint.joint_name + "' has " + std::to_string(joint.coordinates) +
+    throw InvalidInput("`coordinate`", "joint '" + joint.joint_name + "' has " + std::to_string(joint.coordinates) +
                                            " coordinate(s)");
   if (joint.coordinates == 1) return fit<1>(joint, joint.revolute, data, options);
   return fit<2>(joint, joint.universal, data, options);

@@ -218,9 +218,9 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
 
 UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions& options) {
   if (options.estimator == HingeEstimator::kLikelihood)
-    throw InvalidInput(samples.source, "--estimator likelihood is an option of the hinge fit");
+    throw InvalidInput(samples.source, "`estimator` likelihood is an option of the hinge fit");
   if (options.low_pass_hz > 0.0)
-    throw InvalidInput(samples.source, "--low-pass is an option of the hinge fit (the universal fit weighs its "
+    throw InvalidInput(samples.source, "`low_pass` is an option of the hinge fit (the universal fit weighs its "
                                        "gyroscope residual by the rates' white noise, which a filter colours)");
   const DataSelection data = selectData(samples, options.use, "universal joint");
   if (!data.orientations)
@@ -230,8 +230,8 @@ UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions
         ".qw..): from gyroscopes alone there is no per-sample constraint (two unmeasured joint angles and "
         "their rates against three measured relative rates)");
   if ((options.fit_gyro_bias || options.fit_time_offset) && !data.rates)
-    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "--fit-gyro-bias" : "--fit-time-offset") +
-                                           " needs both bodies' gyroscopes in the fit (--use both or auto)");
+    throw InvalidInput(samples.source, std::string(options.fit_gyro_bias ? "`fit_gyro_bias`" : "`fit_time_offset`") +
+                                           " needs both bodies' gyroscopes in the fit (`use` both or auto)");
   requireEnoughSamples(samples.size(), options);
   if (!options.fit_time_offset) return fitUniversalAtShift(samples, options, 0, data);
 
@@ -242,7 +242,7 @@ UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions
   const double h = (t.back() - t.front()) / (t.size() - 1);
   for (std::size_t k = 0; k + 1 < t.size(); ++k)
     if (std::abs(t[k + 1] - t[k] - h) > 1e-3 * h)
-      throw InvalidInput(samples.source, "--fit-time-offset needs uniformly sampled times: t[" + std::to_string(k + 1) +
+      throw InvalidInput(samples.source, "`fit_time_offset` needs uniformly sampled times: t[" + std::to_string(k + 1) +
                                              "] - t[" + std::to_string(k) + "] differs from the mean interval");
   const int reach = clampedInt(std::floor(options.max_time_offset / h), 0, samples.size() / 4);
   int best = 0;
@@ -280,7 +280,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
   AxisFitOptions chosen = options;
   std::string reason = "no filter: the recording has no gyroscopes";
   if (!options.low_pass_auto) {
-    reason = "no filter: asked for (--low-pass none)";
+    reason = "no filter: asked for (`low_pass` none)";
   } else if (samples.hasAngularVelocities()) {
     const LowPassChoice wobble = chooseLowPass(samples);
     if (wobble.cutoff_hz > 0.0) {
@@ -289,7 +289,7 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
       if (options.use == DataUse::kAuto && samples.hasOrientations() && !options.fit_gyro_bias &&
           !options.fit_time_offset) {
         chosen.use = DataUse::kOrientations;
-        reason += ", so it reads the orientations alone (--low-pass none keeps the gyroscopes)";
+        reason += ", so it reads the orientations alone (`low_pass` none keeps the gyroscopes)";
       }
     } else {
       reason = wobble.reason;

@@ -95,7 +95,7 @@ LowPassChoice chooseLowPass(const JointSamples& samples) {
   LowPassChoice chosen;
   chosen.cutoff_hz = kWobbleCutoffHz;
   chosen.reason = "a sensor wobbles on soft tissue: " + worst + "; low-passed at " + formatNumber(kWobbleCutoffHz) +
-                  " Hz (gait's 4-6 Hz; --low-pass none: unfiltered, --low-pass HZ: another cutoff)";
+                  " Hz (gait's 4-6 Hz; `low_pass` none: unfiltered, `low_pass` HZ: another cutoff)";
   return chosen;
 }
 

@@ -463,7 +463,7 @@ class LgviStepper {
             << " Newton iterations; h|omega| = " << formatNumber(scalarValue((J_inv * (h * drift.Pi_plus)).norm()))
             << (options_.map == LgviMap::kExponential
                     ? " (the exponential-map equation has no solution for h|omega| >= 1 about a principal axis: "
-                      "use a smaller step or --options cayley=1)"
+                      "use a smaller step or `options` cayley=1)"
                     : "");
         report->detail = why.str();
       }

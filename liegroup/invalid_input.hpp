@@ -11,6 +11,10 @@ namespace lieflow {
 
 /// Bad input that a caller can report and fix (exit status 2 in the `lieflow`
 /// command). `field()` is the name of the offending input, `reason()` the why.
+/// An option of the library's option structs is named, in the field and in
+/// the reason, as its member in backquotes ("`max_steps`", "`use` gyroscopes"):
+/// the library does not know how a caller spelled it. The command line and
+/// the Python module print it as their flag (--max-steps; app/flag_spelling.hpp).
 class InvalidInput : public std::invalid_argument {
  public:
   InvalidInput(const std::string& field, const std::string& reason)

@@ -43,7 +43,7 @@ bool readInputFile(const std::string& path, std::uint64_t max_bytes, std::string
     const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
     if (size > max_bytes)
       throw limitExceeded(path, "bytes (the file's size)", static_cast<double>(size), static_cast<double>(max_bytes),
-                          "--max-input-mb");
+                          "`max_input_mb`");
     out.reserve(size);
   }
   std::vector<char> buffer(1 << 16);
@@ -66,7 +66,7 @@ bool readInputFile(const std::string& path, std::uint64_t max_bytes, std::string
   }
   if (out.size() > max_bytes)
     throw limitExceeded(path, "bytes read (the file is larger, or an endless stream)", static_cast<double>(out.size()),
-                        static_cast<double>(max_bytes), "--max-input-mb");
+                        static_cast<double>(max_bytes), "`max_input_mb`");
   *text = std::move(out);
   return true;
 }

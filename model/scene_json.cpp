@@ -539,7 +539,7 @@ SceneDescription parseScene(const std::string& text, const std::string& source, 
   if (bodies.empty()) r.fail("bodies", "a scene needs at least one body");
   if (static_cast<long>(bodies.size()) > max_bodies)
     throw limitExceeded(source + ": bodies", "bodies", static_cast<double>(bodies.size()),
-                        static_cast<double>(max_bodies), "--max-bodies");
+                        static_cast<double>(max_bodies), "`max_bodies`");
   std::unordered_map<std::string, int> body_index;  // (linear in the bodies: chain-N has up to 1e5)
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     scene.bodies.push_back(readBody(bodies[i], static_cast<int>(i), source));
@@ -623,7 +623,7 @@ SceneDescription loadScene(const std::string& file_or_name, const ResourceLimits
     const long n = std::stol(file_or_name.substr(6));
     if (n > limits.max_bodies)
       throw limitExceeded(file_or_name, "bodies", static_cast<double>(n), static_cast<double>(limits.max_bodies),
-                          "--max-bodies");
+                          "`max_bodies`");
   }
   for (const BuiltinScene& s : builtinScenes())
     if (s.name == file_or_name) return parseScene(s.json, "built-in scene '" + s.name + "'");

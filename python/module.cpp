@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include "app/cli.hpp"
+#include "app/flag_spelling.hpp"
 #include "liegroup/input_number.hpp"
 #include "liegroup/invalid_input.hpp"
 #include "python/module_parts.hpp"
@@ -25,7 +26,7 @@ PYBIND11_MODULE(_lieflow, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const lieflow::InvalidInput& e) {
-      input_error(e.what());
+      input_error(lieflow::app::spellFlags(e.what()).c_str());
     } catch (const lieflow::app::UsageError& e) {
       input_error(e.what());
     } catch (const py::error_already_set&) {
@@ -33,7 +34,7 @@ PYBIND11_MODULE(_lieflow, m) {
     } catch (const py::builtin_exception&) {
       throw;
     } catch (const std::exception& e) {
-      computation_error(e.what());
+      computation_error(lieflow::app::spellFlags(e.what()).c_str());
     }
   });
   lieflow::python::defineGroups(m);

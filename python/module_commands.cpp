@@ -21,6 +21,7 @@
 #include "app/arguments.hpp"
 #include "app/commands.hpp"
 #include "app/cli.hpp"
+#include "app/flag_spelling.hpp"
 #include "app/output_files.hpp"
 #include "app/recording_noise.hpp"
 #include "app/run_setup.hpp"
@@ -220,7 +221,7 @@ py::dict simulate(std::vector<std::string> tokens, const std::optional<std::stri
   out["data"] = table;
   out["stats"] = app::jsonLine(app::statsJson(result));
   out["failed"] = result.failed;
-  out["failure"] = result.failure;
+  out["failure"] = app::spellFlags(result.failure);
   out["scene"] = request.simulation->scene().name;
   return out;
 }
@@ -300,7 +301,8 @@ py::tuple calibrate(std::vector<std::string> tokens) {
     interrupt->reset();
     throw error;
   }
-  return py::make_tuple(outcome.json.is_null() ? std::string() : app::jsonLine(outcome.json), outcome.status, outcome.error);
+  return py::make_tuple(outcome.json.is_null() ? std::string() : app::jsonLine(outcome.json), outcome.status,
+                        app::spellFlags(outcome.error));
 }
 #endif
 
@@ -338,7 +340,9 @@ void defineCommands(py::module_& m) {
           for (int i = 0; i < 3; ++i) options.spin[i] = spin[i];
         }
         const SceneDescription s = importModel(path, options);
-        return py::make_tuple(sceneToJson(s), s.import_notes);
+        std::vector<std::string> notes;
+        for (const std::string& note : s.import_notes) notes.push_back(app::spellFlags(note));
+        return py::make_tuple(sceneToJson(s), notes);
       },
       py::arg("path"), py::arg("ignore") = "", py::arg("keyframe") = "", py::arg("floating_base") = false,
       py::arg("spin") = std::vector<double>{});

@@ -238,7 +238,7 @@ bool Simulation::supports(const std::string& integrator, std::string* why, const
              "; available: " + joined(steppersFor(kind)) + ")";
       if (kind != SystemKind::kSingleBody && kind != SystemKind::kMaximal &&
           stepperUnavailable(integrator, SystemKind::kMaximal).empty())
-        *why += "; it runs the scene in maximal coordinates (--formulation maximal)";
+        *why += "; it runs the scene in maximal coordinates (`formulation` maximal)";
     }
     return false;
   }
@@ -257,21 +257,21 @@ SimulationResult Simulation::run(const SimulationOptions& options,
                                  const std::function<void(const std::vector<double>&)>& row) const {
   const IntegratorInfo* info = findIntegrator(options.integrator);
   if (!info)
-    throw InvalidInput("--integrator", "unknown integrator '" + options.integrator +
+    throw InvalidInput("`integrator`", "unknown integrator '" + options.integrator +
                                            "' (see lieflow integrators)");
   if (!options.formulation.empty() && options.formulation != "maximal" && options.formulation != "joint")
-    throw InvalidInput("--formulation", "'" + options.formulation + "' is not a formulation (maximal or joint)");
+    throw InvalidInput("`formulation`", "'" + options.formulation + "' is not a formulation (maximal or joint)");
   const std::string formulation = options.formulation.empty() ? defaultFormulation(options.integrator) : options.formulation;
   std::string why;
   if (model_->multibody && formulation == "joint" && !hasJointFormulation(&why))
-    throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +
-                                            " (run it with --formulation maximal)");
-  if (!supports(options.integrator, &why, formulation)) throw InvalidInput("--integrator", why);
+    throw InvalidInput("`formulation`", "joint coordinates cannot represent this scene: " + why +
+                                            " (run it with `formulation` maximal)");
+  if (!supports(options.integrator, &why, formulation)) throw InvalidInput("`integrator`", why);
   if (!(options.dt > 0.0) || !std::isfinite(options.dt))
     throw InvalidInput(options.dt_source, "the step must be a positive number");
   if (!(options.t_end > 0.0) || !std::isfinite(options.t_end))
     throw InvalidInput(options.t_end_source, "the end time must be a positive number");
-  if (options.every < 1) throw InvalidInput("--every", "must be a positive integer");
+  if (options.every < 1) throw InvalidInput("`every`", "must be a positive integer");
   if (options.dt > options.t_end)
     throw InvalidInput(options.dt_source, "the step " + formatNumber(options.dt) + " is longer than the run (t_end = " +
                                               formatNumber(options.t_end) + ", " + options.t_end_source +
@@ -283,10 +283,10 @@ SimulationResult Simulation::run(const SimulationOptions& options,
     throw limitExceeded(options.dt_source + " " + formatNumber(options.dt) + " with " + options.t_end_source + " " +
                             formatNumber(options.t_end),
                         info->is_adaptive ? "output rows" : "steps", steps_needed,
-                        static_cast<double>(options.max_steps), "--max-steps");
+                        static_cast<double>(options.max_steps), "`max_steps`");
   for (const auto& kv : options.integrator_options) {
     const std::string field = options.command_line_options.count(kv.first)
-                                  ? "--options " + kv.first
+                                  ? "`options` " + kv.first
                                   : scene_.source + ": integrator." + kv.first;
     const IntegratorOption* spec = info->option(kv.first);
     if (!spec) throw InvalidInput(field, "unknown option for integrator '" + info->name + "'");
@@ -311,14 +311,14 @@ SimulationResult Simulation::run(const SimulationOptions& options,
                           row);
   } catch (const InvalidInput& e) {
     // A stepper's constructor names a bare option (rho_inf): the scene's
-    // integrator.OPTION. A field that names its place already (a file's, a
-    // flag, a program's load such as torques['arm']) passes as it is; other
+    // integrator.OPTION. A field that names its place already (a file's, an
+    // option such as `dt`, a program's load such as torques['arm']) passes as it is; other
     // bare fields are the scene's.
     const std::string& field = e.field();
     const auto& known = info->options;
     if (std::any_of(known.begin(), known.end(), [&](const IntegratorOption& o) { return o.name == field; }))
       throw InvalidInput(scene_.source + ": integrator." + field, e.reason());
-    if (field.find(':') != std::string::npos || field.rfind("--", 0) == 0 || field.find("['") != std::string::npos)
+    if (field.find(':') != std::string::npos || field.rfind("`", 0) == 0 || field.find("['") != std::string::npos)
       throw;
     throw InvalidInput(scene_.source + ": " + field, e.reason());
   }

@@ -23,11 +23,11 @@ struct SimulationOptions {
   std::string integrator;
   double dt = 0.0;
   double t_end = 0.0;
-  /// Where dt and t_end came from, for messages: the flag ("--dt", the
-  /// default), the scene's field ("arm.xml: integrator.dt", an MJCF model's
+  /// Where dt and t_end came from, for messages: the option ("`dt`", the
+  /// default; the command line says --dt), the scene's field ("arm.xml: integrator.dt", an MJCF model's
   /// timestep), or the command that chose them ("the study's steps").
-  std::string dt_source = "--dt";
-  std::string t_end_source = "--t-end";
+  std::string dt_source = "`dt`";
+  std::string t_end_source = "`t_end`";
   /// Output every N-th step (the first and the last rows are always output).
   int every = 1;
   std::map<std::string, double> integrator_options;

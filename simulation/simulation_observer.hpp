@@ -391,7 +391,7 @@ SimulationResult observeRun(const Simulation::Model& model, const System& system
   }
   result.failed = summary.failed || !stop_reason.empty();
   result.failure = stop_reason.empty() ? summary.failure : stop_reason;
-  if (summary.step_limit_reached) result.failure += " (raise the limit with --max-steps)";
+  if (summary.step_limit_reached) result.failure += " (raise the limit with `max_steps`)";
   result.energy_drift = drift.energy_drift;
   result.momentum_conserved = drift.momentum_conserved;
   result.momentum_drift = drift.momentum_drift;

@@ -187,7 +187,7 @@ struct LgviRow {
                                                     K::kind != SystemKind::kMaximal>>
   bool covers(K, const articulated::ArticulatedSystem& system, std::string* why) const {
     if (system.variationalCovers(why)) return true;
-    if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with --formulation maximal)";
+    if (why) *why = "'lgvi' cannot run this scene in joint coordinates: " + *why + " (run it with `formulation` maximal)";
     return false;
   }
 };
@@ -248,12 +248,27 @@ struct GenalphaRow {
     return ConstrainedGeneralizedAlphaStepper<articulated::ArticulatedSystem>(constrainedOptions(o));
   }
   /// Measured: the four-bar converges at order 2 with 1-2 Newton iterations
-  /// per step (3.2x faster than maximal coordinates), but the built-in
-  /// slider-crank at index 2 stops at t = 5-12 s (h = 2e-3 … 5e-4; index 3
-  /// at rho_inf = 0.9 runs it): the default keeps maximal coordinates there.
+  /// per step (3.2x faster than maximal coordinates), but on the built-in
+  /// slider-crank the default rho_inf = 1 stops at t = 8.1, 10.1, 11.8 and
+  /// 13.9 s for h = 4, 2, 1 and 0.5 ms: a period-2 oscillation of the
+  /// multipliers (the weld's force alternating by 1e-2 N at 6 s, 0.3 N at
+  /// 8 s) grows at about 1.7 per second of simulated time whatever the
+  /// step, i.e. by O(h) per step. That is the spurious root of the
+  /// generalized-alpha recurrence (G3), at exactly -1 when rho_inf = 1, pushed
+  /// off the unit circle by O(h) terms; it is not the held mid-step Jacobian
+  /// (J(q_n) alone, or J-bar updated every iteration, stop at the same
+  /// times), not P's mass matrix (P = J-bar^T stops the same), nor the rows'
+  /// conditioning (their singular values stay within 0.28-1.0). A likely
+  /// source, not proven: in joint coordinates M(q) varies, so the Coriolis
+  /// tangent has the indefinite symmetric part M'/2 (negative damping part of
+  /// the time), where maximal coordinates' body-frame M is constant. Any
+  /// damping of that root runs it: rho_inf = 0.99 runs 30 s at h = 4, 1 and
+  /// 0.5 ms (1.36-2.0 Newton iterations per step), as index 3 at rho_inf =
+  /// 0.9 does. The default keeps rho_inf = 1 and maximal coordinates there.
   const char* notDefault(JointLoops) const {
-    return "genalpha's stabilized index-2 iteration in joint coordinates stops on some loops (the slider-crank "
-           "after 5-12 s) where maximal coordinates run";
+    return "genalpha at rho_inf = 1 (no numerical damping) in joint coordinates stops on some loops where maximal "
+           "coordinates run (the slider-crank after 8-14 s: a period-2 mode of the multipliers grows; "
+           "`options` rho_inf=0.99 runs it)";
   }
   bool covers(JointLoops, const articulated::ArticulatedSystem& system, std::string* why) const {
     std::string reason;
@@ -262,7 +277,7 @@ struct GenalphaRow {
       reason = "its loops repeat rows in joint coordinates (the tree's joints already hold them), which "
                "genalpha's iteration matrix cannot take";
     }
-    if (why) *why = "'genalpha' cannot run this scene in joint coordinates: " + reason + " (run it with --formulation maximal)";
+    if (why) *why = "'genalpha' cannot run this scene in joint coordinates: " + reason + " (run it with `formulation` maximal)";
     return false;
   }
 };
@@ -374,7 +389,7 @@ SimulationResult runStepper(K, const Simulation::Model& model, const System& sys
     auto cell = row.make(K{}, system, y0, o);
     using Cell = decltype(cell);
     if constexpr (std::is_same_v<Cell, NoStepper>) {
-      throw InvalidInput("--integrator", std::string(cell.why));
+      throw InvalidInput("`integrator`", std::string(cell.why));
     } else if constexpr (IsAdaptiveRun<Cell>::value) {
       AdaptiveOptions a;
       a.rtol = option(o, "rtol", a.rtol);
@@ -390,7 +405,7 @@ SimulationResult runStepper(K, const Simulation::Model& model, const System& sys
       result = simulation_detail::runFixedStep(model, system, y0, o, columns, row_sink, std::move(cell));
     }
   });
-  if (!result) throw InvalidInput("--integrator", "unknown integrator '" + o.integrator + "'");
+  if (!result) throw InvalidInput("`integrator`", "unknown integrator '" + o.integrator + "'");
   return *result;
 }
 

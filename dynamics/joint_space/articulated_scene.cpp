@@ -387,8 +387,8 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
   std::vector<int> order, joint_of, parent_of, cuts;
   std::string why;
   if (!articulatedCovers(scene, &why) || !buildTree(scene, &order, &joint_of, &parent_of, &cuts, &why))
-    throw InvalidInput("--formulation", "joint coordinates cannot represent this scene: " + why +
-                                            " (run it with --formulation maximal)");
+    throw InvalidInput("`formulation`", "joint coordinates cannot represent this scene: " + why +
+                                            " (run it with `formulation` maximal)");
   ArticulatedModel model;
   model.gravity = scene.gravity;
   const int nb = static_cast<int>(scene.bodies.size());
@@ -465,7 +465,7 @@ std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& sc
     // the velocities onto their velocity rows in the mass metric.
     int iterations = 0;
     if (!sys.projectPositions(0.0, &y0, kInitialProjectionTolerance, kInitialProjectionIterations, &iterations, &why))
-      throw InvalidInput("--formulation", scene.source + ": the loops do not close at t = 0: " + why);
+      throw InvalidInput("`formulation`", scene.source + ": the loops do not close at t = 0: " + why);
   }
   sys.projectVelocities(0.0, omega, v, &y0);
   sys.projectVelocities(0.0, &y0, &why);

@@ -37,7 +37,7 @@ struct ArticulatedScene {
 /// element it cannot represent and why.
 bool articulatedCovers(const SceneDescription& scene, std::string* why);
 
-/// Builds the tree; throws InvalidInput (field "--formulation") when
+/// Builds the tree; throws InvalidInput (field "`formulation`") when
 /// articulatedCovers is false.
 std::unique_ptr<ArticulatedScene> assembleArticulated(const SceneDescription& scene);
 

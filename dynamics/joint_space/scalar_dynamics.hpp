@@ -119,7 +119,7 @@ class ScalarDynamics {
   using Mat3 = Eigen::Matrix<T, 3, 3>;
 
   /// The model must outlive the dynamics. Throws as requireScalarDynamics.
-  explicit ScalarDynamics(const ArticulatedModel& model, const std::string& field = "--scene") : m_(model) {
+  explicit ScalarDynamics(const ArticulatedModel& model, const std::string& field = "`scene`") : m_(model) {
     requireScalarDynamics(model, field);
     const std::size_t n = model.bodies.size();
     for (auto* v : {&w_, &al_, &c_, &a_, &x_, &F_, &N_}) v->resize(n);

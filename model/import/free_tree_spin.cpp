@@ -67,8 +67,8 @@ void spinFreeTrees(const Eigen::Vector3d& omega, const std::string& path, SceneD
     b.has_velocity = true;
   }
   if (free_trees == 0)
-    throw InvalidInput(path + ": --spin", "the model has no free body or tree to turn (every tree is joined to the "
-                                          "world; a URDF's root link floats with --floating-base)");
+    throw InvalidInput(path + ": `spin`", "the model has no free body or tree to turn (every tree is joined to the "
+                                          "world; a URDF's root link floats with `floating_base`)");
 }
 
 }  // namespace model_import

@@ -105,7 +105,7 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
   const auto over_budget = [&](const std::string& where, std::uint64_t bytes) {
     return limitExceeded(where, "bytes of model files (this file and those it includes or names)",
                          static_cast<double>(out.bytes + bytes), static_cast<double>(limits.max_input_bytes),
-                         "--max-input-mb");
+                         "`max_input_mb`");
   };
   while (!files.empty()) {
     const File current = files.front();
@@ -164,7 +164,7 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
           if (e.field() == where) throw;
           // Its size counts with the model file's: say so, naming the include.
           throw InvalidInput(where, "the included file " + std::string(e.what()) +
-                                        (e.reason().find("--max-input-mb") != std::string::npos
+                                        (e.reason().find("`max_input_mb`") != std::string::npos
                                              ? " (the model's files together)"
                                              : ""));
         }
@@ -196,7 +196,7 @@ MjcfFiles checkMjcfFiles(const std::string& path, const std::string& text, const
     if (out.declared_bodies > most)
       throw limitExceeded(path, "bodies (declared in its files, before MuJoCo's compiler, whose time grows as their "
                                 "square, runs)",
-                          static_cast<double>(out.declared_bodies), static_cast<double>(most), "--max-bodies");
+                          static_cast<double>(out.declared_bodies), static_cast<double>(most), "`max_bodies`");
   }
   return out;
 }

@@ -338,7 +338,7 @@ int keyframeIndex(const mjModel* m, const std::string& path, const std::string& 
   }
   std::string have;
   for (int k = 0; k < m->nkey; ++k) have += (have.empty() ? "" : ", ") + keyframeName(m, k);
-  throw InvalidInput(path + ": --keyframe", "the model has no keyframe '" + wanted + "' (" +
+  throw InvalidInput(path + ": `keyframe`", "the model has no keyframe '" + wanted + "' (" +
                                                 (m->nkey == 0 ? std::string("it has no <key>") : "it has " + have) + ")");
 }
 
@@ -676,7 +676,7 @@ ModelDescription readMjcf(const std::string& text, const std::string& path, cons
         const double gap = closureGap(d0.get(), d.get(), b1, b2, type == mjEQ_CONNECT ? vec3(c) : Eigen::Vector3d::Zero(),
                                       type == mjEQ_WELD);
         if (gap > kKeyframeClosureGap)
-          throw InvalidInput(path + ": --keyframe", "keyframe '" + keyframeName(m.get(), key) + "' breaks " +
+          throw InvalidInput(path + ": `keyframe`", "keyframe '" + keyframeName(m.get(), key) + "' breaks " +
                                                         elementLabel("equality", name, eline) + " (by " +
                                                         formatNumber(gap) + " m or rad), which holds at qpos0");
       }

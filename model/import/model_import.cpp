@@ -76,7 +76,7 @@ void UnsupportedFeatures::resolve(const ModelImportOptions& options, ModelDescri
     if (elements.size() > kListed) why << " and " << elements.size() - kListed << " more";
     categories += (categories.empty() ? "" : ",") + category;
   }
-  why << " (rerun with --ignore " << categories << " to simulate without them)";
+  why << " (rerun with `ignore` " << categories << " to simulate without them)";
   throw InvalidInput(model->source, why.str());
 }
 
@@ -110,7 +110,7 @@ ModelImportOptions parseIgnoreList(const std::string& list) {
     if (std::none_of(known.begin(), known.end(), [&](const auto& f) { return f.first == item; })) {
       std::string names;
       for (const auto& f : known) names += (names.empty() ? "" : ", ") + f.first;
-      throw InvalidInput("--ignore", "unknown feature '" + item + "' (known: " + names + ", all)");
+      throw InvalidInput("`ignore`", "unknown feature '" + item + "' (known: " + names + ", all)");
     }
     o.ignore.insert(item);
   }
@@ -128,14 +128,14 @@ SceneDescription importModel(const std::string& path, const ModelImportOptions& 
     throw InvalidInput(path, "cannot open the model file");
   const bool urdf = isUrdfFile(path);
   if (urdf && !options.keyframe.empty())
-    throw InvalidInput(path + ": --keyframe", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
+    throw InvalidInput(path + ": `keyframe`", "a URDF has no keyframes (it starts at its zero configuration, at rest)");
   if (!urdf && options.floating_base)
-    throw InvalidInput(path + ": --floating-base", "frees a URDF's root link; an MJCF model says which bodies are free "
+    throw InvalidInput(path + ": `floating_base`", "frees a URDF's root link; an MJCF model says which bodies are free "
                                                    "itself (<freejoint/>)");
   model_import::ModelDescription model =
       urdf ? model_import::readUrdf(text, path, options) : model_import::readMjcf(text, path, options, limits);
   if (static_cast<long>(model.links.size()) > limits.max_bodies)
-    throw InvalidInput(path, "the model has " + std::to_string(model.links.size()) + " links, more than --max-bodies " +
+    throw InvalidInput(path, "the model has " + std::to_string(model.links.size()) + " links, more than `max_bodies` " +
                                  std::to_string(limits.max_bodies));
   // Through the scene file's reader, so that an imported model passes every
   // check a scene file does and `lieflow import` writes what runs.

@@ -26,7 +26,7 @@ namespace lieflow {
 const std::vector<std::pair<std::string, std::string>>& ignorableFeatures();
 
 /// Options from `--ignore LIST` ("contacts,limits"; "all" for every
-/// category). Throws InvalidInput (field "--ignore") naming an unknown category.
+/// category). Throws InvalidInput (field "`ignore`") naming an unknown category.
 ModelImportOptions parseIgnoreList(const std::string& list);
 
 /// Whether `path` names a model file (ends in .xml or .urdf, any case).

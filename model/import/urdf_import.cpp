@@ -333,7 +333,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
   } else {
     model.ground_visuals = urdfLinkShapes(*root, Eigen::Isometry3d::Identity(), path);
     model.notes.push_back("the root link '" + root->name +
-                          "' is fixed to the world (a URDF's base; --floating-base frees it)");
+                          "' is fixed to the world (a URDF's base; `floating_base` frees it)");
   }
   std::deque<urdf::LinkConstSharedPtr> queue{root};
   while (!queue.empty()) {
@@ -373,7 +373,7 @@ ModelDescription readUrdf(const std::string& text, const std::string& path, cons
       if (mj.type == ModelJointType::kFree && mj.parent != -1)
         throw InvalidInput(path + ": " + elementLabel("joint", j->name, jline),
                            options.floating_base
-                               ? "a floating joint frees a link from the world: with --floating-base the root link "
+                               ? "a floating joint frees a link from the world: with `floating_base` the root link "
                                  "floats itself, and no other link may"
                                : "a floating joint frees a link from the world: its parent must be the root link");
       if (j->dynamics) mj.damping[0] = j->dynamics->damping;

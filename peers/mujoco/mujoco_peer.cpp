@@ -42,7 +42,7 @@ struct MujocoPeer::Impl {};
 MujocoPeer::MujocoPeer(const std::string&, const ModelImportOptions&, const SceneDescription&) {
   std::string why;
   mujocoPeerAvailable(&why);
-  throw InvalidInput("--with-mujoco", why);
+  throw InvalidInput("`with_mujoco`", why);
 }
 
 const std::vector<std::string>& MujocoPeer::notes() const {
@@ -170,7 +170,7 @@ MujocoPeer::MujocoPeer(const std::string& path, const ModelImportOptions& option
     const auto found = by_name.find(b.name);
     const int id = found == by_name.end() ? -1 : found->second;
     if (id <= 0)
-      throw InvalidInput(path + ": --with-mujoco", "the scene's body '" + b.name +
+      throw InvalidInput(path + ": `with_mujoco`", "the scene's body '" + b.name +
                                                        "' is not a MuJoCo body of this model (was the scene "
                                                        "imported from it?)");
     impl_->bodies.push_back(id);
@@ -183,8 +183,8 @@ MujocoPeerRun MujocoPeer::run(const std::string& integrator, double h, double t_
                               const std::function<void()>& heartbeat) const {
   const std::vector<std::string>& names = mujocoPeerIntegrators();
   const auto it = std::find(names.begin(), names.end(), integrator);
-  if (it == names.end()) throw InvalidInput("--integrators", "'" + integrator + "' is not a MuJoCo integrator");
-  if (!(h > 0.0) || !(t_end > 0.0)) throw InvalidInput("--dt", "a MuJoCo run needs a positive step and end time");
+  if (it == names.end()) throw InvalidInput("`integrators`", "'" + integrator + "' is not a MuJoCo integrator");
+  if (!(h > 0.0) || !(t_end > 0.0)) throw InvalidInput("`dt`", "a MuJoCo run needs a positive step and end time");
   // MuJoCo's warnings kept off stdout and out of MUJOCO_LOG.TXT (a bad
   // state is found below from d->warning); its errors throw MujocoError, a
   // failed computation for the caller.

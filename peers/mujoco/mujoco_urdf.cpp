@@ -51,7 +51,7 @@ bool isMesh(const tinyxml2::XMLElement* e) {
 std::string savedMjcf(const mjModel* m, const std::string& path) {
   char name[] = "/tmp/lieflow-urdf-peer-XXXXXX";
   const int fd = mkstemp(name);
-  if (fd < 0) throw InvalidInput(path + ": --with-mujoco", "cannot make a temporary file for MuJoCo's MJCF");
+  if (fd < 0) throw InvalidInput(path + ": `with_mujoco`", "cannot make a temporary file for MuJoCo's MJCF");
   close(fd);
   char error[1024] = "";
   const int saved = mj_saveLastXML(name, m, error, sizeof error);
@@ -59,7 +59,7 @@ std::string savedMjcf(const mjModel* m, const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   std::remove(name);
-  if (!saved) throw InvalidInput(path + ": --with-mujoco", std::string("MuJoCo cannot save the model: ") + error);
+  if (!saved) throw InvalidInput(path + ": `with_mujoco`", std::string("MuJoCo cannot save the model: ") + error);
   return text.str();
 }
 
@@ -121,7 +121,7 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
     for (const tinyxml2::XMLElement* l = robot->FirstChildElement("link"); l && !root_link;
          l = l->NextSiblingElement("link"))
       if (l->Attribute("name") && !children.count(l->Attribute("name"))) root_link = l->Attribute("name");
-    if (!root_link) throw InvalidInput(path + ": --with-mujoco", "has no root link to free");
+    if (!root_link) throw InvalidInput(path + ": `with_mujoco`", "has no root link to free");
     const std::string world = "lieflow_world_for_" + std::string(root_link);
     tinyxml2::XMLElement* link = doc.NewElement("link");
     link->SetAttribute("name", world.c_str());
@@ -139,13 +139,13 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   }
   MjcfModel m;
   try {
-    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": --with-mujoco");
+    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": `with_mujoco`");
   } catch (const InvalidInput& e) {
     // MuJoCo checks each link's inertia before it fuses welded links; an
     // unphysical one (A + B < C) it can only balance, which changes it.
     if (e.reason().find("inertia must satisfy A + B >= C") == std::string::npos) throw;
     compiler->SetAttribute("balanceinertia", "true");
-    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": --with-mujoco");
+    m = compileModelText("lieflow-peer.urdf", printed(doc), path + ": `with_mujoco`");
     notes->push_back("MuJoCo's compiler balanced an inertia of the file that breaks A + B >= C (" + e.reason() +
                      "), so its model differs there");
   }
@@ -154,7 +154,7 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
   tinyxml2::XMLDocument mjcf;
   const std::string saved = savedMjcf(m.get(), path);
   if (mjcf.Parse(saved.c_str()) != tinyxml2::XML_SUCCESS || !mjcf.RootElement())
-    throw InvalidInput(path + ": --with-mujoco", "MuJoCo's saved MJCF of the model does not parse");
+    throw InvalidInput(path + ": `with_mujoco`", "MuJoCo's saved MJCF of the model does not parse");
   tinyxml2::XMLElement* root = mjcf.RootElement();
   {
     // <mimic> as MuJoCo's joint equality: q1 = c0 + c1 q2 (polycoef); MuJoCo's
@@ -174,7 +174,7 @@ MjcfModel compileUrdfForMujoco(const std::string& path, const ModelImportOptions
     }
     root->InsertEndChild(equality);
   }
-  return compileModelText("lieflow-peer.xml", printed(mjcf), path + ": --with-mujoco");
+  return compileModelText("lieflow-peer.xml", printed(mjcf), path + ": `with_mujoco`");
 }
 
 }  // namespace mujoco_peer

@@ -76,7 +76,7 @@ TEST(SceneLimits, FilesBeyondTheSizeLimitAndEndlessStreamsAreRefused) {
     loadScene(big, limits);
     ADD_FAILURE() << "a 2 MiB scene passed a 1 MiB limit";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("--max-input-mb"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("`max_input_mb`"), std::string::npos) << e.what();
   }
   // An endless stream of text is read to the limit and refused there.
   const std::string err = testing_support::testFile("_err.txt");

@@ -150,7 +150,7 @@ TEST(Simulation, TheTableOfSteppersAnswersSupportsAndRunsAlike) {
       << why;
   // ... and a refusal by what the scene holds says where it runs.
   EXPECT_FALSE(cardan.supports("genalpha", &why, "joint"));
-  EXPECT_NE(why.find("--formulation maximal"), std::string::npos) << why;
+  EXPECT_NE(why.find("`formulation` maximal"), std::string::npos) << why;
 }
 
 /// The run's figures are checked at the output steps unless asked for more

@@ -39,7 +39,7 @@ TEST(CalibConsistency, QuaternionsInAnotherFrameAreNamed) {
     const std::string what = e.what();
     EXPECT_NE(what.find("body 'lower'"), std::string::npos) << what;
     EXPECT_NE(what.find("30"), std::string::npos) << what;  // 30.0 degrees, to 3 digits
-    EXPECT_NE(what.find("--use gyroscopes"), std::string::npos) << what;
+    EXPECT_NE(what.find("`use` gyroscopes"), std::string::npos) << what;
   }
   EXPECT_THROW(fitHinge(joint), InvalidInput);
   AxisFitOptions gyroscopes;

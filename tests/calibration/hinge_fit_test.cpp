@@ -352,7 +352,7 @@ TEST(CalibHinge, BiasCheckNamesTheBias) {
   for (Eigen::Vector3d& w : s.secondary.angular_velocity) w += Eigen::Vector3d(0.05, -0.05, 0.025);
   const HingeFit biased = fitSeel(s);
   EXPECT_FALSE(biased.summary.converged);
-  EXPECT_NE(biased.summary.message.find("--fit-gyro-bias"), std::string::npos) << biased.summary.message;
+  EXPECT_NE(biased.summary.message.find("`fit_gyro_bias`"), std::string::npos) << biased.summary.message;
   std::normal_distribution<double> normal;
   int flagged_biased = 0, flagged_clean = 0;
   for (int t = 0; t < 50; ++t) {

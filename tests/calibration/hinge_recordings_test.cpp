@@ -165,7 +165,7 @@ TEST(CalibHingeRecordings, RefusesWhatItCannotFitNamingTheRecording) {
     fitHinge(std::vector<JointSamples>{a, b}, bias);
     FAIL() << "biases over several recordings";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("--fit-gyro-bias with several recordings"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("`fit_gyro_bias` with several recordings"), std::string::npos) << e.what();
   }
   JointSamples renamed = b;
   renamed.secondary.name = "other";
@@ -186,7 +186,7 @@ TEST(CalibHingeRecordings, RefusesWhatItCannotFitNamingTheRecording) {
     FAIL() << "other columns";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("a.csv"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("--use"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("`use`"), std::string::npos) << e.what();
   }
   // The same samples twice (a file given twice, or its copy) would count
   // their information twice: refused, naming both.

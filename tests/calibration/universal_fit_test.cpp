@@ -78,7 +78,7 @@ TEST(CalibUniversal, DefaultsLeaveWobblingGyroscopesOut) {
       none.low_pass_auto = false;
       const UniversalFit raw = fitUniversal(s, none);
       EXPECT_EQ(raw.summary.data, "orientations+gyroscopes");
-      EXPECT_EQ(raw.low_pass_reason, "no filter: asked for (--low-pass none)");
+      EXPECT_EQ(raw.low_pass_reason, "no filter: asked for (`low_pass` none)");
     }
   }
   ratio /= kTrials;

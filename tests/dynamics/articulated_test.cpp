@@ -418,27 +418,27 @@ TEST(Articulated, RefusesWhatJointCoordinatesCannotHold) {
   // integrators that have no multipliers or no projection.
   EXPECT_NE(refusal(Simulation(loadScene("cardan-shaft")), "joint", "genalpha", &field).find("prescribed"),
             std::string::npos);
-  EXPECT_EQ(field, "--integrator");
+  EXPECT_EQ(field, "`integrator`");
   // A gimbal hung from its secondary body (joint coordinates take it from
   // its main body; a weld is a tree joint now, slider-crank's among them).
   EXPECT_NE(refusal(Simulation(loadScene(std::string(LIEFLOW_SOURCE_DIR) + "/tests/data/scenes/gimbal-upside-down.json")),
                     "joint", "rkmk4", &field)
                 .find("from their main body"),
             std::string::npos);
-  EXPECT_EQ(field, "--formulation");
+  EXPECT_EQ(field, "`formulation`");
   EXPECT_NE(refusal(Simulation(loadScene("slider-crank")), "joint", "splitting", &field).find("maximal"),
             std::string::npos);
   // An integrator written for maximal coordinates.
   const Simulation pendulum(loadScene("double-pendulum"));
   EXPECT_NE(refusal(pendulum, "joint", "splitting", &field).find("not available in joint coordinates"),
             std::string::npos);
-  EXPECT_EQ(field, "--integrator");
+  EXPECT_EQ(field, "`integrator`");
   // lgvi in joint coordinates needs angles (no SO(3) joint) and no prescribed motion.
   EXPECT_NE(refusal(Simulation(loadScene("driven-arm")), "joint", "lgvi", &field).find("prescribed joint angle"),
             std::string::npos);
-  EXPECT_EQ(field, "--integrator");
+  EXPECT_EQ(field, "`integrator`");
   EXPECT_NE(refusal(pendulum, "reduced", "rkmk4", &field).find("not a formulation"), std::string::npos);
-  EXPECT_EQ(field, "--formulation");
+  EXPECT_EQ(field, "`formulation`");
 }
 
 }  // namespace

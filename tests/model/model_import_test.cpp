@@ -532,7 +532,7 @@ TEST(ModelImport, AUrdfFloatsWithItsRootOnAFreeJoint) {
             << (c1 - expected).norm() << " m\n";
   EXPECT_LE((c1 - expected).norm(), 1e-10);
   // MJCF names its own free bodies.
-  if (canReadMjcf()) expectContains(refusal(model("arm6.xml"), floating), {"arm6.xml", "--floating-base"});
+  if (canReadMjcf()) expectContains(refusal(model("arm6.xml"), floating), {"arm6.xml", "`floating_base`"});
 }
 
 TEST(ModelImport, SpinTurnsEveryFreeTreeRigidlyAboutItsCentre) {
@@ -569,7 +569,7 @@ TEST(ModelImport, SpinTurnsEveryFreeTreeRigidlyAboutItsCentre) {
     EXPECT_LE(std::abs(tr.at(0, std::string(joint) + ".phidot")), 1e-12) << joint;
   // A fixed base has nothing free to turn.
   options.floating_base = false;
-  expectContains(refusal(model("arm6.urdf"), options), {"arm6.urdf", "--spin", "--floating-base"});
+  expectContains(refusal(model("arm6.urdf"), options), {"arm6.urdf", "`spin`", "`floating_base`"});
 }
 
 TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
@@ -578,13 +578,13 @@ TEST(ModelImport, WhatLieflowCannotRepresentIsListedByNameAndLine) {
   const std::string urdf = model("limited.urdf");
   expectContains(refusal(urdf),
                  {"limited.urdf", "limit of joint 'hinge' (line 6)", "collision of link 'arm' (line 10)",
-                  "--ignore contacts,limits"});
+                  "`ignore` contacts,limits"});
   ModelImportOptions ignore = parseIgnoreList("contacts,limits");
   const SceneDescription s = importModel(urdf, ignore);
   // What was ignored, and that the URDF's root is fixed to the world.
   ASSERT_EQ(s.import_notes.size(), 3u);
   expectContains(s.import_notes[0] + "\n" + s.import_notes[1], {"contacts: collision of link 'arm'", "limits: limit of joint 'hinge'"});
-  expectContains(s.import_notes[2], {"the root link", "is fixed to the world", "--floating-base"});
+  expectContains(s.import_notes[2], {"the root link", "is fixed to the world", "`floating_base`"});
   EXPECT_EQ(s.joints[0].type, "revolute");
 }
 
@@ -615,7 +615,7 @@ TEST(ModelImport, BadModelsNameTheFileElementAndReason) {
     parseIgnoreList("contacts,gravity");
     ADD_FAILURE() << "accepted";
   } catch (const InvalidInput& e) {
-    expectContains(e.what(), {"--ignore", "gravity", "contacts"});
+    expectContains(e.what(), {"`ignore`", "gravity", "contacts"});
   }
 }
 

@@ -47,7 +47,7 @@ TEST(MjcfKeyframe, NamedOrIndexedKeyframesStartTheSceneAndUnknownOnesAreListed) 
   // the hinge bent to 0.3 rad.
   EXPECT_NEAR(spin.bodies[0].position.z() - at_rest.bodies[0].position.z(), 0.2, 1e-15);
   const std::string why = refusal(model("spinning.xml"), keyframe("jump"));
-  EXPECT_NE(why.find("spinning.xml: --keyframe"), std::string::npos) << why;
+  EXPECT_NE(why.find("spinning.xml: `keyframe`"), std::string::npos) << why;
   EXPECT_NE(why.find("no keyframe 'jump' (it has rest, spin)"), std::string::npos) << why;
   EXPECT_NE(refusal(model("spinning.xml"), keyframe("2")).find("no keyframe '2'"), std::string::npos);
   if (canReadUrdf()) {
