@@ -425,6 +425,23 @@ constexpr const char* kCoupledRig = R"({
   ]
 })";
 
+/// The coupled rig's relations over a run: the largest |1.5 Δφ_l + Δφ_r|
+/// and |0.2 Δφ_l + Δx| at its rows, and how far the left hinge turned.
+struct CoupledRelations {
+  double mimic = 0.0, feed = 0.0, travel = 0.0;
+};
+CoupledRelations coupledRelations(const scene_testing::Trajectory& tr) {
+  CoupledRelations out;
+  const double l0 = tr.at(0, "hinge_left.phi"), r0 = tr.at(0, "hinge_right.phi"), x0 = tr.at(0, "bore.x");
+  for (std::size_t r = 0; r < tr.rows.size(); ++r) {
+    const double dl = tr.at(r, "hinge_left.phi") - l0;
+    out.mimic = std::max(out.mimic, std::abs(1.5 * dl + (tr.at(r, "hinge_right.phi") - r0)));
+    out.feed = std::max(out.feed, std::abs(0.2 * dl + (tr.at(r, "bore.x") - x0)));
+    out.travel = std::max(out.travel, std::abs(dl));
+  }
+  return out;
+}
+
 /// `integrator` on the coupled rig `scene` in joint coordinates: every CSV
 /// column after 0.5 s against joint rkmk4 at h = 1e-4 at order 2, and the
 /// coupled coordinates' relations kept to round-off at every row over 2 s.
@@ -433,14 +450,7 @@ void expectCoupledRigHeld(const SceneDescription& scene, const std::string& inte
   EXPECT_EQ(sim.defaultFormulation(integrator), "joint");
   expectOrderTwoAgainstRkmk4(sim, scene.name, integrator);
   const scene_testing::Trajectory tr = scene_testing::simulate(scene, integrator, 2e-3, 2.0, 1, "joint");
-  double mimic = 0.0, feed = 0.0, travel = 0.0;
-  const double l0 = tr.at(0, "hinge_left.phi"), r0 = tr.at(0, "hinge_right.phi"), x0 = tr.at(0, "bore.x");
-  for (std::size_t r = 0; r < tr.rows.size(); ++r) {
-    const double dl = tr.at(r, "hinge_left.phi") - l0;
-    mimic = std::max(mimic, std::abs(1.5 * dl + (tr.at(r, "hinge_right.phi") - r0)));
-    feed = std::max(feed, std::abs(0.2 * dl + (tr.at(r, "bore.x") - x0)));
-    travel = std::max(travel, std::abs(dl));
-  }
+  const auto [mimic, feed, travel] = coupledRelations(tr);
   std::cout << "[ measured ] " << scene.name << ", " << integrator
             << " h = 2e-3 over 2 s: max |1.5 dphi_l + dphi_r| " << mimic << ", max |0.2 dphi_l + dx| " << feed
             << " (the left hinge turned up to " << travel << " rad)\n";
@@ -483,13 +493,9 @@ TEST(JointCouplings, ExplicitStepsKeepThemWithoutProjectingEachStep) {
   const scene_testing::Trajectory maximal = scene_testing::simulate(scene, "rkmk4", 2e-3, 2.0, 1, "maximal");
   ASSERT_FALSE(joint.result.failed) << joint.result.failure;
   ASSERT_FALSE(maximal.result.failed) << maximal.result.failure;
-  double mimic = 0.0, feed = 0.0, apart = 0.0;
-  const double l0 = joint.at(0, "hinge_left.phi"), r0 = joint.at(0, "hinge_right.phi"), x0 = joint.at(0, "bore.x");
-  for (std::size_t r = 0; r < joint.rows.size(); ++r) {
-    const double dl = joint.at(r, "hinge_left.phi") - l0;
-    mimic = std::max(mimic, std::abs(1.5 * dl + (joint.at(r, "hinge_right.phi") - r0)));
-    feed = std::max(feed, std::abs(0.2 * dl + (joint.at(r, "bore.x") - x0)));
-  }
+  const auto [mimic, feed, travel] = coupledRelations(joint);
+  EXPECT_GT(travel, 0.05);
+  double apart = 0.0;
   const std::size_t last = joint.rows.size() - 1;
   for (const char* column : {"hinge_left.phi", "hinge_right.phi", "bore.x", "piston.x", "left.wy", "trunk.qx"})
     apart = std::max(apart, std::abs(joint.at(last, column) - maximal.at(maximal.rows.size() - 1, column)));
