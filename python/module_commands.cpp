@@ -246,7 +246,7 @@ py::dict study(std::vector<std::string> tokens, const std::optional<std::string>
   }
   py::dict out;
   out["out"] = request.options.out_dir;
-  out["reference"] = result.reference;
+  out["reference"] = app::spellFlags(result.reference);
   out["reference_error"] = result.reference_error;
   out["plots"] = request.options.plots && plot_problem.empty();
   out["plot_problem"] = plot_problem;
