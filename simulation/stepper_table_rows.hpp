@@ -251,11 +251,12 @@ struct GenalphaRow {
   /// per step (3.2x faster than maximal coordinates), but on the built-in
   /// slider-crank the default rho_inf = 1 stops at t = 8.1, 10.1, 11.8 and
   /// 13.9 s for h = 4, 2, 1 and 0.5 ms: a period-2 oscillation of the
-  /// multipliers (the weld's force alternating by 1e-2 N at 6 s, 0.3 N at
-  /// 8 s) grows at about 1.7 per second of simulated time whatever the
-  /// step, i.e. by O(h) per step. That is the spurious root of the
-  /// generalized-alpha recurrence (G3), at exactly -1 when rho_inf = 1, pushed
-  /// off the unit circle by O(h) terms; it is not the held mid-step Jacobian
+  /// multipliers grows, in bursts (its amplitude in the weld's force about
+  /// 1e-3 N at 1 s, 2e-2 N at 5 s, 0.4 N at 8 s at h = 2 ms), and the time
+  /// it takes depends weakly on the step, so its growth per step shrinks
+  /// about as h. That points to the spurious root of the generalized-alpha
+  /// recurrence (G3), at exactly -1 when rho_inf = 1, pushed off the unit
+  /// circle by O(h) terms. It is not the held mid-step Jacobian
   /// (J(q_n) alone, or J-bar updated every iteration, stop at the same
   /// times), not P's mass matrix (P = J-bar^T stops the same), nor the rows'
   /// conditioning (their singular values stay within 0.28-1.0). A likely
