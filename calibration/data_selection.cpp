@@ -112,7 +112,7 @@ void checkOrientationsAgreeWithRates(const JointSamples& samples) {
     D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
     const Eigen::Matrix3d C = svd.matrixU() * D * svd.matrixV().transpose();
     const Eigen::AngleAxisd turn(C);
-    const double deg = turn.angle() * 180.0 / 3.141592653589793;
+    const double deg = turn.angle() * 180.0 / kPi;
     // Σ|u − Cg|² and Σ|u − g|² (|Cg| = |g|): only a C that explains the rates
     // significantly better than the identity counts (a motion about one axis
     // leaves C free about the others; noise alone improves the fit by Δχ² ≈ 3).

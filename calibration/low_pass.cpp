@@ -67,9 +67,9 @@ LowPassFilter::LowPassFilter(double cutoff, double sample_rate) : cutoff_hz(cuto
   // 1/Q = 2 cos(π/8), 2 cos(3π/8) (its poles at angles π/8, 3π/8 from the
   // negative real axis); each factor's bilinear transform, prewarped so that
   // the digital cutoff is exactly f_c.
-  const double w0 = 2.0 * M_PI * cutoff / sample_rate;
+  const double w0 = 2.0 * kPi * cutoff / sample_rate;
   const double c = std::cos(w0);
-  const double inverse_q[2] = {2.0 * std::cos(M_PI / 8.0), 2.0 * std::cos(3.0 * M_PI / 8.0)};
+  const double inverse_q[2] = {2.0 * std::cos(kPi / 8.0), 2.0 * std::cos(3.0 * kPi / 8.0)};
   for (int i = 0; i < 2; ++i) {
     const double alpha = 0.5 * std::sin(w0) * inverse_q[i];  // sin(w₀)/(2Q)
     const double a0 = 1.0 + alpha;

@@ -25,6 +25,7 @@
 
 #include "calibration/fit_types.hpp"
 #include "calibration/unit_axis.hpp"
+#include "liegroup/scalar.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -57,7 +58,7 @@ std::vector<AxisPair> nullspaceStarts(const Eigen::Matrix<double, N, N>& G,
 
   // Unit combinations: a half circle, or a Fibonacci hemisphere.
   std::vector<Vector> candidates;
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   if (near_null == 2) {
     for (int i = 0; i < kCircleSteps; ++i) {
       const double a = pi * i / kCircleSteps;

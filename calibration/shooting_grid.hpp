@@ -10,11 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "liegroup/scalar.hpp"
+
 namespace lieflow {
 namespace calibration {
-
-/// π, for the periods 2π/ω of the fits.
-constexpr double kPi = 3.141592653589793;
 
 /// Samples per multiple-shooting segment, at least.
 constexpr int kMinSegmentSamples = 4;

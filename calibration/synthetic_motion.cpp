@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include "calibration/unit_axis.hpp"
+#include "liegroup/scalar.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -214,7 +215,7 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
   double wobble_hz[2] = {0.0, 0.0}, wobble_phase[2] = {0.0, 0.0};
   if (noise.wobble_rate > 0.0) {
     std::uniform_real_distribution<double> frequency(noise.wobble_min_hz, noise.wobble_max_hz),
-        phase(0.0, 2.0 * M_PI);
+        phase(0.0, 2.0 * kPi);
     for (int b = 0; b < 2; ++b) {
       wobble_axis[b] = gaussian(1.0).normalized();
       wobble_hz[b] = frequency(gen);
@@ -222,7 +223,7 @@ JointSamples recordMotion(const JointMotion& motion, int n, double rate_hz, cons
     }
   }
   const auto wobble = [&](int b, double t) -> Eigen::Vector3d {
-    return noise.wobble_rate * std::sin(2.0 * M_PI * wobble_hz[b] * t + wobble_phase[b]) * wobble_axis[b];
+    return noise.wobble_rate * std::sin(2.0 * kPi * wobble_hz[b] * t + wobble_phase[b]) * wobble_axis[b];
   };
   for (int k = 0; k < n; ++k) {
     const double t = k / rate_hz;

@@ -21,6 +21,10 @@
 
 namespace lieflow {
 
+/// π, the double nearest it: the one constant of the project (no M_PI, which
+/// the C++ standard does not promise).
+inline constexpr double kPi = 3.141592653589793238462643383279502884;
+
 template <typename T>
 using Vector3 = Eigen::Matrix<T, 3, 1>;
 template <typename T>

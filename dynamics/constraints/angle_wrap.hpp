@@ -14,8 +14,7 @@
 namespace lieflow {
 namespace constraints {
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 6.283185307179586;
+constexpr double kTwoPi = 2.0 * kPi;
 
 /// angle − 2πk in [−π, π], k = round(angle/2π).
 template <typename T>

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/scalar.hpp"
 
 namespace lieflow {
 namespace {
@@ -21,7 +22,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 /// Boost.Math evaluates double functions in long double by default; the arguments here
 /// are accurate and Carlson's algorithms are stable, so double is enough (~3x faster).
 using DoublePolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
-constexpr double kPi = 3.141592653589793238462643383279502884;
 /// Largest relative asymmetry |I − Iᵀ|_max / |I|_max accepted (then symmetrized).
 constexpr double kSymmetryTol = 1e-12;
 /// Largest relative violation (I3 − I1 − I2) / I3 of the triangle inequality accepted.
