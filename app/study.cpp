@@ -206,16 +206,19 @@ void studyMujoco(const MujocoPeer* peer_or_null, double t_end, const std::vector
   const MujocoPeerRun check = peer.run("mujoco-rk4", h_check, t_end, false, 1, options.heartbeat);
   const MujocoPeerRun coarse =
       check.failed ? check : peer.run("mujoco-rk4", 2 * h_check, t_end, false, 1, options.heartbeat);
+  // How far lieflow's reference lies from MuJoCo's (the models' difference).
+  const BodyStates check_states = check.failed ? BodyStates{} : peerStates(check);
+  const double references_apart = check.failed ? 0.0 : orientationError(check_states, ref);
   BodyStates peer_ref = ref;
   std::string peer_reference;
   double peer_reference_error = 0.0;
   if (!check.failed && !coarse.failed) {
-    peer_ref = peerStates(check);
+    peer_ref = check_states;
     peer_reference_error = orientationError(peerStates(coarse), peer_ref);
     peer_reference = "MuJoCo RK4 at h = " + formatNumber(h_check) + " (MuJoCo's own model); its orientation error " +
                      "is below the " + formatNumber(peer_reference_error) + " rad it differs from RK4 at h = " +
                      formatNumber(2 * h_check) + "; lieflow's reference differs from it by " +
-                     formatNumber(orientationError(peer_ref, ref)) + " rad";
+                     formatNumber(references_apart) + " rad";
   } else {
     peer_reference = result->reference + " (MuJoCo RK4 at h = " + formatNumber(h_check) +
                      " or twice that failed: " + (check.failed ? check.failure : coarse.failure) + ")";
@@ -285,8 +288,8 @@ void studyMujoco(const MujocoPeer* peer_or_null, double t_end, const std::vector
   if (check.failed)
     s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " failed: " << check.failure;
   else
-    s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " differs from it by "
-      << formatNumber(orientationError(peerStates(check), ref)) << " rad";
+    s << "; MuJoCo RK4 at h = " << formatNumber(h_check) << " differs from it by " << formatNumber(references_apart)
+      << " rad";
   for (const std::string& note : peer.notes()) s << " (" << note << ")";
   result->reference += s.str();
 }
