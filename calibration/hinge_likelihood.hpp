@@ -17,10 +17,12 @@
 ///
 /// Least squares of the whitened residuals is the maximum-likelihood
 /// estimate; its Gauss–Newton covariance of (j₁, C), marginal over the 4n
-/// nuisance unknowns (ceres::Covariance, sparse QR), is the Cramér–Rao bound
-/// evaluated at the estimate. hingeCramerRao evaluates the same at the true
-/// motion: the bound of the recording. Solved by Ceres (sparse Schur, the ω₁,k
-/// eliminated first) from a constraint fit's axes (fitHinge).
+/// nuisance unknowns, is the Cramér–Rao bound evaluated at the estimate.
+/// hingeCramerRao evaluates the same at the true motion: the bound of the
+/// recording. Solved from a constraint fit's axes (fitHinge) with the ω₁,k
+/// eliminated in closed form and the joint angles' banded normal equations
+/// (hinge_likelihood_problem.hpp): the whole problem's minimum and
+/// covariance, O(n) per iteration.
 #pragma once
 
 #include <string>

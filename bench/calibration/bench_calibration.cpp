@@ -231,10 +231,42 @@ void printSummary(const lieflow::bench::MedianReporter& reporter) {
 
 }  // namespace
 
+/// Where a default hinge fit of gyroscopes spends its time, on the fixed
+/// recordings of the Google Benchmark cases (median CPU ms of 21 fits each):
+/// the constraint estimator alone, the likelihood fit from it, and the
+/// model check's four quarter fits.
+void printHingeBreakdown() {
+  std::printf("\n%-30s %12s %12s %12s\n", "hinge, 1000 gyroscope samples", "constraint", "+ likelihood",
+              "+ quarters");
+  for (const Case& c : cases()) {
+    if (c.universal || c.noise.orientations) continue;
+    std::mt19937 gen(2024);
+    const HingeMotion motion = randomHingeMotion(gen);
+    const JointSamples samples = recordMotion(motion, kSamples, kRateHz, c.noise, gen);
+    AxisFitOptions constraint, whole, defaults;
+    constraint.estimator = HingeEstimator::kConstraint;
+    constraint.check_segments = whole.check_segments = false;
+    double ms[3];
+    int k = 0;
+    for (const AxisFitOptions* o : {&constraint, &whole, &defaults}) {
+      std::vector<double> t;
+      for (int i = 0; i < 21; ++i) {
+        const std::clock_t start = std::clock();
+        const HingeFit fit = fitHinge(samples, *o);
+        t.push_back(1e3 * static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC);
+        benchmark::DoNotOptimize(fit.axis_main.data());
+      }
+      ms[k++] = quantile(t, 0.5);
+    }
+    std::printf("%-30s %12.2f %12.2f %12.2f\n", c.name.c_str(), ms[0], ms[1], ms[2]);
+  }
+}
+
 int main(int argc, char** argv) {
   for (const Case& c : cases()) registerCase(c);
   return lieflow::bench::runWithMedianReporter(argc, argv, "0.2", [](const lieflow::bench::MedianReporter& r) {
     printSummary(r);
+    printHingeBreakdown();
     printSweep();
     printShortSweep();
   });

@@ -1,0 +1,503 @@
+#include "calibration/hinge_likelihood_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include <Eigen/Cholesky>
+
+#include "calibration/unit_axis.hpp"
+#include "liegroup/so3.hpp"
+
+namespace lieflow {
+namespace calibration {
+namespace {
+
+/// The five-point difference φ̇_k = (φ_{k−2} − 8φ_{k−1} + 8φ_{k+1} − φ_{k+2}) / 12h
+/// (error h⁴φ⁽⁵⁾/30): its half-width is the normal equations' half-bandwidth.
+constexpr int kHalfStencil = 2;
+constexpr int kBand = 2 * kHalfStencil;
+constexpr double kStencil[2 * kHalfStencil + 1] = {1.0, -8.0, 0.0, 8.0, -1.0};
+
+/// Levenberg–Marquardt's trust region μ (the damping is diag(JᵀJ)/μ), as
+/// Ceres': a wide first one (the start is a constraint fit's, close enough
+/// for Gauss–Newton steps), its limits, and the clamp of the diagonal.
+constexpr double kInitialRadius = 1e8;
+constexpr double kMaxRadius = 1e16;
+constexpr double kMinRadius = 1e-32;
+constexpr double kMinDiagonal = 1e-6;
+constexpr double kMaxDiagonal = 1e32;
+/// A step is taken when the cost falls by at least this share of the
+/// linear model's prediction.
+constexpr double kMinRelativeDecrease = 1e-3;
+/// A pivot below this share of its diagonal, or a Schur complement whose
+/// squared pivot ratio is below it, is singular: the data do not determine
+/// the unknowns (Ceres' covariance takes the same threshold of its
+/// reciprocal condition).
+constexpr double kSingular = 1e-14;
+
+/// The free globals' count G is a template parameter (5, 6, 10 or 11:
+/// withGlobals dispatches once per call), so every per-sample product is of
+/// fixed size.
+template <int G>
+using Globals = Eigen::Matrix<double, G, 1>;
+/// Whether G's globals hold the biases (b₁, b₂) and the clock offset ν.
+template <int G>
+constexpr bool kHasBiases = G >= 10;
+template <int G>
+constexpr bool kHasOffset = G == 6 || G == 11;
+template <int G>
+using GlobalMatrix = Eigen::Matrix<double, G, G>;
+
+/// One interior sample's ρ_k, and with `jacobian` its Kaufman Jacobian: on
+/// φ_{k−2} … φ_{k+2} (3 × 5) and on the free globals in the order j₁'s
+/// tangent (2: perpendicularBasis(j₁)), C's (3: C ← exp(δ) C), b₁ (3), b₂ (2), ν.
+template <int G>
+struct SampleTerms {
+  Eigen::Vector3d rho;
+  Eigen::Matrix<double, 3, 2 * kHalfStencil + 1> phi;
+  Eigen::Matrix<double, 3, G> globals;
+  Eigen::Vector3d main_rate;  ///< x*
+};
+
+/// θ's pieces every sample reads, once per evaluation.
+struct Frame {
+  Eigen::Matrix3d ct;                      ///< Cᵀ
+  Eigen::Matrix3d c;                       ///< C
+  Eigen::Vector3d j;                       ///< j₁
+  Eigen::Matrix<double, 3, 2> tangent;     ///< j₁'s tangent basis
+  Eigen::Vector3d b1;                      ///< B₁ b₁
+  Eigen::Vector3d b2;                      ///< E₂ b₂
+  double scale;                            ///< w / √2
+  explicit Frame(const HingeUnknowns& t, double weight) {
+    c = t.mount.normalized().toRotationMatrix();
+    ct = c.transpose();
+    j = t.axis_main;
+    tangent = perpendicularBasis(j);
+    b1 = t.main_bias_basis * t.main_bias;
+    b2 = t.secondary_bias_basis * t.secondary_bias;
+    scale = weight / std::sqrt(2.0);
+  }
+};
+
+template <int G>
+void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, int k,
+                 double inverse_step, bool jacobian, SampleTerms<G>* out) {
+  double rate = 0.0;
+  for (int i = 0; i <= 2 * kHalfStencil; ++i) rate += kStencil[i] * t.phi[k - kHalfStencil + i];
+  rate *= inverse_step / 12.0;
+  const double c = std::cos(t.phi[k]), s = std::sin(t.phi[k]);
+  const Eigen::Vector3d& j = f.j;
+  // exp(∓φ j₁) y by Rodrigues' formula.
+  const auto turn = [&](const Eigen::Vector3d& y) { return (c * y - s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval(); };
+  const auto back = [&](const Eigen::Vector3d& y) { return (c * y + s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval(); };
+  const Eigen::Vector3d slope = m.secondary_slope.empty() ? Eigen::Vector3d::Zero() : m.secondary_slope[k];
+  const Eigen::Vector3d a = m.main[k] - f.b1;
+  // b without its φ̇ term: m₂ − E₂ b₂ − ν ṁ₂.
+  const Eigen::Vector3d b = m.secondary[k] - f.b2 - t.offset_fraction * slope;
+  out->rho = f.scale * (f.ct * (turn(a) + rate * j) - b);
+  // x* = (a + Rᵀ b_full)/2 with Rᵀ = exp(φ j₁) C and b_full = b − φ̇ Cᵀ j₁.
+  out->main_rate = 0.5 * (a + back(f.c * b) - rate * j);
+  if (!jacobian) return;
+  const Eigen::Vector3d& x = out->main_rate;
+  const Eigen::Vector3d z = turn(x);
+  const Eigen::Vector3d along = f.scale * inverse_step / 12.0 * (f.ct * j);
+  for (int i = 0; i <= 2 * kHalfStencil; ++i) out->phi.col(i) = kStencil[i] * along;
+  // ∂/∂φ (Cᵀ exp(−φ j₁) x) = −Cᵀ (j₁ × exp(−φ j₁) x).
+  out->phi.col(kHalfStencil) -= f.scale * (f.ct * j.cross(z));
+  // ∂/∂j₁ of exp(−φ j₁) x: sin φ [x]× + (1 − cos φ)(j₁ xᵀ + (j₁·x) I); and φ̇ Cᵀ δ.
+  Eigen::Matrix3d d = s * SO3d::hat(x) + (1.0 - c) * (j * x.transpose() + j.dot(x) * Eigen::Matrix3d::Identity());
+  d.diagonal().array() += rate;
+  out->globals.template leftCols<2>() = f.scale * (f.ct * d * f.tangent);
+  // Cᵀ ← Cᵀ exp(−δ): ∂(Cᵀ v)/∂δ = Cᵀ [v]×, v = exp(−φ j₁) x + φ̇ j₁.
+  out->globals.template middleCols<3>(2) = f.scale * (f.ct * SO3d::hat(z + rate * j));
+  int col = 5;
+  if constexpr (kHasBiases<G>) {
+    for (int i = 0; i < 3; ++i) out->globals.col(col + i) = -f.scale * (f.ct * turn(t.main_bias_basis.col(i)));
+    out->globals.template middleCols<2>(col + 3) = f.scale * t.secondary_bias_basis;
+    col += 5;
+  }
+  if constexpr (kHasOffset<G>) out->globals.col(col) = f.scale * slope;
+}
+
+void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
+  const int n = m.samples();
+  if (static_cast<int>(m.secondary.size()) != n || static_cast<int>(t.phi.size()) != n ||
+      (!m.secondary_slope.empty() && static_cast<int>(m.secondary_slope.size()) != n))
+    throw std::invalid_argument("hinge likelihood: the rates, slopes and angles differ in length");
+  if (m.runs() < 1 || static_cast<int>(m.run_begin.size()) != m.runs() + 1 || m.run_begin.front() != 0 ||
+      m.run_begin.back() != n)
+    throw std::invalid_argument("hinge likelihood: the recordings' bounds do not cover the samples");
+  for (int r = 0; r < m.runs(); ++r)
+    if (m.run_begin[r + 1] - m.run_begin[r] < 2 * kHalfStencil + 2 || !(m.run_step[r] > 0.0))
+      throw std::invalid_argument("hinge likelihood: a recording has fewer than " +
+                                  std::to_string(2 * kHalfStencil + 2) + " samples or no positive interval");
+}
+
+/// Calls f(k, 1/h) for every interior sample (a full stencil in its recording).
+template <typename F>
+void forInterior(const HingeRates& m, F&& f) {
+  for (int r = 0; r < m.runs(); ++r)
+    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, 1.0 / m.run_step[r]);
+}
+
+/// The normal equations JᵀJ δ = −Jᵀρ at θ: the angles' block banded
+/// (band[k][d] = H(k, k − d), d ≤ 4), their border with the globals, the
+/// globals' block, and the gradient. φ₀'s row is the identity (held).
+template <int G>
+struct Normal {
+  static constexpr int g = G;
+  int n = 0;
+  std::vector<double> band;
+  Eigen::Matrix<double, Eigen::Dynamic, G, Eigen::RowMajor> border;  ///< N × G
+  GlobalMatrix<G> globals;
+  Eigen::VectorXd grad_phi;
+  Globals<G> grad_globals;
+  double cost = 0.0;
+  Eigen::Matrix<double, 3, 2> tangent;  ///< the j₁ tangent basis of this linearization
+
+  explicit Normal(int samples) : n(samples) {
+    band.resize(static_cast<std::size_t>(n) * (kBand + 1));
+    border.resize(n, G);
+    grad_phi.resize(n);
+  }
+  double& at(int k, int d) { return band[static_cast<std::size_t>(k) * (kBand + 1) + d]; }
+  double at(int k, int d) const { return band[static_cast<std::size_t>(k) * (kBand + 1) + d]; }
+
+  void assemble(const HingeRates& m, const HingeUnknowns& t) {
+    std::fill(band.begin(), band.end(), 0.0);
+    border.setZero();
+    globals.setZero();
+    grad_phi.setZero();
+    grad_globals.setZero();
+    cost = 0.0;
+    const Frame f(t, m.weight);
+    tangent = f.tangent;
+    SampleTerms<G> s;
+    forInterior(m, [&](int k, double inverse_step) {
+      sampleTerms(m, t, f, k, inverse_step, true, &s);
+      if (k == kHalfStencil) s.phi.col(0).setZero();  // φ₀ of the first recording is held
+      cost += 0.5 * s.rho.squaredNorm();
+      const int first = k - kHalfStencil;
+      for (int i = 0; i <= kBand; ++i) {
+        for (int l = 0; l <= i; ++l) at(first + i, i - l) += s.phi.col(i).dot(s.phi.col(l));
+        border.row(first + i).noalias() += s.phi.col(i).transpose() * s.globals;
+        grad_phi[first + i] += s.phi.col(i).dot(s.rho);
+      }
+      globals.noalias() += s.globals.transpose() * s.globals;
+      grad_globals.noalias() += s.globals.transpose() * s.rho;
+    });
+    at(0, 0) = 1.0;
+  }
+};
+
+/// In-place Cholesky L Lᵀ of a banded matrix (half-bandwidth kBand) in
+/// Normal's storage; false at a pivot below kSingular of its diagonal.
+bool bandedCholesky(std::vector<double>* band, int n) {
+  const auto L = [&](int row, int col) -> double& {
+    return (*band)[static_cast<std::size_t>(row) * (kBand + 1) + (row - col)];
+  };
+  for (int k = 0; k < n; ++k)
+    for (int j = std::max(0, k - kBand); j <= k; ++j) {
+      const double diagonal = L(k, j);
+      double s = diagonal;
+      for (int i = std::max(0, k - kBand); i < j; ++i) s -= L(k, i) * L(j, i);
+      if (j < k) {
+        L(k, j) = s / L(j, j);
+      } else {
+        if (!(s > kSingular * diagonal)) return false;
+        L(k, k) = std::sqrt(s);
+      }
+    }
+  return true;
+}
+
+/// Right-hand sides of the banded solves: one row per angle, a column per
+/// global and one for the gradient (row-major: a row's update is one
+/// short vector operation).
+template <int Columns>
+using BandRhs = Eigen::Matrix<double, Eigen::Dynamic, Columns, Eigen::RowMajor>;
+
+/// X ← (L Lᵀ)⁻¹ X, all columns at once.
+template <typename Rhs>
+void bandedSolve(const std::vector<double>& band, int n, Rhs* x) {
+  const auto L = [&](int row, int col) { return band[static_cast<std::size_t>(row) * (kBand + 1) + (row - col)]; };
+  for (int k = 0; k < n; ++k) {
+    for (int i = std::max(0, k - kBand); i < k; ++i) x->row(k) -= L(k, i) * x->row(i);
+    x->row(k) /= L(k, k);
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    for (int i = k + 1; i <= std::min(n - 1, k + kBand); ++i) x->row(k) -= L(i, k) * x->row(i);
+    x->row(k) /= L(k, k);
+  }
+}
+
+/// A Cholesky factor whose squared pivot ratio (min/max)² is above kSingular,
+/// as the banded factor's test: a singular Schur complement is refused.
+template <typename Llt>
+bool wellConditioned(const Llt& llt) {
+  if (llt.info() != Eigen::Success) return false;
+  const auto pivots = llt.matrixLLT().diagonal();
+  const double ratio = pivots.minCoeff() / pivots.maxCoeff();
+  return ratio * ratio > kSingular;
+}
+
+double clampedDiagonal(double d) { return std::min(std::max(d, kMinDiagonal), kMaxDiagonal); }
+
+/// Buffers of the damped solves, reused across iterations.
+template <int G>
+struct SolveWork {
+  std::vector<double> band;
+  BandRhs<G + 1> x;  ///< N × (G + 1): (H_φφ)⁻¹ [H_φg | −g_φ]
+};
+
+/// (H + diag(H)/μ) δ = −g by the banded Cholesky of the angles' block and
+/// the Schur complement onto the globals (μ = ∞: undamped). False when
+/// singular.
+template <int G>
+bool solveNormal(const Normal<G>& h, double radius, SolveWork<G>* w, Eigen::VectorXd* delta_phi,
+                 Globals<G>* delta_globals) {
+  const double lambda = std::isinf(radius) ? 0.0 : 1.0 / radius;
+  w->band = h.band;
+  for (int k = 0; k < h.n; ++k) w->band[static_cast<std::size_t>(k) * (kBand + 1)] += lambda * clampedDiagonal(h.at(k, 0));
+  if (!bandedCholesky(&w->band, h.n)) return false;
+  w->x.resize(h.n, G + 1);
+  w->x.template leftCols<G>() = h.border;
+  w->x.col(G) = -h.grad_phi;
+  bandedSolve(w->band, h.n, &w->x);
+  GlobalMatrix<G> s = h.globals;
+  for (int i = 0; i < G; ++i) s(i, i) += lambda * clampedDiagonal(h.globals(i, i));
+  s.noalias() -= h.border.transpose() * w->x.template leftCols<G>();
+  const Globals<G> r = -h.grad_globals - h.border.transpose() * w->x.col(G);
+  const Eigen::LLT<GlobalMatrix<G>> llt(s);
+  if (!wellConditioned(llt)) return false;
+  *delta_globals = llt.solve(r);
+  *delta_phi = w->x.col(G) - w->x.template leftCols<G>() * *delta_globals;
+  return true;
+}
+
+/// θ ⊞ δ: φ += δφ, j₁ along its great circle, C ← exp(δ) C, the rest added.
+template <int G>
+void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, const Eigen::VectorXd& delta_phi, const Globals<G>& delta, HingeUnknowns* out_ptr) {
+  HingeUnknowns& out = *out_ptr;
+  out = t;
+  for (std::size_t k = 0; k < out.phi.size(); ++k) out.phi[k] += delta_phi[static_cast<Eigen::Index>(k)];
+  const Eigen::Vector3d v = tangent * delta.template head<2>();
+  const double angle = v.norm();
+  if (angle > 0.0) out.axis_main = (std::cos(angle) * t.axis_main + std::sin(angle) / angle * v).normalized();
+  out.mount = (SO3d::exp(delta.template segment<3>(2)).quaternion() * t.mount).normalized();
+  int col = 5;
+  if constexpr (kHasBiases<G>) {
+    out.main_bias += delta.template segment<3>(col);
+    out.secondary_bias += delta.template segment<2>(col + 3);
+    col += 5;
+  }
+  if constexpr (kHasOffset<G>) out.offset_fraction += delta[col];
+}
+
+double norm(const HingeUnknowns& t, const HingeFreedoms& free) {
+  double s = 2.0;  // |j₁|² + |q|²
+  for (double p : t.phi) s += p * p;
+  if (free.biases) s += t.main_bias.squaredNorm() + t.secondary_bias.squaredNorm();
+  if (free.offset) s += t.offset_fraction * t.offset_fraction;
+  return std::sqrt(s);
+}
+
+/// Calls f(std::integral_constant<int, G>) for the free globals' count G.
+template <typename F>
+auto withGlobals(const HingeFreedoms& free, F&& f) {
+  switch (free.globals()) {
+    case 5: return f(std::integral_constant<int, 5>{});
+    case 6: return f(std::integral_constant<int, 6>{});
+    case 10: return f(std::integral_constant<int, 10>{});
+    default: return f(std::integral_constant<int, 11>{});
+  }
+}
+
+template <int G>
+double costOf(const HingeRates& rates, const HingeUnknowns& theta) {
+  const Frame f(theta, rates.weight);
+  SampleTerms<G> s;
+  double cost = 0.0;
+  forInterior(rates, [&](int k, double inverse_step) {
+    sampleTerms(rates, theta, f, k, inverse_step, false, &s);
+    cost += 0.5 * s.rho.squaredNorm();
+  });
+  return cost;
+}
+
+template <int G>
+HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
+                        const HingeSolveOptions& options) {
+  HingeSolveSummary summary;
+  // The linearization at θ and at the trial point: a step is taken by
+  // swapping them (the trial's Jacobian is computed with its cost; Gauss–
+  // Newton steps are rarely refused, so it is rarely wasted).
+  Normal<G> h(rates.samples()), next(rates.samples());
+  h.assemble(rates, *theta);
+  summary.initial_cost = summary.final_cost = h.cost;
+  if (options.progress) options.progress(0, h.cost);
+  const auto gradientVanished = [&] {
+    return std::max(h.grad_phi.cwiseAbs().maxCoeff(), h.grad_globals.cwiseAbs().maxCoeff()) <=
+           options.gradient_tolerance;
+  };
+  if (gradientVanished()) {
+    summary.stop = HingeSolveSummary::Stop::kGradientVanished;
+    return summary;
+  }
+  SolveWork<G> work;
+  Eigen::VectorXd delta_phi;
+  Globals<G> delta;
+  HingeUnknowns trial;
+  double radius = kInitialRadius, decrease = 2.0;
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    summary.iterations = iteration;
+    const auto reject = [&] {
+      radius /= decrease;
+      decrease *= 2.0;
+    };
+    if (!solveNormal(h, radius, &work, &delta_phi, &delta)) {
+      reject();
+      if (radius < kMinRadius) {
+        summary.stop = HingeSolveSummary::Stop::kSingular;
+        return summary;
+      }
+      continue;
+    }
+    const double step = std::sqrt(delta_phi.squaredNorm() + delta.squaredNorm());
+    if (step <= options.parameter_tolerance * (norm(*theta, free) + options.parameter_tolerance)) {
+      summary.stop = HingeSolveSummary::Stop::kStepVanished;
+      return summary;
+    }
+    plus(*theta, h.tangent, delta_phi, delta, &trial);
+    next.assemble(rates, trial);
+    // The linear model's decrease: −gᵀδ − ½ δᵀHδ = ½ (δᵀ D δ / μ − gᵀδ).
+    double damped = 0.0;
+    for (int k = 0; k < h.n; ++k) damped += clampedDiagonal(h.at(k, 0)) * delta_phi[k] * delta_phi[k];
+    for (int i = 0; i < G; ++i) damped += clampedDiagonal(h.globals(i, i)) * delta[i] * delta[i];
+    const double predicted = 0.5 * (damped / radius - h.grad_phi.dot(delta_phi) - h.grad_globals.dot(delta));
+    const double ratio = (h.cost - next.cost) / predicted;
+    if (std::isfinite(next.cost) && predicted > 0.0 && ratio > kMinRelativeDecrease) {
+      const double change = h.cost - next.cost;
+      std::swap(*theta, trial);
+      std::swap(h, next);
+      summary.final_cost = h.cost;
+      radius = std::min(kMaxRadius, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
+      decrease = 2.0;
+      if (options.progress) options.progress(iteration, h.cost);
+      if (change <= options.function_tolerance * h.cost) {
+        summary.stop = HingeSolveSummary::Stop::kCostStopped;
+        return summary;
+      }
+      if (gradientVanished()) {
+        summary.stop = HingeSolveSummary::Stop::kGradientVanished;
+        return summary;
+      }
+    } else {
+      reject();
+      if (options.progress) options.progress(iteration, h.cost);
+      if (radius < kMinRadius) {
+        summary.stop = HingeSolveSummary::Stop::kCostStopped;
+        return summary;
+      }
+    }
+    if (options.interrupt && options.interrupt()) {
+      summary.stop = HingeSolveSummary::Stop::kInterrupted;
+      return summary;
+    }
+  }
+  summary.stop = HingeSolveSummary::Stop::kIterationLimit;
+  return summary;
+}
+
+template <int G>
+bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, double scale,
+              HingeSigmas* sigmas) {
+  Normal<G> h(rates.samples());
+  h.assemble(rates, theta);
+  // The globals' covariance: the inverse of the Schur complement
+  // S = H_gg − H_gφ H_φφ⁻¹ H_φg of the undamped Gauss–Newton matrix.
+  std::vector<double> band = h.band;
+  if (!bandedCholesky(&band, h.n)) return false;
+  BandRhs<G> x = h.border;
+  bandedSolve(band, h.n, &x);
+  GlobalMatrix<G> s = h.globals;
+  s.noalias() -= h.border.transpose() * x;
+  const Eigen::LLT<GlobalMatrix<G>> llt(s);
+  if (!wellConditioned(llt)) return false;
+  const GlobalMatrix<G> covariance = scale * llt.solve(GlobalMatrix<G>::Identity());
+  // j₂ = Cᵀ j₁: ∂j₂ = Cᵀ E δj + Cᵀ [j₁]× δC (C ← exp(δC) C).
+  const Eigen::Matrix3d ct = theta.mount.normalized().toRotationMatrix().transpose();
+  Eigen::Matrix<double, 3, 5> d;
+  d << ct * h.tangent, ct * SO3d::hat(theta.axis_main);
+  sigmas->axis_main = std::sqrt(covariance.template topLeftCorner<2, 2>().trace());
+  sigmas->axis_secondary = std::sqrt((d * covariance.template topLeftCorner<5, 5>() * d.transpose()).trace());
+  int col = 5;
+  if constexpr (kHasBiases<G>) {
+    sigmas->main_bias = std::sqrt(covariance.block(col, col, 3, 3).trace());
+    sigmas->secondary_bias = std::sqrt(covariance.block(col + 3, col + 3, 2, 2).trace());
+    col += 5;
+  }
+  if constexpr (kHasOffset<G>) sigmas->offset_fraction = std::sqrt(covariance(col, col));
+  return std::isfinite(sigmas->axis_main) && std::isfinite(sigmas->axis_secondary);
+}
+
+}  // namespace
+
+std::string HingeSolveSummary::message() const {
+  const std::string its = std::to_string(iterations + 1) + " iterations";
+  switch (stop) {
+    case Stop::kGradientVanished: return "converged: the cost's gradient vanished (" + its + ")";
+    case Stop::kStepVanished:
+      return "converged: the parameters stopped changing, to a relative step below the tolerance (" + its + ")";
+    case Stop::kCostStopped:
+      return "converged: the cost stopped changing, to a relative change below the tolerance (" + its + ")";
+    case Stop::kIterationLimit:
+      return "not converged: the solver stopped at its limit of iterations (" + its + "; `max_iterations` raises it)";
+    case Stop::kInterrupted: return "stopped on request after " + its;
+    case Stop::kSingular: break;
+  }
+  return "failed: the least-squares system was singular: the data do not determine the parameters";
+}
+
+double hingeLikelihoodCost(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free) {
+  checkSizes(rates, theta);
+  return withGlobals(free, [&](auto g) { return costOf<decltype(g)::value>(rates, theta); });
+}
+
+int hingeLikelihoodDegreesOfFreedom(const HingeRates& rates, const HingeFreedoms& free) {
+  int interior = 0;
+  forInterior(rates, [&](int, double) { ++interior; });
+  return 3 * interior - (rates.samples() - 1) - free.globals();
+}
+
+std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const HingeUnknowns& theta) {
+  checkSizes(rates, theta);
+  const Frame f(theta, rates.weight);
+  std::vector<Eigen::Vector3d> x(rates.main.size());
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] = rates.main[k] - f.b1;
+  SampleTerms<5> s;
+  forInterior(rates, [&](int k, double inverse_step) {
+    sampleTerms(rates, theta, f, k, inverse_step, false, &s);
+    x[k] = s.main_rate;
+  });
+  return x;
+}
+
+HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
+                                       const HingeSolveOptions& options) {
+  checkSizes(rates, *theta);
+  return withGlobals(free, [&](auto g) { return solve<decltype(g)::value>(rates, theta, free, options); });
+}
+
+bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,
+                           double scale, HingeSigmas* sigmas) {
+  checkSizes(rates, theta);
+  return withGlobals(free, [&](auto g) { return sigmasOf<decltype(g)::value>(rates, theta, scale, sigmas); });
+}
+
+}  // namespace calibration
+}  // namespace lieflow

@@ -1,0 +1,132 @@
+/// \file
+/// The least squares of the likelihood hinge fit (hinge_likelihood.hpp) with
+/// the main body's true rates eliminated in closed form, and its
+/// Levenberg–Marquardt solve on the banded normal equations that remain.
+///
+/// Per sample k the fit's residuals are, whitened by w = 1/σ,
+///   r₁ = w (x − a),   a = m₁ − B₁ b₁,
+///   r₂ = w (R x − b), R = Cᵀ exp(−φ j₁) (orthogonal), b = m₂ − E₂ b₂ − ν ṁ₂ − φ̇ Cᵀ j₁,
+/// with x = ω₁,k the true rate. For fixed θ = (φ, j₁, C, biases, ν) the
+/// x-part is linear with orthonormal columns: x* = (a + Rᵀ b)/2 and
+///   min_x |r₁|² + |r₂|² = |ρ|²,   ρ = (w/√2)(R a − b),                      (2)
+/// so the 3N unknowns x leave the problem exactly (variable projection,
+/// Golub & Pereyra 1973). For its Jacobian the fit takes Kaufman's (1975):
+///   J = (w/√2)(R a' + R' x* − b'),
+/// the Schur complement of the whole problem's Gauss–Newton matrix onto θ.
+/// Its gradient Jᵀρ is the exact gradient of (2) (the two Jacobians differ
+/// by ½ R'Rᵀ ρ, and R'Rᵀ is skew), so the minimum is the whole problem's, and
+/// (JᵀJ)⁻¹ at it is the whole problem's Gauss–Newton covariance of θ marginal
+/// over the x: the same estimate and σ as a solve over every unknown
+/// (tests/calibration/hinge_likelihood_test.cpp checks both against Ceres on
+/// the whole problem) at a fraction of its cost.
+///
+/// φ̇_k is the five-point difference of φ_{k−2} … φ_{k+2}, so JᵀJ is banded in
+/// φ (half-bandwidth 4) with a dense border of at most 11 columns (j₁ on its
+/// sphere: 2, C: 3, b₁: 3, b₂: 2, ν: 1): one banded Cholesky and a small
+/// Schur complement per iteration, O(N).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace lieflow {
+namespace calibration {
+
+/// What the fit measures: both gyroscopes at N samples in one or more
+/// recordings, concatenated.
+struct HingeRates {
+  std::vector<Eigen::Vector3d> main;       ///< m₁,k
+  std::vector<Eigen::Vector3d> secondary;  ///< m₂,k (paired with main k)
+  /// ṁ₂ at the paired samples, for the clock offset's fraction ν (empty: zero).
+  std::vector<Eigen::Vector3d> secondary_slope;
+  /// Where each recording begins, and a last entry N: the five-point stencils
+  /// stay within one recording (two recordings' samples are not neighbours).
+  std::vector<int> run_begin;
+  std::vector<double> run_step;  ///< each recording's sampling interval h [s]
+  double weight = 1.0;           ///< w = 1/σ
+  int samples() const { return static_cast<int>(main.size()); }
+  int runs() const { return static_cast<int>(run_step.size()); }
+};
+
+/// The unknowns θ. φ of the first recording's first sample is held (it and
+/// C's turn about j₁ are one freedom). b₁ are the main gyroscope's bias's
+/// coordinates in `main_bias_basis` (3 × 3, orthonormal), b₂ the secondary's
+/// in `secondary_bias_basis` (3 × 2, perpendicular to the start's j₂).
+struct HingeUnknowns {
+  std::vector<double> phi;
+  Eigen::Vector3d axis_main = Eigen::Vector3d::UnitZ();  ///< j₁, unit
+  Eigen::Quaterniond mount = Eigen::Quaterniond::Identity();  ///< C (C j₂ = j₁)
+  Eigen::Vector3d main_bias = Eigen::Vector3d::Zero();
+  Eigen::Vector2d secondary_bias = Eigen::Vector2d::Zero();
+  double offset_fraction = 0.0;  ///< ν [s]
+  Eigen::Matrix3d main_bias_basis = Eigen::Matrix3d::Identity();
+  Eigen::Matrix<double, 3, 2> secondary_bias_basis = Eigen::Matrix<double, 3, 2>::Zero();
+  /// j₂ = Cᵀ j₁.
+  Eigen::Vector3d axisSecondary() const { return mount.conjugate() * axis_main; }
+};
+
+/// Which of θ's global parts are free (φ, j₁ and C always are).
+struct HingeFreedoms {
+  bool biases = false;
+  bool offset = false;
+  int globals() const { return 5 + (biases ? 5 : 0) + (offset ? 1 : 0); }
+};
+
+/// Limits of the solve: far below any gyroscope's noise.
+struct HingeSolveOptions {
+  int max_iterations = 100;
+  double function_tolerance = 1e-12;   ///< |Δcost| / cost
+  double gradient_tolerance = 1e-12;   ///< max |∂cost/∂θ|
+  double parameter_tolerance = 1e-12;  ///< |δθ| / (|θ| + tolerance)
+  std::function<void(int, double)> progress;  ///< (iteration, cost) of each iteration
+  std::function<bool()> interrupt;            ///< true stops the solve
+};
+
+/// Why the solve stopped.
+struct HingeSolveSummary {
+  enum class Stop { kCostStopped, kGradientVanished, kStepVanished, kIterationLimit, kInterrupted, kSingular };
+  Stop stop = Stop::kIterationLimit;
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;  ///< ½ Σ |ρ|²
+  bool converged() const {
+    return stop == Stop::kCostStopped || stop == Stop::kGradientVanished || stop == Stop::kStepVanished;
+  }
+  std::string message() const;  ///< in the fits' words (solver_options.hpp's)
+};
+
+/// Levenberg–Marquardt on (2) from `theta` (updated in place). Throws
+/// std::invalid_argument when the sizes disagree or a recording has fewer
+/// than six samples.
+HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
+                                       const HingeSolveOptions& options = {});
+
+/// ½ Σ |ρ_k|² at θ.
+double hingeLikelihoodCost(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free);
+
+/// The residuals less the unknowns: 3 per interior sample less (N − 1) angles
+/// and the free globals (the x cancel against the 3N residuals of r₁).
+int hingeLikelihoodDegreesOfFreedom(const HingeRates& rates, const HingeFreedoms& free);
+
+/// The Gauss–Newton covariance of θ's globals marginal over the angles (and
+/// the x), times `scale` (σ̂² for the fit, 1 for a bound with w = 1/σ).
+struct HingeSigmas {
+  double axis_main = 0.0;       ///< √trace of j₁'s covariance [rad]
+  double axis_secondary = 0.0;  ///< √trace of j₂'s [rad]
+  double main_bias = 0.0;       ///< √trace of b₁'s [rad/s] (biases free)
+  double secondary_bias = 0.0;  ///< √trace of b₂'s [rad/s]
+  double offset_fraction = 0.0;  ///< ν's σ [s] (offset free)
+};
+/// False when the information matrix is singular (not identifiable).
+bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,
+                           double scale, HingeSigmas* sigmas);
+
+/// The true main rates x*_k of (2) at θ (edge samples: a).
+std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const HingeUnknowns& theta);
+
+}  // namespace calibration
+}  // namespace lieflow
