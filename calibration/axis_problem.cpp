@@ -42,7 +42,7 @@ void evaluateJacobian(AxisProblem& p, bool apply_loss, double* cost, std::vector
 /// the cost, and the nuisance's linear regression on the axes' tangent
 /// coordinates, δν = −H_nn⁻¹ H_na δ (empty without nuisance).
 void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost,
-                       Eigen::MatrixXd* profile) {
+                       Eigen::MatrixXd* profile, Eigen::MatrixXd* whole) {
   ceres::CRSMatrix J;
   evaluateJacobian(p, true, cost, nullptr, &J);
   const int n = J.num_cols;
@@ -59,6 +59,7 @@ void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_no
     begin = end;
   }
   h = Eigen::MatrixXd(h.selfadjointView<Eigen::Lower>());
+  if (whole) *whole = h;
   *H_noise = Eigen::MatrixXd(hn.selfadjointView<Eigen::Lower>()).topLeftCorner<4, 4>();
   *H = h.topLeftCorner<4, 4>();
   profile->resize(n - 4, 4);

@@ -71,6 +71,8 @@ class AxisProblem {
 
   /// Estimated nuisance coordinates (0 without a nuisance block).
   int nuisanceCount() const { return active_; }
+  /// The nuisance block's coordinate of the i-th estimated one.
+  int activeIndex(int i) const { return active_index_[i]; }
   double* nuisance() { return nuisance_; }
   /// The parameter blocks whose Jacobian the analyses use: the axes, then the nuisance.
   std::vector<double*> blocks() {
@@ -190,9 +192,11 @@ class AxisProblem {
 /// noise's share H_noise = ⅙ Σ Δ²Jₖᵀ Δ²Jₖ of the axes' columns (second
 /// differences over consecutive samples of one kind; identifiability.hpp),
 /// the cost, and the nuisance's linear regression on the axes' tangent
-/// coordinates, δν = −H_nn⁻¹ H_na δ (empty without nuisance).
+/// coordinates, δν = −H_nn⁻¹ H_na δ (empty without nuisance); with `whole`,
+/// also JᵀJ over the axes (per rad) and the nuisance, before the
+/// marginalisation.
 void informationAtAxes(AxisProblem& p, Eigen::Matrix4d* H, Eigen::Matrix4d* H_noise, double* cost,
-                       Eigen::MatrixXd* profile);
+                       Eigen::MatrixXd* profile, Eigen::MatrixXd* whole = nullptr);
 
 /// One Gauss–Newton step from the problem's current axes and nuisance:
 /// g = Jᵀr and H = JᵀJ over the axes' tangent coordinates and the estimated

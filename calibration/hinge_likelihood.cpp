@@ -147,7 +147,8 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   HingeSolveOptions solve;
   solve.progress = options_in.progress;
   solve.interrupt = options_in.interrupt;
-  const HingeSolveSummary summary = solveHingeLikelihood(rates, &p, free, solve);
+  HingeSigmas sigmas;  // at scale 1: times σ̂ below
+  const HingeSolveSummary summary = solveHingeLikelihood(rates, &p, free, solve, &sigmas);
   if (summary.stop == HingeSolveSummary::Stop::kSingular || !std::isfinite(summary.final_cost))
     throw FitFailed("the likelihood hinge fit failed: " + summary.message());
 
@@ -157,24 +158,22 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   fit.iterations = summary.iterations;
   fit.converged = summary.converged();
   fit.message = summary.message();
-  const double s2 = 2.0 * summary.final_cost / hingeLikelihoodDegreesOfFreedom(rates, free);
-  fit.noise_sigma = std::sqrt(s2);
-  HingeSigmas sigmas;
-  if (!hingeLikelihoodSigmas(rates, p, free, s2, &sigmas))
-    throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
-  fit.sigma_main_deg = sigmas.axis_main * kRadToDeg;
-  fit.sigma_secondary_deg = sigmas.axis_secondary * kRadToDeg;
+  const double s = std::sqrt(2.0 * summary.final_cost / hingeLikelihoodDegreesOfFreedom(rates, free));
+  fit.noise_sigma = s;
+  if (!summary.covariance) throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
+  fit.sigma_main_deg = s * sigmas.axis_main * kRadToDeg;
+  fit.sigma_secondary_deg = s * sigmas.axis_secondary * kRadToDeg;
   if (options_in.fit_gyro_bias) {
     fit.fitted_gyro_bias = true;
     fit.gyro_bias_main = p.main_bias_basis * p.main_bias;
     fit.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias;
-    fit.gyro_bias_main_sigma = sigmas.main_bias;
-    fit.gyro_bias_secondary_sigma = sigmas.secondary_bias;
+    fit.gyro_bias_main_sigma = s * sigmas.main_bias;
+    fit.gyro_bias_secondary_sigma = s * sigmas.secondary_bias;
   }
   if (offset) {
     fit.fitted_time_offset = true;
     fit.time_offset = shift * h + p.offset_fraction;
-    fit.time_offset_sigma = sigmas.offset_fraction;
+    fit.time_offset_sigma = s * sigmas.offset_fraction;
   }
   return fit;
 }

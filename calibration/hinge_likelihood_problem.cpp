@@ -23,9 +23,14 @@ constexpr int kBand = 2 * kHalfStencil;
 constexpr double kStencil[2 * kHalfStencil + 1] = {1.0, -8.0, 0.0, 8.0, -1.0};
 
 /// Levenberg–Marquardt's trust region μ (the damping is diag(JᵀJ)/μ), as
-/// Ceres': a wide first one (the start is a constraint fit's, close enough
-/// for Gauss–Newton steps), its limits, and the clamp of the diagonal.
-constexpr double kInitialRadius = 1e8;
+/// Ceres': its limits and the clamp of the diagonal. The first radius is the
+/// largest: the start is a constraint fit's, close enough for Gauss–Newton
+/// steps, and damping of even 1e-8 diag(JᵀJ) (Ceres' widest first radius)
+/// holds back a weak direction of the angles — on a 1000-sample recording
+/// the cost crept by 1e-6 per iteration for five iterations (10 in all),
+/// where Gauss–Newton converges in 5. A refused step shrinks it (halved, then
+/// by 4, 8, …: from here to 1e8 in seven refusals).
+constexpr double kInitialRadius = 1e16;
 constexpr double kMaxRadius = 1e16;
 constexpr double kMinRadius = 1e-32;
 constexpr double kMinDiagonal = 1e-6;
@@ -331,7 +336,7 @@ double costOf(const HingeRates& rates, const HingeUnknowns& theta) {
 
 template <int G>
 HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
-                        const HingeSolveOptions& options) {
+                        const HingeSolveOptions& options, HingeSigmas* sigmas) {
   HingeSolveSummary summary;
   // The linearization at θ and at the trial point: a step is taken by
   // swapping them (the trial's Jacobian is computed with its cost; Gauss–
@@ -339,85 +344,90 @@ HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const Hin
   Normal<G> h(rates.samples()), next(rates.samples());
   h.assemble(rates, *theta);
   summary.initial_cost = summary.final_cost = h.cost;
-  if (options.progress) options.progress(0, h.cost);
-  const auto gradientVanished = [&] {
-    return std::max(h.grad_phi.cwiseAbs().maxCoeff(), h.grad_globals.cwiseAbs().maxCoeff()) <=
-           options.gradient_tolerance;
-  };
-  if (gradientVanished()) {
-    summary.stop = HingeSolveSummary::Stop::kGradientVanished;
-    return summary;
-  }
-  SolveWork<G> work;
-  Eigen::VectorXd delta_phi;
-  Globals<G> delta;
-  HingeUnknowns trial;
-  double radius = kInitialRadius, decrease = 2.0;
-  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    summary.iterations = iteration;
-    const auto reject = [&] {
-      radius /= decrease;
-      decrease *= 2.0;
+  // h is always the linearization at *theta: the σ come from it, without
+  // assembling the solution's normal equations again.
+  const auto iterate = [&] {
+    if (options.progress) options.progress(0, h.cost);
+    const auto gradientVanished = [&] {
+      return std::max(h.grad_phi.cwiseAbs().maxCoeff(), h.grad_globals.cwiseAbs().maxCoeff()) <=
+             options.gradient_tolerance;
     };
-    if (!solveNormal(h, radius, &work, &delta_phi, &delta)) {
-      reject();
-      if (radius < kMinRadius) {
-        summary.stop = HingeSolveSummary::Stop::kSingular;
-        return summary;
-      }
-      continue;
+    if (gradientVanished()) {
+      summary.stop = HingeSolveSummary::Stop::kGradientVanished;
+      return;
     }
-    const double step = std::sqrt(delta_phi.squaredNorm() + delta.squaredNorm());
-    if (step <= options.parameter_tolerance * (norm(*theta, free) + options.parameter_tolerance)) {
-      summary.stop = HingeSolveSummary::Stop::kStepVanished;
-      return summary;
-    }
-    plus(*theta, h.tangent, delta_phi, delta, &trial);
-    next.assemble(rates, trial);
-    // The linear model's decrease: −gᵀδ − ½ δᵀHδ = ½ (δᵀ D δ / μ − gᵀδ).
-    double damped = 0.0;
-    for (int k = 0; k < h.n; ++k) damped += clampedDiagonal(h.at(k, 0)) * delta_phi[k] * delta_phi[k];
-    for (int i = 0; i < G; ++i) damped += clampedDiagonal(h.globals(i, i)) * delta[i] * delta[i];
-    const double predicted = 0.5 * (damped / radius - h.grad_phi.dot(delta_phi) - h.grad_globals.dot(delta));
-    const double ratio = (h.cost - next.cost) / predicted;
-    if (std::isfinite(next.cost) && predicted > 0.0 && ratio > kMinRelativeDecrease) {
-      const double change = h.cost - next.cost;
-      std::swap(*theta, trial);
-      std::swap(h, next);
-      summary.final_cost = h.cost;
-      radius = std::min(kMaxRadius, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
-      decrease = 2.0;
-      if (options.progress) options.progress(iteration, h.cost);
-      if (change <= options.function_tolerance * h.cost) {
-        summary.stop = HingeSolveSummary::Stop::kCostStopped;
-        return summary;
+    SolveWork<G> work;
+    Eigen::VectorXd delta_phi;
+    Globals<G> delta;
+    HingeUnknowns trial;
+    double radius = kInitialRadius, decrease = 2.0;
+    for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+      summary.iterations = iteration;
+      const auto reject = [&] {
+        radius /= decrease;
+        decrease *= 2.0;
+      };
+      if (!solveNormal(h, radius, &work, &delta_phi, &delta)) {
+        reject();
+        if (radius < kMinRadius) {
+          summary.stop = HingeSolveSummary::Stop::kSingular;
+          return;
+        }
+        continue;
       }
-      if (gradientVanished()) {
-        summary.stop = HingeSolveSummary::Stop::kGradientVanished;
-        return summary;
+      const double step = std::sqrt(delta_phi.squaredNorm() + delta.squaredNorm());
+      if (step <= options.parameter_tolerance * (norm(*theta, free) + options.parameter_tolerance)) {
+        summary.stop = HingeSolveSummary::Stop::kStepVanished;
+        return;
       }
-    } else {
-      reject();
-      if (options.progress) options.progress(iteration, h.cost);
-      if (radius < kMinRadius) {
-        summary.stop = HingeSolveSummary::Stop::kCostStopped;
-        return summary;
+      plus(*theta, h.tangent, delta_phi, delta, &trial);
+      next.assemble(rates, trial);
+      // The linear model's decrease: −gᵀδ − ½ δᵀHδ = ½ (δᵀ D δ / μ − gᵀδ).
+      double damped = 0.0;
+      for (int k = 0; k < h.n; ++k) damped += clampedDiagonal(h.at(k, 0)) * delta_phi[k] * delta_phi[k];
+      for (int i = 0; i < G; ++i) damped += clampedDiagonal(h.globals(i, i)) * delta[i] * delta[i];
+      const double predicted = 0.5 * (damped / radius - h.grad_phi.dot(delta_phi) - h.grad_globals.dot(delta));
+      const double ratio = (h.cost - next.cost) / predicted;
+      if (std::isfinite(next.cost) && predicted > 0.0 && ratio > kMinRelativeDecrease) {
+        const double change = h.cost - next.cost;
+        std::swap(*theta, trial);
+        std::swap(h, next);
+        summary.final_cost = h.cost;
+        radius = std::min(kMaxRadius, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
+        decrease = 2.0;
+        if (options.progress) options.progress(iteration, h.cost);
+        if (change <= options.function_tolerance * h.cost) {
+          summary.stop = HingeSolveSummary::Stop::kCostStopped;
+          return;
+        }
+        if (gradientVanished()) {
+          summary.stop = HingeSolveSummary::Stop::kGradientVanished;
+          return;
+        }
+      } else {
+        reject();
+        if (options.progress) options.progress(iteration, h.cost);
+        if (radius < kMinRadius) {
+          summary.stop = HingeSolveSummary::Stop::kCostStopped;
+          return;
+        }
+      }
+      if (options.interrupt && options.interrupt()) {
+        summary.stop = HingeSolveSummary::Stop::kInterrupted;
+        return;
       }
     }
-    if (options.interrupt && options.interrupt()) {
-      summary.stop = HingeSolveSummary::Stop::kInterrupted;
-      return summary;
-    }
-  }
-  summary.stop = HingeSolveSummary::Stop::kIterationLimit;
+    summary.stop = HingeSolveSummary::Stop::kIterationLimit;
+    return;
+  };
+  iterate();
+  if (sigmas) summary.covariance = sigmasAt(h, *theta, 1.0, sigmas);
   return summary;
 }
 
+/// The σ from the linearization `h` at θ.
 template <int G>
-bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, double scale,
-              HingeSigmas* sigmas) {
-  Normal<G> h(rates.samples());
-  h.assemble(rates, theta);
+bool sigmasAt(const Normal<G>& h, const HingeUnknowns& theta, double scale, HingeSigmas* sigmas) {
   // The globals' covariance: the inverse of the Schur complement
   // S = H_gg − H_gφ H_φφ⁻¹ H_φg of the undamped Gauss–Newton matrix.
   std::vector<double> band = h.band;
@@ -443,6 +453,13 @@ bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, double scale,
   }
   if constexpr (kHasOffset<G>) sigmas->offset_fraction = std::sqrt(covariance(col, col));
   return std::isfinite(sigmas->axis_main) && std::isfinite(sigmas->axis_secondary);
+}
+
+template <int G>
+bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, double scale, HingeSigmas* sigmas) {
+  Normal<G> h(rates.samples());
+  h.assemble(rates, theta);
+  return sigmasAt(h, theta, scale, sigmas);
 }
 
 }  // namespace
@@ -488,9 +505,9 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
 }
 
 HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
-                                       const HingeSolveOptions& options) {
+                                       const HingeSolveOptions& options, HingeSigmas* sigmas) {
   checkSizes(rates, *theta);
-  return withGlobals(free, [&](auto g) { return solve<decltype(g)::value>(rates, theta, free, options); });
+  return withGlobals(free, [&](auto g) { return solve<decltype(g)::value>(rates, theta, free, options, sigmas); });
 }
 
 bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,

@@ -93,17 +93,22 @@ struct HingeSolveSummary {
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;  ///< ½ Σ |ρ|²
+  bool covariance = false;  ///< σ asked for and found (the information is regular)
   bool converged() const {
     return stop == Stop::kCostStopped || stop == Stop::kGradientVanished || stop == Stop::kStepVanished;
   }
   std::string message() const;  ///< in the fits' words (solver_options.hpp's)
 };
 
-/// Levenberg–Marquardt on (2) from `theta` (updated in place). Throws
-/// std::invalid_argument when the sizes disagree or a recording has fewer
-/// than six samples.
+struct HingeSigmas;
+
+/// Levenberg–Marquardt on (2) from `theta` (updated in place). With
+/// `sigmas`, also hingeLikelihoodSigmas at the solution with scale 1 (from
+/// the last linearization; summary.covariance says whether it was regular).
+/// Throws std::invalid_argument when the sizes disagree or a recording has
+/// fewer than six samples.
 HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
-                                       const HingeSolveOptions& options = {});
+                                       const HingeSolveOptions& options = {}, HingeSigmas* sigmas = nullptr);
 
 /// ½ Σ |ρ_k|² at θ.
 double hingeLikelihoodCost(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free);

@@ -7,7 +7,6 @@
 #include <memory>
 #include <stdexcept>
 
-#include <ceres/covariance.h>
 #include <ceres/loss_function.h>
 #include <ceres/solver.h>
 #include <ceres/sphere_manifold.h>
@@ -79,6 +78,11 @@ struct EndPoint {
   double cost;
   int start;
 };
+
+/// Smallest ratio of the information's eigenvalues (smallest over largest)
+/// that the covariance takes as regular, as Ceres' covariance's default
+/// (min_reciprocal_condition_number).
+constexpr double kCovarianceConditioning = 1e-14;
 
 int iterationsOf(const ceres::Solver::Summary& s) {
   return std::max(0, s.num_successful_steps) + std::max(0, s.num_unsuccessful_steps);
@@ -213,7 +217,7 @@ struct TwoAxisSolver {
     // 4. Identifiability.
     double cost = 0.0;
     Eigen::Matrix4d H, H_noise;
-    informationAtAxes(p, &H, &H_noise, &cost, &profile);
+    informationAtAxes(p, &H, &H_noise, &cost, &profile, &information);
     m = p.noiseComponents();
     const double reduced_chi_square = m > parameters ? 2.0 * cost / (m - parameters) : 0.0;
     out.summary.reduced_chi_square = reduced_chi_square;
@@ -242,30 +246,33 @@ struct TwoAxisSolver {
   }
 
   void covariances() {
-    // 5. Covariance (Ceres: tangent coordinates, unit noise).
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.num_threads = 1;
-    ceres::Covariance covariance(cov_options);
-    const std::vector<const double*> blocks = {p.axis1(), p.axis2()};
-    std::vector<const double*> all_blocks = blocks;
-    if (p.nuisanceCount() > 0) all_blocks.push_back(p.nuisance());
-    if (!covariance.Compute(all_blocks, &p.problem()))
+    // 5. Covariance: (JᵀJ)⁻¹ of the information at the best axes (step 4's
+    // Jacobian, the robust loss's weights applied), unit noise; refused
+    // where its eigenvalues' ratio is below kCovarianceConditioning.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information);
+    const Eigen::VectorXd& lambda = eig.eigenvalues();
+    if (eig.info() != Eigen::Success || !(lambda.minCoeff() > kCovarianceConditioning * lambda.maxCoeff()))
       throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
+    const Eigen::MatrixXd inverse = eig.eigenvectors() * lambda.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+    const int n = static_cast<int>(inverse.rows());
     if (p.nuisanceCount() > 0) {
-      Eigen::Matrix<double, kNuisanceSize, kNuisanceSize, Eigen::RowMajor> cn;
-      covariance.GetCovarianceBlock(p.nuisance(), p.nuisance(), cn.data());
-      out.nuisance_covariance = s2 * Eigen::Matrix<double, kNuisanceSize, kNuisanceSize>(cn);
+      // Zero for the coordinates held (the block's ambient covariance).
+      out.nuisance_covariance.setZero();
+      for (int i = 0; i < n - 4; ++i)
+        for (int j = 0; j < n - 4; ++j)
+          out.nuisance_covariance(p.activeIndex(i), p.activeIndex(j)) = s2 * inverse(4 + i, 4 + j);
       out.nuisance = Eigen::Map<const Eigen::Matrix<double, kNuisanceSize, 1>>(p.nuisance());
     }
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c1, c2;
-    covariance.GetCovarianceMatrixInTangentSpace(blocks, tangent.data());
-    covariance.GetCovarianceBlock(p.axis1(), p.axis1(), c1.data());
-    covariance.GetCovarianceBlock(p.axis2(), p.axis2(), c2.data());
+    // Per rad² of axis rotation; SphereManifold's tangent units are
+    // kSphereTangentPerRadian per rad.
     to_angle = 1.0 / (kSphereTangentPerRadian * kSphereTangentPerRadian);
-    out.covariance = s2 * to_angle * Eigen::Matrix4d(tangent);
-    out.covariance1 = s2 * Eigen::Matrix3d(c1);
-    out.covariance2 = s2 * Eigen::Matrix3d(c2);
+    tangent = inverse.topLeftCorner<4, 4>() / to_angle;
+    out.covariance = s2 * inverse.topLeftCorner<4, 4>();
+    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
+    p.plusJacobian(p.axis1(), J1.data());
+    p.plusJacobian(p.axis2(), J2.data());
+    out.covariance1 = s2 * J1 * Eigen::Matrix4d(tangent).topLeftCorner<2, 2>() * J1.transpose();
+    out.covariance2 = s2 * J2 * Eigen::Matrix4d(tangent).bottomRightCorner<2, 2>() * J2.transpose();
     out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
     out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
   }
@@ -435,6 +442,7 @@ struct TwoAxisSolver {
   int m = 0;                                ///< noise components
   double inflation = 1.0, s2 = 0.0;         ///< low-pass inflation; the noise variance s²
   Eigen::MatrixXd profile;                  ///< the nuisance's response to the axes
+  Eigen::MatrixXd information;              ///< JᵀJ at the best axes: axes (per rad) and nuisance
   Eigen::Matrix<double, 4, 4, Eigen::RowMajor> tangent;  ///< Ceres' covariance, tangent coordinates
   double to_angle = 1.0;
 };

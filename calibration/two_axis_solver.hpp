@@ -20,9 +20,12 @@
 ///     the reason as the message (a local minimum no start escaped, or a
 ///     model that does not describe the data).
 ///  4. Identifiability (identifiability.hpp) from the Jacobian at the solution.
-///  5. Covariance: ceres::Covariance (dense SVD) in SphereManifold tangent
-///     coordinates, scaled by the reduced chi-square s² (Ceres assumes unit
-///     noise), then converted to axis angles (÷ kSphereTangentPerRadian²).
+///  5. Covariance: the inverse of step 4's information JᵀJ (the axes per
+///     radian of rotation and the nuisance; refused below an eigenvalue ratio
+///     of 1e-14, as Ceres' covariance), scaled by the reduced chi-square s²
+///     (the information is of unit noise). It replaced ceres::Covariance
+///     (dense SVD of a second Jacobian of the same problem), which it matches
+///     to 2.8e-11 relative over the 9093 fits of tests/calibration.
 ///     An axis's σ is √trace of its 2×2 block: the RMS angle between the
 ///     estimate and the truth.
 ///  6. Ambiguity: another end point more than distinct_minimum_sigmas σ from
@@ -86,7 +89,7 @@ constexpr double kNoiseScaleFloor = 1e-12;
 
 /// Which coordinates of the nuisance block (residual_kind.hpp) the fit
 /// estimates; the others stay 0. With any, the axes' covariance, information
-/// and 3σ region are marginal over them: ceres::Covariance inverts the whole
+/// and 3σ region are marginal over them: the covariance inverts the whole
 /// information matrix, the identifiability analysis takes the Schur
 /// complement H_aa − H_an H_nn⁻¹ H_na, and the quadratic check moves the
 /// nuisance along its regression on the axes (δν = −H_nn⁻¹ H_na δa, the

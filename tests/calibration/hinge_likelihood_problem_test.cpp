@@ -211,7 +211,8 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
     HingeUnknowns reduced = c.start;
     HingeSolveOptions o;
     o.function_tolerance = o.gradient_tolerance = o.parameter_tolerance = 1e-15;
-    const HingeSolveSummary summary = solveHingeLikelihood(c.rates, &reduced, c.free, o);
+    HingeSigmas at_solution;
+    const HingeSolveSummary summary = solveHingeLikelihood(c.rates, &reduced, c.free, o, &at_solution);
     const std::string what = "seed " + std::to_string(setting.seed);
     EXPECT_NE(summary.stop, HingeSolveSummary::Stop::kIterationLimit) << what << ": " << summary.message();
     EXPECT_NEAR(summary.final_cost / whole.cost, 1.0, 1e-10) << what;
@@ -220,6 +221,10 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
     ASSERT_TRUE(hingeLikelihoodSigmas(c.rates, reduced, c.free, 1.0, &sigmas)) << what;
     EXPECT_NEAR(sigmas.axis_main / whole.sigma_main, 1.0, 1e-6) << what;
     EXPECT_NEAR(sigmas.axis_secondary / whole.sigma_secondary, 1.0, 1e-6) << what;
+    // The solve's own σ, from its last linearization, are these.
+    EXPECT_TRUE(summary.covariance) << what;
+    EXPECT_NEAR(at_solution.axis_main / sigmas.axis_main, 1.0, 1e-12) << what;
+    EXPECT_NEAR(at_solution.axis_secondary / sigmas.axis_secondary, 1.0, 1e-12) << what;
     // The estimates agree far inside their σ (σ̂² = 2 cost / degrees of freedom).
     const double noise = std::sqrt(2.0 * whole.cost / whole.degrees_of_freedom), share = 1e-5;
     EXPECT_LT(angleBetween(reduced.axis_main, whole.theta.axis_main), share * noise * sigmas.axis_main) << what;
