@@ -149,8 +149,11 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   solve.interrupt = options_in.interrupt;
   HingeSigmas sigmas;  // at scale 1: times σ̂ below
   const HingeSolveSummary summary = solveHingeLikelihood(rates, &p, free, solve, &sigmas);
-  if (summary.stop == HingeSolveSummary::Stop::kSingular || !std::isfinite(summary.final_cost))
-    throw FitFailed("the likelihood hinge fit failed: " + summary.message());
+  if (summary.stop == HingeSolveSummary::Stop::kSingular)
+    throw FitFailed("the likelihood hinge fit failed: the least-squares system was singular: the data do not "
+                    "determine the parameters");
+  if (!std::isfinite(summary.final_cost))
+    throw FitFailed("the likelihood hinge fit failed: the cost became infinite or not a number");
 
   HingeLikelihoodFit fit;
   fit.axis_main = p.axis_main;
@@ -181,7 +184,8 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
 HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
   const int n = static_cast<int>(truth.time.size());
   const double h = uniformStep(truth.time, "the bound's samples");
-  if (n < 2 * kHalfStencil + 2 || truth.main_rate.size() != truth.time.size() || truth.angle.size() != truth.time.size())
+  if (n < 2 * kHalfStencil + 2 || truth.main_rate.size() != truth.time.size() ||
+      truth.angle.size() != truth.time.size())
     throw std::invalid_argument("hingeCramerRao: too few samples, or rates and angles of other lengths than the times");
   HingeUnknowns p;
   p.phi = truth.angle;

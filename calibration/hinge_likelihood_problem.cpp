@@ -97,8 +97,12 @@ void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, in
   const double c = std::cos(t.phi[k]), s = std::sin(t.phi[k]);
   const Eigen::Vector3d& j = f.j;
   // exp(∓φ j₁) y by Rodrigues' formula.
-  const auto turn = [&](const Eigen::Vector3d& y) { return (c * y - s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval(); };
-  const auto back = [&](const Eigen::Vector3d& y) { return (c * y + s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval(); };
+  const auto turn = [&](const Eigen::Vector3d& y) {
+    return (c * y - s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval();
+  };
+  const auto back = [&](const Eigen::Vector3d& y) {
+    return (c * y + s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval();
+  };
   const Eigen::Vector3d slope = m.secondary_slope.empty() ? Eigen::Vector3d::Zero() : m.secondary_slope[k];
   const Eigen::Vector3d a = m.main[k] - f.b1;
   // b without its φ̇ term: m₂ − E₂ b₂ − ν ṁ₂.
@@ -267,7 +271,8 @@ bool solveNormal(const Normal<G>& h, double radius, SolveWork<G>* w, Eigen::Vect
                  Globals<G>* delta_globals) {
   const double lambda = std::isinf(radius) ? 0.0 : 1.0 / radius;
   w->band = h.band;
-  for (int k = 0; k < h.n; ++k) w->band[static_cast<std::size_t>(k) * (kBand + 1)] += lambda * clampedDiagonal(h.at(k, 0));
+  for (int k = 0; k < h.n; ++k)
+    w->band[static_cast<std::size_t>(k) * (kBand + 1)] += lambda * clampedDiagonal(h.at(k, 0));
   if (!bandedCholesky(&w->band, h.n)) return false;
   w->x.resize(h.n, G + 1);
   w->x.template leftCols<G>() = h.border;
@@ -286,7 +291,8 @@ bool solveNormal(const Normal<G>& h, double radius, SolveWork<G>* w, Eigen::Vect
 
 /// θ ⊞ δ: φ += δφ, j₁ along its great circle, C ← exp(δ) C, the rest added.
 template <int G>
-void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, const Eigen::VectorXd& delta_phi, const Globals<G>& delta, HingeUnknowns* out_ptr) {
+void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, const Eigen::VectorXd& delta_phi,
+          const Globals<G>& delta, HingeUnknowns* out_ptr) {
   HingeUnknowns& out = *out_ptr;
   out = t;
   for (std::size_t k = 0; k < out.phi.size(); ++k) out.phi[k] += delta_phi[static_cast<Eigen::Index>(k)];

@@ -253,7 +253,8 @@ struct TwoAxisSolver {
     const Eigen::VectorXd& lambda = eig.eigenvalues();
     if (eig.info() != Eigen::Success || !(lambda.minCoeff() > kCovarianceConditioning * lambda.maxCoeff()))
       throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
-    const Eigen::MatrixXd inverse = eig.eigenvectors() * lambda.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+    const Eigen::MatrixXd inverse =
+        eig.eigenvectors() * lambda.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
     const int n = static_cast<int>(inverse.rows());
     if (p.nuisanceCount() > 0) {
       // Zero for the coordinates held (the block's ambient covariance).

@@ -131,7 +131,8 @@ Whole solveWhole(const Case& c) {
     residuals += 3;
   }
   for (int k = 2; k + 2 < n; ++k) {
-    const Eigen::Vector3d slope = c.rates.secondary_slope.empty() ? Eigen::Vector3d::Zero() : c.rates.secondary_slope[k];
+    const Eigen::Vector3d slope =
+        c.rates.secondary_slope.empty() ? Eigen::Vector3d::Zero() : c.rates.secondary_slope[k];
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2, 1>(
                                  new SecondaryGyro{c.rates.secondary[k], slope, c.start.secondary_bias_basis, 100.0}),
                              nullptr, w1[k].data(), &phi[k - 2], &phi[k - 1], &phi[k], &phi[k + 1], &phi[k + 2], j1,
@@ -255,6 +256,23 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
                 angleBetween(reduced.axisSecondary(), whole.theta.axisSecondary()),
                 sigmas.axis_main / whole.sigma_main, sigmas.axis_secondary / whole.sigma_secondary);
   }
+}
+
+/// Rates that determine nothing (both gyroscopes at rest, the joint still):
+/// the start fits exactly (the solve stops at once, its gradient zero), and
+/// the information is singular: no σ, neither from the solve nor alone.
+TEST(CalibHingeLikelihood, ReducedProblemGivesNoSigmaAtRest) {
+  Case c = makeCase(9, false, false, 100);
+  for (auto* rates : {&c.rates.main, &c.rates.secondary})
+    for (Eigen::Vector3d& w : *rates) w.setZero();
+  for (double& p : c.start.phi) p = 0.0;
+  HingeUnknowns t = c.start;
+  HingeSigmas sigmas;
+  const HingeSolveSummary summary = solveHingeLikelihood(c.rates, &t, c.free, {}, &sigmas);
+  EXPECT_EQ(summary.stop, HingeSolveSummary::Stop::kGradientVanished) << summary.message();
+  EXPECT_EQ(summary.final_cost, 0.0);
+  EXPECT_FALSE(summary.covariance);
+  EXPECT_FALSE(hingeLikelihoodSigmas(c.rates, t, c.free, 1.0, &sigmas));
 }
 
 /// Sizes that disagree, or a recording shorter than one stencil, are refused.
