@@ -17,8 +17,7 @@ namespace lieflow {
 namespace calibration {
 namespace {
 
-/// Samples of the five-point difference on either side.
-constexpr int kHalfStencil = 2;
+constexpr int kHalfStencil = kHingeStencilHalfWidth;
 /// Largest relative spread of the sampling interval (φ̇ by a fixed stencil).
 constexpr double kUniformSampling = 1e-3;
 
@@ -199,7 +198,7 @@ HingeBound hingeCramerRao(const HingeTruthSamples& truth, double rate_sigma) {
   rates.secondary.assign(n, Eigen::Vector3d::Zero());
   const Eigen::Matrix3d ct = truth.mount.matrix().transpose();
   for (int k = kHalfStencil; k + kHalfStencil < n; ++k) {
-    const double rate = (p.phi[k - 2] - 8.0 * p.phi[k - 1] + 8.0 * p.phi[k + 1] - p.phi[k + 2]) / (12.0 * h);
+    const double rate = fivePointRate(p.phi, k, h);
     const Eigen::Vector3d turned = Eigen::AngleAxisd(-p.phi[k], p.axis_main) * truth.main_rate[k];
     rates.secondary[k] = ct * (turned + rate * p.axis_main);
   }

@@ -16,9 +16,9 @@ namespace lieflow {
 namespace calibration {
 namespace {
 
-/// The five-point difference φ̇_k = (φ_{k−2} − 8φ_{k−1} + 8φ_{k+1} − φ_{k+2}) / 12h
-/// (error h⁴φ⁽⁵⁾/30): its half-width is the normal equations' half-bandwidth.
-constexpr int kHalfStencil = 2;
+/// The five-point difference's half-width (fivePointRate) is the normal
+/// equations' half-bandwidth; its weights, for the Jacobian.
+constexpr int kHalfStencil = kHingeStencilHalfWidth;
 constexpr int kBand = 2 * kHalfStencil;
 constexpr double kStencil[2 * kHalfStencil + 1] = {1.0, -8.0, 0.0, 8.0, -1.0};
 
@@ -90,10 +90,8 @@ struct Frame {
 
 template <int G>
 void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, int k,
-                 double inverse_step, bool jacobian, SampleTerms<G>* out) {
-  double rate = 0.0;
-  for (int i = 0; i <= 2 * kHalfStencil; ++i) rate += kStencil[i] * t.phi[k - kHalfStencil + i];
-  rate *= inverse_step / 12.0;
+                 double step, bool jacobian, SampleTerms<G>* out) {
+  const double rate = fivePointRate(t.phi, k, step);
   const double c = std::cos(t.phi[k]), s = std::sin(t.phi[k]);
   const Eigen::Vector3d& j = f.j;
   // exp(∓φ j₁) y by Rodrigues' formula.
@@ -113,7 +111,7 @@ void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, in
   if (!jacobian) return;
   const Eigen::Vector3d& x = out->main_rate;
   const Eigen::Vector3d z = turn(x);
-  const Eigen::Vector3d along = f.scale * inverse_step / 12.0 * (f.ct * j);
+  const Eigen::Vector3d along = f.scale / (12.0 * step) * (f.ct * j);
   for (int i = 0; i <= 2 * kHalfStencil; ++i) out->phi.col(i) = kStencil[i] * along;
   // ∂/∂φ (Cᵀ exp(−φ j₁) x) = −Cᵀ (j₁ × exp(−φ j₁) x).
   out->phi.col(kHalfStencil) -= f.scale * (f.ct * j.cross(z));
@@ -146,11 +144,11 @@ void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
                                   std::to_string(2 * kHalfStencil + 2) + " samples or no positive interval");
 }
 
-/// Calls f(k, 1/h) for every interior sample (a full stencil in its recording).
+/// Calls f(k, h) for every interior sample (a full stencil in its recording).
 template <typename F>
 void forInterior(const HingeRates& m, F&& f) {
   for (int r = 0; r < m.runs(); ++r)
-    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, 1.0 / m.run_step[r]);
+    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, m.run_step[r]);
 }
 
 /// The normal equations JᵀJ δ = −Jᵀρ at θ: the angles' block banded
@@ -186,8 +184,8 @@ struct Normal {
     const Frame f(t, m.weight);
     tangent = f.tangent;
     SampleTerms<G> s;
-    forInterior(m, [&](int k, double inverse_step) {
-      sampleTerms(m, t, f, k, inverse_step, true, &s);
+    forInterior(m, [&](int k, double step) {
+      sampleTerms(m, t, f, k, step, true, &s);
       if (k == kHalfStencil) s.phi.col(0).setZero();  // φ₀ of the first recording is held
       cost += 0.5 * s.rho.squaredNorm();
       const int first = k - kHalfStencil;
@@ -333,8 +331,8 @@ double costOf(const HingeRates& rates, const HingeUnknowns& theta) {
   const Frame f(theta, rates.weight);
   SampleTerms<G> s;
   double cost = 0.0;
-  forInterior(rates, [&](int k, double inverse_step) {
-    sampleTerms(rates, theta, f, k, inverse_step, false, &s);
+  forInterior(rates, [&](int k, double step) {
+    sampleTerms(rates, theta, f, k, step, false, &s);
     cost += 0.5 * s.rho.squaredNorm();
   });
   return cost;
@@ -503,8 +501,8 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
   std::vector<Eigen::Vector3d> x(rates.main.size());
   for (std::size_t k = 0; k < x.size(); ++k) x[k] = rates.main[k] - f.b1;
   SampleTerms<5> s;
-  forInterior(rates, [&](int k, double inverse_step) {
-    sampleTerms(rates, theta, f, k, inverse_step, false, &s);
+  forInterior(rates, [&](int k, double step) {
+    sampleTerms(rates, theta, f, k, step, false, &s);
     x[k] = s.main_rate;
   });
   return x;

@@ -36,6 +36,15 @@
 namespace lieflow {
 namespace calibration {
 
+/// Samples on either side of the five-point difference of the joint angle.
+constexpr int kHingeStencilHalfWidth = 2;
+
+/// φ̇_k = (φ_{k−2} − 8φ_{k−1} + 8φ_{k+1} − φ_{k+2}) / 12h, error h⁴φ⁽⁵⁾/30
+/// (k at least kHingeStencilHalfWidth from either end).
+inline double fivePointRate(const std::vector<double>& phi, int k, double h) {
+  return (phi[k - 2] - 8.0 * phi[k - 1] + 8.0 * phi[k + 1] - phi[k + 2]) / (12.0 * h);
+}
+
 /// What the fit measures: both gyroscopes at N samples in one or more
 /// recordings, concatenated.
 struct HingeRates {
