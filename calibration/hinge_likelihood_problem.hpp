@@ -12,13 +12,14 @@
 /// so the 3N unknowns x leave the problem exactly (variable projection,
 /// Golub & Pereyra 1973). For its Jacobian the fit takes Kaufman's (1975):
 ///   J = (w/√2)(R a' + R' x* − b'),
-/// the Schur complement of the whole problem's Gauss–Newton matrix onto θ.
+/// whose JᵀJ is the Schur complement of the whole problem's Gauss–Newton
+/// matrix onto θ.
 /// Its gradient Jᵀρ is the exact gradient of (2) (the two Jacobians differ
 /// by ½ R'Rᵀ ρ, and R'Rᵀ is skew), so the minimum is the whole problem's, and
 /// (JᵀJ)⁻¹ at it is the whole problem's Gauss–Newton covariance of θ marginal
 /// over the x: the same estimate and σ as a solve over every unknown
-/// (tests/calibration/hinge_likelihood_test.cpp checks both against Ceres on
-/// the whole problem) at a fraction of its cost.
+/// (tests/calibration/hinge_likelihood_problem_test.cpp checks both against
+/// Ceres on the whole problem) at a fraction of its cost.
 ///
 /// φ̇_k is the five-point difference of φ_{k−2} … φ_{k+2}, so JᵀJ is banded in
 /// φ (half-bandwidth 4) with a dense border of at most 11 columns (j₁ on its
