@@ -9,6 +9,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "calibration/banded_cholesky.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/so3.hpp"
 
@@ -201,46 +202,11 @@ struct Normal {
   }
 };
 
-/// In-place Cholesky L Lᵀ of a banded matrix (half-bandwidth kBand) in
-/// Normal's storage; false at a pivot below kSingular of its diagonal.
-bool bandedCholesky(std::vector<double>* band, int n) {
-  const auto L = [&](int row, int col) -> double& {
-    return (*band)[static_cast<std::size_t>(row) * (kBand + 1) + (row - col)];
-  };
-  for (int k = 0; k < n; ++k)
-    for (int j = std::max(0, k - kBand); j <= k; ++j) {
-      const double diagonal = L(k, j);
-      double s = diagonal;
-      for (int i = std::max(0, k - kBand); i < j; ++i) s -= L(k, i) * L(j, i);
-      if (j < k) {
-        L(k, j) = s / L(j, j);
-      } else {
-        if (!(s > kSingular * diagonal)) return false;
-        L(k, k) = std::sqrt(s);
-      }
-    }
-  return true;
-}
-
 /// Right-hand sides of the banded solves: one row per angle, a column per
 /// global and one for the gradient (row-major: a row's update is one
 /// short vector operation).
 template <int Columns>
 using BandRhs = Eigen::Matrix<double, Eigen::Dynamic, Columns, Eigen::RowMajor>;
-
-/// X ← (L Lᵀ)⁻¹ X, all columns at once.
-template <typename Rhs>
-void bandedSolve(const std::vector<double>& band, int n, Rhs* x) {
-  const auto L = [&](int row, int col) { return band[static_cast<std::size_t>(row) * (kBand + 1) + (row - col)]; };
-  for (int k = 0; k < n; ++k) {
-    for (int i = std::max(0, k - kBand); i < k; ++i) x->row(k) -= L(k, i) * x->row(i);
-    x->row(k) /= L(k, k);
-  }
-  for (int k = n - 1; k >= 0; --k) {
-    for (int i = k + 1; i <= std::min(n - 1, k + kBand); ++i) x->row(k) -= L(i, k) * x->row(i);
-    x->row(k) /= L(k, k);
-  }
-}
 
 /// A Cholesky factor whose squared pivot ratio (min/max)² is above kSingular,
 /// as the banded factor's test: a singular Schur complement is refused.
@@ -271,11 +237,11 @@ bool solveNormal(const Normal<G>& h, double radius, SolveWork<G>* w, Eigen::Vect
   w->band = h.band;
   for (int k = 0; k < h.n; ++k)
     w->band[static_cast<std::size_t>(k) * (kBand + 1)] += lambda * clampedDiagonal(h.at(k, 0));
-  if (!bandedCholesky(&w->band, h.n)) return false;
+  if (!bandedCholesky<kBand>(&w->band, h.n, kSingular)) return false;
   w->x.resize(h.n, G + 1);
   w->x.template leftCols<G>() = h.border;
   w->x.col(G) = -h.grad_phi;
-  bandedSolve(w->band, h.n, &w->x);
+  bandedSolve<kBand>(w->band, h.n, &w->x);
   GlobalMatrix<G> s = h.globals;
   for (int i = 0; i < G; ++i) s(i, i) += lambda * clampedDiagonal(h.globals(i, i));
   s.noalias() -= h.border.transpose() * w->x.template leftCols<G>();
@@ -435,9 +401,9 @@ bool sigmasAt(const Normal<G>& h, const HingeUnknowns& theta, double scale, Hing
   // The globals' covariance: the inverse of the Schur complement
   // S = H_gg − H_gφ H_φφ⁻¹ H_φg of the undamped Gauss–Newton matrix.
   std::vector<double> band = h.band;
-  if (!bandedCholesky(&band, h.n)) return false;
+  if (!bandedCholesky<kBand>(&band, h.n, kSingular)) return false;
   BandRhs<G> x = h.border;
-  bandedSolve(band, h.n, &x);
+  bandedSolve<kBand>(band, h.n, &x);
   GlobalMatrix<G> s = h.globals;
   s.noalias() -= h.border.transpose() * x;
   const Eigen::LLT<GlobalMatrix<G>> llt(s);
