@@ -268,14 +268,7 @@ struct TwoAxisSolver {
     // kSphereTangentPerRadian per rad.
     to_angle = 1.0 / (kSphereTangentPerRadian * kSphereTangentPerRadian);
     tangent = inverse.topLeftCorner<4, 4>() / to_angle;
-    out.covariance = s2 * inverse.topLeftCorner<4, 4>();
-    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> J1, J2;
-    p.plusJacobian(p.axis1(), J1.data());
-    p.plusJacobian(p.axis2(), J2.data());
-    out.covariance1 = s2 * J1 * Eigen::Matrix4d(tangent).topLeftCorner<2, 2>() * J1.transpose();
-    out.covariance2 = s2 * J2 * Eigen::Matrix4d(tangent).bottomRightCorner<2, 2>() * J2.transpose();
-    out.sigma1_rad = std::sqrt(out.covariance.topLeftCorner<2, 2>().trace());
-    out.sigma2_rad = std::sqrt(out.covariance.bottomRightCorner<2, 2>().trace());
+    setTangentCovariance(p, s2 * Eigen::Matrix4d(tangent), &out);
   }
 
   /// An axis pair as the refusal reports it: "(x y z) in <axis1's body>,
@@ -444,7 +437,7 @@ struct TwoAxisSolver {
   double inflation = 1.0, s2 = 0.0;         ///< low-pass inflation; the noise variance s²
   Eigen::MatrixXd profile;                  ///< the nuisance's response to the axes
   Eigen::MatrixXd information;              ///< JᵀJ at the best axes: axes (per rad) and nuisance
-  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> tangent;  ///< Ceres' covariance, tangent coordinates
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> tangent;  ///< the axes' covariance at unit noise, tangent coordinates
   double to_angle = 1.0;
 };
 
