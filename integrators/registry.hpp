@@ -104,6 +104,15 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
          "with joints: 2 stabilized index 2 (Arnold-Bruls-Cardona, stable at rho_inf = 1), 3 index 3 (needs rho_inf < 1)"}},
        "Lie group generalized-alpha (Bruls-Cardona-Arnold 2012); rho_inf = 1 no numerical damping",
        "stabilized index 2 by default (index=2: positions and velocities on the constraints); index=3 needs rho_inf < 1"},
+      {"radau5", 5, true, false, false, false,
+       {{"tolerance", 1e-10, 1e-16, 1.0, false, false, "Newton: estimated remaining error of the stage increments"},
+        max_iterations,
+        {"jacobian_reuse", 1e-3, 0.0, 1.0, false, false,
+         "keep the Jacobian for the next step while Newton contracts faster than this"}},
+       "Radau IIA, 3 stages (the method of Hairer-Wanner's RADAU5) in Runge-Kutta-Munthe-Kaas form: L-stable and "
+       "stiffly accurate, for stiff dashpots and springs; simplified Newton with a finite-difference Jacobian kept "
+       "while it converges",
+       "projected onto the constraints after every step"},
       {"exact", 0, false, true, true, false, {},
        "exact torque-free flow by Jacobi elliptic functions (free body only; order 0 = exact)",
        ""},

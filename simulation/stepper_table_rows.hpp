@@ -10,6 +10,7 @@
 /// | lgvi                 | Lgvi        | ConstrainedLgvi  | JointSpaceVariational (rows: RATTLE's multipliers) |
 /// | splitting            | Splitting   | —                | —           | —                | —            |
 /// | genalpha             | GenAlpha    | ConstrainedGenAlpha | GenAlpha | CoupledGenAlpha  | ConstrainedGenAlpha (dense) |
+/// | radau5               | RadauIIA    | projected        | RadauIIA    | projected        | projected    |
 /// | exact                | exact flow  | —                | —           | —                | —            |
 ///
 /// "projected": the explicit stepper in index-1 form, projected onto the
@@ -40,6 +41,7 @@
 #include "integrators/joint_space_variational.hpp"
 #include "integrators/lgvi.hpp"
 #include "integrators/projected_stepper.hpp"
+#include "integrators/radau_iia.hpp"
 #include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/rkmk.hpp"
 #include "integrators/splitting.hpp"
@@ -304,6 +306,27 @@ struct ExactStepper {
   }
 };
 
+/// radau5: bare without constraints, projected onto them with them (as the
+/// explicit rows; integrators/radau_iia.hpp).
+struct RadauRow {
+  const char* name = "radau5";
+  static RadauOptions options(const SimulationOptions& o) {
+    RadauOptions r;
+    r.tolerance = option(o, "tolerance", r.tolerance);
+    r.max_iterations = static_cast<int>(option(o, "max_iterations", r.max_iterations));
+    r.jacobian_reuse = option(o, "jacobian_reuse", r.jacobian_reuse);
+    return r;
+  }
+  template <typename K, typename System>
+  auto make(K, const System&, const typename System::State&, const SimulationOptions& o) const {
+    using Stepper = RadauIIAStepper<typename System::State>;
+    if constexpr (K::kind == SystemKind::kSingleBody || K::kind == SystemKind::kJointTree)
+      return Stepper(options(o));
+    else
+      return ProjectedStepper<Stepper>(Stepper(options(o)));
+  }
+};
+
 struct ExactRow {
   const char* name = "exact";
   template <typename System>
@@ -332,7 +355,7 @@ inline const auto& rows() {
       Rkmk45Row{},
       explicitRow("cg3", [](const auto& tag) { return CrouchGrossman3Stepper<std::decay_t<decltype(tag)>>(); }),
       explicitRow("cf4", [](const auto& tag) { return CommutatorFree4Stepper<std::decay_t<decltype(tag)>>(); }),
-      LgviRow{}, SplittingRow{}, GenalphaRow{}, ExactRow{});
+      LgviRow{}, SplittingRow{}, GenalphaRow{}, RadauRow{}, ExactRow{});
   return table;
 }
 

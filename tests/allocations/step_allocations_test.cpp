@@ -32,7 +32,7 @@ class StepAllocations : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(StepAllocations, NoneAfterTheFirstStep) {
   const Simulation sim(loadScene(GetParam()));
-  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi"}) {
+  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "radau5"}) {
     SCOPED_TRACE(integrator);
     const bench::StepAllocations a = bench::countStepAllocations(sim, integrator);
     ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
@@ -45,7 +45,7 @@ TEST_P(StepAllocations, NoneInJointCoordinates) {
   const Simulation sim(loadScene(GetParam()));
   std::string why;
   if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
-  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi"}) {
+  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi", "radau5"}) {
     SCOPED_TRACE(integrator);
     // lgvi needs a tree without gimbals, offset universals, prescribed motion or loops.
     if (!sim.supports(integrator, &why, "joint")) continue;
@@ -143,7 +143,7 @@ TEST(StepAllocationsInJointCoordinates, NoneOnFreeRootsSphericalJointsDashpotsAn
          "angular_velocity": [0.3, 4, 1]}],)");
     }
     const Simulation sim(parseScene(text, "coupled.json"));
-    for (const char* integrator : {"rkmk4", "lgvi", "genalpha"}) {
+    for (const char* integrator : {"rkmk4", "lgvi", "genalpha", "radau5"}) {
       SCOPED_TRACE(integrator);
       std::string why;
       if (!sim.supports(integrator, &why, "joint")) continue;  // genalpha: no free root in joint coordinates yet
