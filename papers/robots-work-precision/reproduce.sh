@@ -31,8 +31,10 @@ mkdir -p "$out"
 robots="$root/bench/models/robots"
 samples=/usr/share/mujoco/model
 # name|file|flags|joint rates of a keyframe "swing" added in a copy (MJCF)|
-# shorter steps than $steps (the Panda's chaotic fall: lieflow's error at
-# 6.25e-5 is 1e-9, and MuJoCo's RK4 reaches 1e-9 only in a longer run)
+# steps beside $steps (the Panda's chaotic fall: lieflow's error at 6.25e-5
+# is 1e-9, and MuJoCo's RK4 reaches 1e-9 only in a longer run; slider_crank:
+# MuJoCo's Euler reaches 1e-3 in 86 us, and radau5's runs that short need
+# steps longer than 32 ms)
 spin="--spin 0.5,1,2"
 models=(
   "ur5|$robots/ur5.urdf||"
@@ -42,10 +44,10 @@ models=(
   "talos|$robots/talos.urdf|--floating-base $spin|"
   "talos_full|$robots/talos_full.urdf|--floating-base $spin|"
   "humanoid|$samples/humanoid/humanoid.xml|$spin|"
-  "slider_crank|$samples/slider_crank/slider_crank.xml|--keyframe swing|3,-5,4"
+  "slider_crank|$samples/slider_crank/slider_crank.xml|--keyframe swing|3,-5,4|6.25e-2,4e-2"
   "arm26|$samples/tendon_arm/arm26.xml|--keyframe swing|3,-5"
 )
-integrators=rkmk4,cf4,lgvi,genalpha
+integrators=rkmk4,cf4,lgvi,genalpha,radau5
 # From steps where MuJoCo's errors lie near 1e-3 to where they reach 1e-9.
 steps=3.2e-2,1.6e-2,8e-3,4e-3,2e-3,1e-3,5e-4,2.5e-4,1.25e-4,6.25e-5
 for entry in "${models[@]}"; do
