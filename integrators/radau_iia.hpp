@@ -167,8 +167,8 @@ class RadauIIAStepper {
       report->newton_iterations = iterations;
       report->residual = residual;
       if (!converged)
-        report->fail("Radau IIA: the simplified Newton iteration did not converge (with a Jacobian at the step's "
-                     "start); a shorter step would",
+        report->fail("Radau IIA: the simplified Newton iteration did not converge, with a Jacobian of the step's "
+                     "start too (a shorter step would)",
                      residual);
     }
     if constexpr (state_ops::kHeapBacked<State>)
