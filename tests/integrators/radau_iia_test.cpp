@@ -18,22 +18,12 @@
 #include "dynamics/rigid_body/rigid_body_system.hpp"
 #include "integrators/radau_iia.hpp"
 #include "integrators/vector_state.hpp"
+#include "tests/order_slope.hpp"
 
 namespace lieflow {
 namespace {
 
-double logLogSlope(const std::vector<double>& h, const std::vector<double>& e) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(h.size());
-  for (std::size_t i = 0; i < h.size(); ++i) {
-    const double x = std::log(h[i]), y = std::log(e[i]);
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
+using testing_support::logLogSlope;
 
 /// R(z) = 1 + z bᵀ(I − zA)⁻¹ 1, b the last row of A.
 std::complex<double> stabilityFunction(const RadauIIACoefficients& k, std::complex<double> z) {
