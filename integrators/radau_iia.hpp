@@ -126,7 +126,7 @@ class RadauIIAStepper {
   static constexpr int order() { return 5; }
   const RadauOptions& options() const { return options_; }
   /// Jacobians computed so far (each n evaluations of f).
-  int jacobianEvaluations() const { return work_.jacobians; }
+  int jacobianCount() const { return work_.jacobians; }
 
   /// One step of size h from (t, y). The result lives in the stepper until
   /// its next step (y may be that result). A Newton iteration that does not
@@ -136,8 +136,7 @@ class RadauIIAStepper {
                                     StepReport* report = nullptr) const {
     Workspace& w = work_;
     const RadauIIACoefficients& k = RadauIIACoefficients::get();
-    state_ops::setZeroTangent(y, &w.f0);
-    const int n = static_cast<int>(w.f0.size());
+    const int n = state_ops::tangentSize(y);
     if (w.J.rows() != n) resize(y, n);
     const bool same_step = w.have_previous && h == w.h_previous;
     if (same_step)
@@ -204,6 +203,7 @@ class RadauIIAStepper {
     w.x_complex.resize(n);
     for (auto* a : {&w.Z, &w.K, &w.W, &w.dW})
       for (Tangent& v : *a) state_ops::setZeroTangent(y, &v);
+    state_ops::setZeroTangent(y, &w.f0);
     state_ops::setZeroTangent(y, &w.f);
     state_ops::setZeroTangent(y, &w.direction);
     w.stage = y;

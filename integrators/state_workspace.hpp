@@ -71,6 +71,15 @@ void rplusInto(const S& y, const typename S::Tangent& d, S* out) {
   rplusInPlace(*out, d);
 }
 
+/// The size of y's tangent (known at compile time for a fixed-size state).
+template <typename S>
+int tangentSize(const S& y) {
+  if constexpr (HasTangentSize<S>::value)
+    return y.tangentSize();
+  else
+    return static_cast<int>(S::Tangent::RowsAtCompileTime);
+}
+
 /// t ← the zero tangent at y.
 template <typename S>
 void setZeroTangent(const S& y, typename S::Tangent* t) {

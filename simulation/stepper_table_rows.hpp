@@ -114,6 +114,17 @@ auto projectionOnto(const System& system) {
   };
 }
 
+/// A stepper as column K runs it: bare without constraints (a single body, a
+/// tree in joint coordinates), projected onto them after every step
+/// otherwise (the explicit rows and radau5).
+template <typename K, typename Stepper>
+auto bareOrProjected(K, Stepper stepper) {
+  if constexpr (K::kind == SystemKind::kSingleBody || K::kind == SystemKind::kJointTree)
+    return stepper;
+  else
+    return ProjectedStepper<Stepper>(std::move(stepper));
+}
+
 /// rkmk-euler, rkmk-heun, rkmk3, rkmk4, cg3, cf4: explicit steppers, bare
 /// without constraints, projected with them. `Make<State>()` builds one.
 template <typename Make>
@@ -121,11 +132,8 @@ struct ExplicitRow {
   const char* name;
   Make build;
   template <typename K, typename System>
-  auto make(K, const System&, const typename System::State& y0, const SimulationOptions&) const {
-    if constexpr (K::kind == SystemKind::kSingleBody || K::kind == SystemKind::kJointTree)
-      return build(y0);
-    else
-      return ProjectedStepper<decltype(build(y0))>(build(y0));
+  auto make(K kind, const System&, const typename System::State& y0, const SimulationOptions&) const {
+    return bareOrProjected(kind, build(y0));
   }
 };
 template <typename Make>
@@ -306,8 +314,7 @@ struct ExactStepper {
   }
 };
 
-/// radau5: bare without constraints, projected onto them with them (as the
-/// explicit rows; integrators/radau_iia.hpp).
+/// radau5 (integrators/radau_iia.hpp), bare or projected as the explicit rows.
 struct RadauRow {
   const char* name = "radau5";
   static RadauOptions options(const SimulationOptions& o) {
@@ -318,12 +325,8 @@ struct RadauRow {
     return r;
   }
   template <typename K, typename System>
-  auto make(K, const System&, const typename System::State&, const SimulationOptions& o) const {
-    using Stepper = RadauIIAStepper<typename System::State>;
-    if constexpr (K::kind == SystemKind::kSingleBody || K::kind == SystemKind::kJointTree)
-      return Stepper(options(o));
-    else
-      return ProjectedStepper<Stepper>(Stepper(options(o)));
+  auto make(K kind, const System&, const typename System::State&, const SimulationOptions& o) const {
+    return bareOrProjected(kind, RadauIIAStepper<typename System::State>(options(o)));
   }
 };
 

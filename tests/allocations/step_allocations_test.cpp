@@ -45,7 +45,8 @@ TEST_P(StepAllocations, NoneInJointCoordinates) {
   const Simulation sim(loadScene(GetParam()));
   std::string why;
   if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
-  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi", "radau5"}) {
+  for (const char* integrator :
+       {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi", "radau5"}) {
     SCOPED_TRACE(integrator);
     // lgvi needs a tree without gimbals, offset universals, prescribed motion or loops.
     if (!sim.supports(integrator, &why, "joint")) continue;

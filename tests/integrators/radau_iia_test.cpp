@@ -178,7 +178,7 @@ TEST(RadauIIA, TheJacobianIsKeptWhileNewtonContracts) {
   VectorState<double, 1> y;
   y.x[0] = 1.0;
   for (int i = 0; i < 50; ++i) y = stepper.step(sys, 0.01 * i, y, 0.01);
-  EXPECT_EQ(stepper.jacobianEvaluations(), 1);
+  EXPECT_EQ(stepper.jacobianCount(), 1);
 }
 
 }  // namespace
