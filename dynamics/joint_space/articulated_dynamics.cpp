@@ -457,6 +457,16 @@ void ArticulatedSystem::velocity(double t, const State& y, Tangent* F) const {
   }
 }
 
+bool ArticulatedSystem::autonomous() const {
+  if (has_user_torques_) return false;
+  for (int i = 0; i < bodyCount(); ++i)
+    for (int k = 0; k < model_.bodies[i].coordinates(); ++k) {
+      const CoordinateDrive& drive = model_.drives[i][k];
+      if (model_.bodies[i].prescribed(k) || drive.moment || drive.user_moment) return false;
+    }
+  return true;
+}
+
 void ArticulatedSystem::projectVelocities(double t, const std::vector<Eigen::Vector3d>& omega_body,
                                           const std::vector<Eigen::Vector3d>& v_com, State* y) const {
   forwardPass(t, *y, true, false);

@@ -101,6 +101,10 @@ class ArticulatedSystem {
 
   /// F = (u as position increments, u̇): the right-hand side ẏ = y · F.
   void velocity(double t, const State& y, Tangent* F) const;
+  /// Whether F does not depend on t: no prescribed coordinate, applied
+  /// moment M(t), program moment or program torque (an implicit stepper
+  /// then evaluates its stages at one point once).
+  bool autonomous() const;
 
   /// The accelerations u̇ at (t, y) into *udot (size dofs()).
   void accelerations(double t, const State& y, Eigen::VectorXd* udot) const;

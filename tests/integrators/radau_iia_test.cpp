@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <array>
 #include <complex>
 #include <cstdio>
 #include <string>
@@ -179,6 +180,68 @@ TEST(RadauIIA, TheJacobianIsKeptWhileNewtonContracts) {
   y.x[0] = 1.0;
   for (int i = 0; i < 50; ++i) y = stepper.step(sys, 0.01 * i, y, 0.01);
   EXPECT_EQ(stepper.jacobianCount(), 1);
+}
+
+/// A body on a strong, partly quadratic dashpot, x'' = −λ x' − μ x'|x'|,
+/// counting its evaluations of f and saying, or not, that f does not depend
+/// on t.
+struct QuadraticDashpot {
+  using State = VectorState<double, 1>;
+  using Tangent = State::Tangent;
+  double lambda = 240.0, mu = 10.0;
+  bool says_autonomous = true;
+  mutable int evaluations = 0;
+  bool autonomous() const { return says_autonomous; }
+  void velocity(double /*t*/, const State& y, Tangent* F) const {
+    ++evaluations;
+    (*F)[0] = y.v[0];
+    (*F)[1] = -lambda * y.v[0] - mu * y.v[0] * std::abs(y.v[0]);
+  }
+};
+
+TEST(RadauIIA, AStiffTransientStartsFromRestAndEvaluatesItOnce) {
+  // hλ = 15: the motion dies within a few steps. The last step's polynomial
+  // extrapolates that decay far beyond the step, so after the first steps
+  // the stepper starts Newton from Z = 0, whose three stages are the one
+  // point y: a system that says f does not depend on t is evaluated there
+  // once, or not at all when a new Jacobian has just evaluated f(t, y) (k
+  // iterations cost 1 + 3(k − 1) evaluations, or 3(k − 1) beside the
+  // Jacobian's n + 1 = 3), with the same iterates (the same numbers) as one
+  // that does not say so (3k).
+  const double h = 0.0625;
+  const int steps = 12, late = 4;
+  std::array<QuadraticDashpot, 2> systems;
+  systems[1].says_autonomous = false;
+  std::array<VectorState<double, 1>, 2> ends;
+  std::array<std::vector<int>, 2> iterations, evaluations, jacobians;
+  for (std::size_t s = 0; s < 2; ++s) {
+    const RadauIIAStepper<VectorState<double, 1>> stepper;
+    VectorState<double, 1> y;
+    y.x[0] = 1.0;
+    y.v[0] = 3.0;
+    for (int i = 0; i < steps; ++i) {
+      StepReport report;
+      const int before = systems[s].evaluations, jacobians_before = stepper.jacobianCount();
+      y = stepper.step(systems[s], i * h, y, h, &report);
+      ASSERT_TRUE(report.converged) << report.failure;
+      iterations[s].push_back(report.newton_iterations);
+      jacobians[s].push_back(stepper.jacobianCount() - jacobians_before);
+      evaluations[s].push_back(systems[s].evaluations - before - 3 * jacobians[s].back());
+    }
+    ends[s] = y;
+  }
+  std::printf("Radau IIA, quadratic dashpot, h lambda = 15: %d evaluations (autonomous) against %d\n",
+              systems[0].evaluations, systems[1].evaluations);
+  EXPECT_EQ(ends[0].x[0], ends[1].x[0]);
+  EXPECT_EQ(ends[0].v[0], ends[1].v[0]);
+  EXPECT_EQ(iterations[0], iterations[1]);
+  EXPECT_EQ(jacobians[0], jacobians[1]);
+  for (int i = late; i < steps; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    EXPECT_EQ(evaluations[0][k], (jacobians[0][k] > 0 ? 0 : 1) + 3 * (iterations[0][k] - 1)) << "step " << i;
+    EXPECT_EQ(evaluations[1][k], 3 * iterations[1][k]) << "step " << i;
+  }
+  EXPECT_LT(std::abs(ends[0].v[0]), 1e-12);
 }
 
 }  // namespace
