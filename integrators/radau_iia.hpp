@@ -68,6 +68,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include "integrators/lu_substitution.hpp"
 #include "integrators/state_workspace.hpp"
 #include "integrators/step_report.hpp"
 
@@ -196,8 +197,9 @@ class RadauIIAStepper {
   struct Workspace {
     Eigen::MatrixXd J, E_real;
     Eigen::MatrixXcd E_complex;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu_real;
-    Eigen::PartialPivLU<Eigen::MatrixXcd> lu_complex;
+    LuSubstitution<double> lu_real;
+    LuSubstitution<std::complex<double>> lu_complex;
+    Eigen::VectorXd rhs_real, x_real;
     Eigen::VectorXcd rhs_complex, x_complex;
     std::array<Tangent, 3> Z, K, W, dW, Z_extrapolated;
     Tangent f0, f, direction;
@@ -216,6 +218,8 @@ class RadauIIAStepper {
     w.J.resize(n, n);
     w.E_real.resize(n, n);
     w.E_complex.resize(n, n);
+    w.rhs_real.resize(n);
+    w.x_real.resize(n);
     w.rhs_complex.resize(n);
     w.x_complex.resize(n);
     for (auto* a : {&w.Z, &w.K, &w.W, &w.dW, &w.Z_extrapolated})
@@ -361,11 +365,13 @@ class RadauIIAStepper {
         *residual = std::numeric_limits<double>::infinity();
         return false;
       }
-      // ΔW into W (a solve in place would permute in place, which allocates).
-      w.W[0] = w.lu_real.solve(w.dW[0]);
+      // ΔW into W.
+      w.rhs_real = w.dW[0];
+      w.lu_real.solve(w.rhs_real, &w.x_real);
+      w.W[0] = w.x_real;
       w.rhs_complex.real() = w.dW[1];
       w.rhs_complex.imag() = w.dW[2];
-      w.x_complex = w.lu_complex.solve(w.rhs_complex);
+      w.lu_complex.solve(w.rhs_complex, &w.x_complex);
       w.W[1] = w.x_complex.real();
       w.W[2] = w.x_complex.imag();
       double size = 0.0, change = 0.0;

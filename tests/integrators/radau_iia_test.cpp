@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <array>
 #include <complex>
 #include <cstdio>
@@ -17,6 +18,7 @@
 
 #include "dynamics/rigid_body/exact_free_body.hpp"
 #include "dynamics/rigid_body/rigid_body_system.hpp"
+#include "integrators/lu_substitution.hpp"
 #include "integrators/radau_iia.hpp"
 #include "integrators/vector_state.hpp"
 #include "tests/order_slope.hpp"
@@ -180,6 +182,30 @@ TEST(RadauIIA, TheJacobianIsKeptWhileNewtonContracts) {
   y.x[0] = 1.0;
   for (int i = 0; i < 50; ++i) y = stepper.step(sys, 0.01 * i, y, 0.01);
   EXPECT_EQ(stepper.jacobianCount(), 1);
+}
+
+template <typename Scalar>
+void expectSolvesAsEigensLu(int n) {
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+  std::srand(3);
+  const Matrix A = Matrix::Random(n, n) + Matrix::Identity(n, n);
+  const Vector b = Vector::Random(n);
+  LuSubstitution<Scalar> lu;
+  lu.compute(A);
+  Vector x(n);
+  lu.solve(b, &x);
+  const Vector reference = A.partialPivLu().solve(b);
+  EXPECT_LT((x - reference).norm(), 1e-12 * reference.norm()) << "n = " << n;
+  EXPECT_LT((A * x - b).norm(), 1e-12 * b.norm()) << "n = " << n;
+}
+
+TEST(LuSubstitution, SolvesAsEigensLu) {
+  // Radau IIA's real and complex Newton systems, small and larger.
+  for (int n : {1, 6, 40}) {
+    expectSolvesAsEigensLu<double>(n);
+    expectSolvesAsEigensLu<std::complex<double>>(n);
+  }
 }
 
 /// A body on a strong, partly quadratic dashpot, x'' = −λ x' − μ x'|x'|,
