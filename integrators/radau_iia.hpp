@@ -52,8 +52,8 @@
 ///
 /// Cost per step: 3 evaluations of f per iteration (1 for a first iteration
 /// from Z = 0 on an autonomous system, 0 beside a new Jacobian); per new
-/// Jacobian n + 1 evaluations and an n × n real and a complex LU. No heap allocation after
-/// the first step (the workspace is sized then).
+/// Jacobian n + 1 evaluations and an n × n real and a complex LU. No heap
+/// allocation after the first step (the workspace is sized then).
 #pragma once
 
 #include <algorithm>
