@@ -149,6 +149,10 @@ class MultibodySystem {
   /// A singular constraint system gives a NaN field (the driver reports the
   /// blow-up; accelerations() says why).
   void velocity(double t, const State& y, Eigen::VectorXd* f) const;
+  /// Whether f does not depend on t: no prescribed coordinate, applied
+  /// moment M(t), program moment or program torque (an implicit stepper
+  /// then evaluates its stages at one point once).
+  bool autonomous() const;
 
   // --- Constraints --------------------------------------------------------
   /// Φ(q, t) of the position rows (size positionRowCount()).

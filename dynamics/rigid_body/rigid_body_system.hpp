@@ -110,6 +110,9 @@ class RotorSystem {
     return J_inv_ * ((J_ * omega).cross(omega) + externalTorque(t, R));
   }
 
+  /// Whether f does not depend on t (no applied torque or force of time).
+  bool autonomous() const { return !params_.torque_body && !params_.force_world; }
+
   /// f(t, y) = (ω, ω̇) with ẏ = y · f.
   void velocity(const T& t, const State& y, Tangent* f) const {
     f->template head<3>() = y.omega;
@@ -177,6 +180,9 @@ class FreeBodySystem {
     if (params_.force_world) f += params_.force_world(t);
     return f;
   }
+
+  /// Whether f does not depend on t (no applied torque or force of time).
+  bool autonomous() const { return !params_.torque_body && !params_.force_world; }
 
   void velocity(const T& t, const State& y, Tangent* f) const {
     f->template segment<3>(0) = y.v;
