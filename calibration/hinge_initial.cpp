@@ -78,10 +78,10 @@ std::vector<AxisPair> hingeStartsFromRates(const std::vector<Eigen::Vector3d>& w
   // that the search descends and polishes on all samples (on 1000 samples
   // with three near-null directions, 144 candidates cost 144 000 residuals
   // on all of them, 14 400 on these).
-  const std::size_t stride = (w1.size() + kSearchSamples - 1) / kSearchSamples;
+  const std::size_t stride = std::max<std::size_t>(1, (w1.size() + kSearchSamples - 1) / kSearchSamples);
   std::vector<GyroHingeResidual> residuals;
-  residuals.reserve(w1.size() / std::max<std::size_t>(stride, 1) + 1);
-  for (std::size_t k = 0; k < w1.size(); k += std::max<std::size_t>(stride, 1)) residuals.emplace_back(w1[k], w2[k]);
+  residuals.reserve(w1.size() / stride + 1);
+  for (std::size_t k = 0; k < w1.size(); k += stride) residuals.emplace_back(w1[k], w2[k]);
   const double one = 1.0;
   for (GyroHingeResidual& r : residuals) r.weight = &one;
   const auto cost = [&](const AxisPair& axes) {
