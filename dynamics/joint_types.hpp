@@ -110,6 +110,9 @@ struct CoordinateDrive {
   std::optional<TimeFunction> prescribed;  ///< imposed φ(t)
   /// A program's moment M(t, φ, φ̇) (UserLoads::JointMoment), added to the above.
   std::function<double(double t, double phi, double phidot)> user_moment;
+  /// Whether the coordinate's motion or force is a function of time: an
+  /// applied moment M(t), prescribed motion φ(t) or a program's moment.
+  bool dependsOnTime() const { return moment.has_value() || prescribed.has_value() || static_cast<bool>(user_moment); }
   bool hasForce() const {
     return stiffness != 0.0 || damping != 0.0 || moment.has_value() || static_cast<bool>(user_moment);
   }

@@ -27,8 +27,10 @@ class LuSubstitution {
     inverse_diagonal_ = lu_.matrixLU().diagonal().cwiseInverse();
   }
 
-  /// x = A⁻¹ b. Precondition: x and b of A's size and distinct.
-  void solve(const Vector& b, Vector* x) const {
+  /// x = A⁻¹ b (any Eigen vectors of the scalar, fixed or dynamic size).
+  /// Precondition: x and b of A's size and distinct.
+  template <typename In, typename Out>
+  void solve(const In& b, Out* x) const {
     const Matrix& LU = lu_.matrixLU();
     const auto& perm = lu_.permutationP().indices();
     const Eigen::Index n = LU.rows();

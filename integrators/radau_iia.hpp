@@ -154,10 +154,11 @@ class RadauIIAStepper {
     if (w.J.rows() != n) resize(y, n);
     const bool same_step = w.have_previous && h == w.h_previous;
     if (same_step) extrapolateStart(k);
-    if (same_step && w.extrapolate)
-      w.Z = w.Z_extrapolated;
-    else
+    bool zero_start = !(same_step && w.extrapolate);
+    if (zero_start)
       for (Tangent& z : w.Z) z.setZero();
+    else
+      w.Z = w.Z_extrapolated;
     int iterations = 0;
     bool converged = false;
     double residual = 0.0;
@@ -165,11 +166,11 @@ class RadauIIAStepper {
       if (attempt == 1) {  // again from Z = 0, with a Jacobian of this point
         if (w.jacobian_fresh && !same_step) break;  // that was the first attempt
         for (Tangent& z : w.Z) z.setZero();
+        zero_start = true;
         if (!w.jacobian_fresh) w.have_jacobian = false;
       }
       if (!w.have_jacobian) jacobian(system, t, y, h, n);
       if (w.h_factored != h) factor(k, h);
-      const bool zero_start = attempt == 1 || !same_step || !w.extrapolate;
       converged = newton(system, t, y, h, k, zero_start, &iterations, &residual);
     }
     state_ops::rplusInto(y, w.Z[2], &w.result);
@@ -199,7 +200,6 @@ class RadauIIAStepper {
     Eigen::MatrixXcd E_complex;
     LuSubstitution<double> lu_real;
     LuSubstitution<std::complex<double>> lu_complex;
-    Eigen::VectorXd rhs_real, x_real;
     Eigen::VectorXcd rhs_complex, x_complex;
     std::array<Tangent, 3> Z, K, W, dW, Z_extrapolated;
     Tangent f0, f, direction;
@@ -218,8 +218,6 @@ class RadauIIAStepper {
     w.J.resize(n, n);
     w.E_real.resize(n, n);
     w.E_complex.resize(n, n);
-    w.rhs_real.resize(n);
-    w.x_real.resize(n);
     w.rhs_complex.resize(n);
     w.x_complex.resize(n);
     for (auto* a : {&w.Z, &w.K, &w.W, &w.dW, &w.Z_extrapolated})
@@ -366,9 +364,7 @@ class RadauIIAStepper {
         return false;
       }
       // ΔW into W.
-      w.rhs_real = w.dW[0];
-      w.lu_real.solve(w.rhs_real, &w.x_real);
-      w.W[0] = w.x_real;
+      w.lu_real.solve(w.dW[0], &w.W[0]);
       w.rhs_complex.real() = w.dW[1];
       w.rhs_complex.imag() = w.dW[2];
       w.lu_complex.solve(w.rhs_complex, &w.x_complex);

@@ -460,10 +460,8 @@ void ArticulatedSystem::velocity(double t, const State& y, Tangent* F) const {
 bool ArticulatedSystem::autonomous() const {
   if (has_user_torques_) return false;
   for (int i = 0; i < bodyCount(); ++i)
-    for (int k = 0; k < model_.bodies[i].coordinates(); ++k) {
-      const CoordinateDrive& drive = model_.drives[i][k];
-      if (model_.bodies[i].prescribed(k) || drive.moment || drive.user_moment) return false;
-    }
+    for (int k = 0; k < model_.bodies[i].coordinates(); ++k)
+      if (model_.drives[i][k].dependsOnTime()) return false;
   return true;
 }
 

@@ -129,15 +129,7 @@ double MultibodySystem::dissipatedPower(const State& y) const {
   return P;
 }
 
-bool MultibodySystem::conservesEnergyBalance() const {
-  if (!hasDampers() || hasUserTorques()) return false;
-  for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
-      const CoordinateDrive& d = drives_[k][i];
-      if (d.moment || d.prescribed || d.user_moment) return false;
-    }
-  return true;
-}
+bool MultibodySystem::conservesEnergyBalance() const { return hasDampers() && autonomous(); }
 
 std::vector<JointOutput> MultibodySystem::jointOutputs(double t, const State& y) const {
   const int nj = static_cast<int>(model_.joints.size());

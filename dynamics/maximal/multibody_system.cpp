@@ -136,10 +136,8 @@ bool MultibodySystem::hasUserTorques() const {
 bool MultibodySystem::autonomous() const {
   if (hasUserTorques()) return false;
   for (std::size_t k = 0; k < model_.joints.size(); ++k)
-    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i) {
-      const CoordinateDrive& d = drives_[k][i];
-      if (d.moment || d.prescribed || d.user_moment) return false;
-    }
+    for (int i = 0; i < coordinateCount(static_cast<int>(k)); ++i)
+      if (drives_[k][i].dependsOnTime()) return false;
   return true;
 }
 
