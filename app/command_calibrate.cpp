@@ -32,7 +32,7 @@
 #include "calibration/recording.hpp"
 #include "calibration/unit_axis.hpp"
 #include "calibration/spring_fit.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 #include "model/scene.hpp"
 
 namespace lieflow {
@@ -352,7 +352,7 @@ CommandOutcome runSpring(const Arguments& args, const std::string& recording_pat
   for (const char* flag : {"--data", "--start"})
     if (args.has(flag))
       throw UsageError(std::string(flag) + " is an option of the mechanism spring fit (a scene of several bodies)");
-  const GroundedJointScene joint = groundedJointScene(
+  const calibration::SpringJoint joint = calibration::springJoint(
       scene, jointBetween(scene, args.value("--joint", ""), args.value("--main", ""), args.value("--secondary", "")));
   if (o.coordinate >= joint.coordinates)
     throw UsageError("--coordinate 2: joint '" + joint.joint_name + "' is revolute (one coordinate)");

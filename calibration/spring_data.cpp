@@ -9,7 +9,7 @@
 namespace lieflow {
 namespace calibration {
 
-SpringData selectSpringData(const Recording& recording, const GroundedJointScene& joint, int coordinate) {
+SpringData selectSpringData(const Recording& recording, const SpringJoint& joint, int coordinate) {
   SpringData d;
   d.source = recording.source;
   d.time = recording.time;

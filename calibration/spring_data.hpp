@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "calibration/recording.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -34,7 +34,7 @@ struct SpringData {
 /// The angle columns of `joint` in `recording`. Throws InvalidInput naming
 /// the recording and the missing columns when the fitted coordinate
 /// (`coordinate`, 0 or 1) has none.
-SpringData selectSpringData(const Recording& recording, const GroundedJointScene& joint, int coordinate);
+SpringData selectSpringData(const Recording& recording, const SpringJoint& joint, int coordinate);
 
 /// φ and φ̇ of coordinate i at sample j from a least-squares quadratic through
 /// the samples within ±half_width of j (fewer at the ends).

@@ -29,7 +29,7 @@ ButcherTableau tableauNamed(const std::string& name) {
   if (name == "rkmk3") return ButcherTableau::kutta3();
   if (name == "rkmk4") return ButcherTableau::rk4();
   throw InvalidInput("`integrator`", "'" + name +
-                                         "': calibrate spring integrates the reduced joint model with an explicit "
+                                         "': calibrate spring integrates the joint's model with an explicit "
                                          "RKMK tableau (rkmk-euler, rkmk-heun, rkmk3, rkmk4)");
 }
 
@@ -72,9 +72,8 @@ ceres::CostFunction* segmentCost(const SpringProblemData<N>* p, int first, int l
 /// function run in order by fit(); what one stage finds, the next reads.
 template <int N>
 struct SpringFitter {
-  SpringFitter(const GroundedJointScene& joint_, const GroundedJointModel<N>& model_, const SpringData& data_,
-               const SpringFitOptions& options)
-      : joint(joint_), model(model_), data(data_), o(options) {}
+  SpringFitter(const SpringJoint& joint_, const SpringData& data_, const SpringFitOptions& options)
+      : joint(joint_), data(data_), o(options) {}
 
   /// The problem's data and the least number of samples.
   void setUp() {
@@ -86,7 +85,8 @@ struct SpringFitter {
       throw NotIdentifiable(std::to_string(n) + " samples; at least " +
                             std::to_string(std::max(o.min_samples, free_params + 2)) + " are needed");
 
-    p.model = &model;
+    p.model = &joint.model();
+    p.hinge = articulated::ScalarDynamics<double>(joint.model()).groundedHinge();
     p.data = &data;
     for (int i = 0; i < N; ++i) {
       p.scene_forces.stiffness[i] = joint.drives[i].stiffness;
@@ -303,7 +303,7 @@ struct SpringFitter {
     out.held_fixed.push_back("inertia of body '" + joint.body_name + "' (scene mass, inertia and anchor): " +
                              formatNumber(out.inertia) +
                              " kg m^2 about the coordinate at its mean angle; the data determine k/I and c/I");
-    if (model.mass > 0.0 && model.gravity.squaredNorm() > 0.0)
+    if (joint.weighted())
       out.held_fixed.push_back("gravity moment (scene gravity, mass and centre of mass): stiffness " +
                                formatNumber(k_gravity) + " N m/rad at the mean angle");
     if (o.hold_damping)
@@ -322,8 +322,7 @@ struct SpringFitter {
     }
   }
 
-  const GroundedJointScene& joint;
-  const GroundedJointModel<N>& model;
+  const SpringJoint& joint;
   const SpringData& data;
   const SpringFitOptions& o;
   SpringFit out;
@@ -342,10 +341,9 @@ struct SpringFitter {
 };
 
 template <int N>
-SpringFit fit(const GroundedJointScene& joint, const GroundedJointModel<N>& model, const SpringData& data,
-              const SpringFitOptions& o) {
+SpringFit fit(const SpringJoint& joint, const SpringData& data, const SpringFitOptions& o) {
   const auto clock_start = std::chrono::steady_clock::now();
-  SpringFitter<N> f(joint, model, data, o);
+  SpringFitter<N> f(joint, data, o);
   f.setUp();
   f.chooseStart();
   f.planSteps();
@@ -367,12 +365,12 @@ Shooting parseShooting(const std::string& text, const std::string& field) {
   throw InvalidInput(field, "'" + text + "' is not multiple or single");
 }
 
-SpringFit fitSpring(const GroundedJointScene& joint, const SpringData& data, const SpringFitOptions& options) {
+SpringFit fitSpring(const SpringJoint& joint, const SpringData& data, const SpringFitOptions& options) {
   if (options.coordinate < 0 || options.coordinate >= joint.coordinates)
     throw InvalidInput("`coordinate`", "joint '" + joint.joint_name + "' has " + std::to_string(joint.coordinates) +
                                            " coordinate(s)");
-  if (joint.coordinates == 1) return fit<1>(joint, joint.revolute, data, options);
-  return fit<2>(joint, joint.universal, data, options);
+  if (joint.coordinates == 1) return fit<1>(joint, data, options);
+  return fit<2>(joint, data, options);
 }
 
 }  // namespace calibration

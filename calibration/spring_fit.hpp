@@ -2,9 +2,10 @@
 /// `lieflow calibrate spring`: the stiffness k, damping c and optionally the
 /// rest angle φ₀ of one coordinate of a revolute or universal joint, from its
 /// recorded angle, with the rest of the mechanism taken from a scene
-/// (calibration/grounded_joint_scene.hpp: one body on the joint to ground).
+/// (calibration/spring_joint.hpp: one body on the joint to ground).
 ///
-/// Model: the reduced equations of calibration/grounded_joint_system.hpp, advanced
+/// Model: the one-body tree in the joint formulation's dynamics on any scalar
+/// (dynamics/joint_space/scalar_dynamics.hpp, the mechanism fit's), advanced
 /// between samples by lieflow's RKMK stepper (integrators/rkmk.hpp) with
 /// `substeps` steps per sample interval, in ceres::Jet arithmetic, so that
 /// the derivatives with respect to (k, c, φ₀) and the initial states are
@@ -36,7 +37,7 @@
 #include <Eigen/Core>
 
 #include "calibration/spring_data.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -126,7 +127,7 @@ struct SpringFit {
 
 /// Fits the spring and dashpot of `options.coordinate`. Throws InvalidInput
 /// for bad options and NotIdentifiable when the data cannot determine them.
-SpringFit fitSpring(const GroundedJointScene& joint, const SpringData& data, const SpringFitOptions& options);
+SpringFit fitSpring(const SpringJoint& joint, const SpringData& data, const SpringFitOptions& options);
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -1,8 +1,10 @@
 /// \file
 /// The residuals of the spring/dashpot fit (spring_fit.hpp): one shooting
-/// segment of the reduced joint model, integrated by lieflow's RKMK stepper in
-/// the scalar Ceres asks for (double or ceres::Jet), so the Jacobian is the
-/// exact derivative of the discrete flow.
+/// segment of the joint's one-body tree (spring_joint.hpp) in the joint
+/// formulation's dynamics on any scalar (the mechanism fit's,
+/// dynamics/joint_space/scalar_dynamics.hpp), integrated by lieflow's RKMK
+/// stepper in the scalar Ceres asks for (double or ceres::Jet), so the
+/// Jacobian is the exact derivative of the discrete flow.
 ///
 /// Parameter blocks: θ = (k, c, φ₀) of the fitted coordinate, the segment's
 /// initial state s = (φ (N), φ̇ (N)) and, unless it is the last segment, the
@@ -14,23 +16,83 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "calibration/spring_data.hpp"
+#include "dynamics/joint_space/articulated_model.hpp"
+#include "dynamics/joint_space/scalar_dynamics.hpp"
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/rkmk.hpp"
-#include "calibration/grounded_joint_system.hpp"
+#include "integrators/vector_state.hpp"
+#include "liegroup/scalar.hpp"
 
 namespace lieflow {
 namespace calibration {
 
+/// The one-body tree as a system on ℝᴺ × ℝᴺ (VectorState: x = φ, v = φ̇), so
+/// that every RKMK tableau of integrators/ advances it (exp is the identity
+/// there: RKMK is the Runge–Kutta method). A hinge (N = 1) takes the closed
+/// form whose constants the caller computed once (ScalarDynamics<double>::
+/// groundedHinge()); a universal joint the general recursive Newton–Euler.
+/// Spring, dashpot and rest angle of each coordinate, in the fit's scalar.
+template <typename T, int N>
+struct JointSprings {
+  std::array<T, N> stiffness{}, damping{}, rest_angle{};
+};
+
+template <typename T, int N>
+class SpringJointFlow {
+ public:
+  using Scalar = T;
+  using State = VectorState<T, N>;
+  using Tangent = typename State::Tangent;
+  using Vec = typename articulated::ScalarDynamics<T>::Vec;
+
+  /// The model and the constants must outlive the flow. N = 1 (a revolute
+  /// joint to the ground) takes the closed form, so `hinge` must be valid.
+  SpringJointFlow(const articulated::ArticulatedModel& model, const articulated::GroundedHinge& hinge,
+                  const JointSprings<T, N>& springs)
+      : model_(model), hinge_(hinge), springs_(springs) {
+    if constexpr (N == 2) {
+      forces_.stiffness.assign(springs.stiffness.begin(), springs.stiffness.end());
+      forces_.damping.assign(springs.damping.begin(), springs.damping.end());
+      forces_.rest_angle.assign(springs.rest_angle.begin(), springs.rest_angle.end());
+      dynamics_.emplace(model);
+    }
+  }
+
+  /// f(t, y) = (φ̇, φ̈).
+  void velocity(const T& t, const State& y, Tangent* f) const {
+    f->template head<N>() = y.v;
+    if constexpr (N == 1) {
+      const auto& moment = model_.drives[0][0].moment;
+      (*f)[1] = articulated::groundedHingeAcceleration(hinge_, y.x[0], y.v[0], springs_.stiffness[0],
+                                                       springs_.damping[0], springs_.rest_angle[0],
+                                                       moment ? (*moment)(scalarValue(t)) : 0.0);
+    } else {
+      const Vec q = y.x, u = y.v;
+      f->template tail<N>() = dynamics_->accelerations(scalarValue(t), q, u, forces_);
+    }
+  }
+
+ private:
+  const articulated::ArticulatedModel& model_;
+  const articulated::GroundedHinge& hinge_;
+  JointSprings<T, N> springs_;
+  articulated::CoordinateForces<T> forces_;  ///< N = 2: the springs for the general dynamics
+  std::optional<articulated::ScalarDynamics<T>> dynamics_;
+};
+
 /// What every segment shares: the model, the data and the fixed forces.
 template <int N>
 struct SpringProblemData {
-  const GroundedJointModel<N>* model = nullptr;
+  const articulated::ArticulatedModel* model = nullptr;
+  /// The closed form's constants when the model is a grounded hinge.
+  articulated::GroundedHinge hinge;
   const SpringData* data = nullptr;
   /// The scene's spring and dashpot of every coordinate; the fitted
   /// coordinate's are replaced by θ.
-  GroundedJointForces<double, N> scene_forces;
+  JointSprings<double, N> scene_forces;
   int coordinate = 0;
   ButcherTableau tableau;
   int substeps = 1;
@@ -65,7 +127,7 @@ class SpringSegmentCost {
   template <typename T>
   bool evaluate(const T* theta, const T* s, const T* next, T* r) const {
     const SpringData& data = *p_->data;
-    GroundedJointForces<T, N> forces;
+    JointSprings<T, N> forces;
     for (int i = 0; i < N; ++i) {
       forces.stiffness[i] = T(p_->scene_forces.stiffness[i]);
       forces.damping[i] = T(p_->scene_forces.damping[i]);
@@ -74,7 +136,7 @@ class SpringSegmentCost {
     forces.stiffness[p_->coordinate] = theta[0];
     forces.damping[p_->coordinate] = theta[1];
     forces.rest_angle[p_->coordinate] = theta[2];
-    const GroundedJointSystem<T, N> system(*p_->model, forces);
+    const SpringJointFlow<T, N> system(*p_->model, p_->hinge, forces);
     const RkmkStepper<VectorState<T, N>> stepper(p_->tableau);
     VectorState<T, N> y;
     for (int i = 0; i < N; ++i) {

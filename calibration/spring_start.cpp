@@ -30,7 +30,7 @@ double noiseFromSecondDifferences(const std::vector<double>& x) {
 
 }  // namespace
 
-SpringStart estimateSpringStart(const GroundedJointScene& joint, const SpringData& data, int coordinate) {
+SpringStart estimateSpringStart(const SpringJoint& joint, const SpringData& data, int coordinate) {
   SpringStart s;
   const std::vector<double>& x = data.angle[coordinate];
   const int n = static_cast<int>(x.size());

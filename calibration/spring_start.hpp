@@ -20,7 +20,7 @@
 #include <string>
 
 #include "calibration/spring_data.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -37,7 +37,7 @@ struct SpringStart {
 };
 
 /// The start for coordinate `coordinate` of `joint` from `data`.
-SpringStart estimateSpringStart(const GroundedJointScene& joint, const SpringData& data, int coordinate);
+SpringStart estimateSpringStart(const SpringJoint& joint, const SpringData& data, int coordinate);
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -17,7 +17,7 @@
 #include "bench/benchmark_support.hpp"
 #include "calibration/spring_fit.hpp"
 #include "calibration/synthetic_spring.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 #include "model/scene.hpp"
 
 namespace {
@@ -54,10 +54,10 @@ std::map<std::string, SpringFit>& fits() {
   return f;
 }
 
-void registerCase(const Case& c, const GroundedJointScene* hinge, const SpringData* hinge_data,
-                  const GroundedJointScene* universal, const SpringData* universal_data) {
+void registerCase(const Case& c, const SpringJoint* hinge, const SpringData* hinge_data,
+                  const SpringJoint* universal, const SpringData* universal_data) {
   benchmark::RegisterBenchmark(c.name.c_str(), [=](benchmark::State& st) {
-    const GroundedJointScene& joint = c.universal ? *universal : *hinge;
+    const SpringJoint& joint = c.universal ? *universal : *hinge;
     const SpringData& data = c.universal ? *universal_data : *hinge_data;
     SpringFit fit;
     for (auto _ : st) {
@@ -92,8 +92,8 @@ void printSummary(const lieflow::bench::MedianReporter& reporter) {
 int main(int argc, char** argv) {
   const SceneDescription hinge_scene = loadScene("spring-hinge");
   const SceneDescription universal_scene = parseScene(kSpringUniversalSceneJson, "spring-universal");
-  const GroundedJointScene hinge = groundedJointScene(hinge_scene, "hinge");
-  const GroundedJointScene universal = groundedJointScene(universal_scene, "cross");
+  const SpringJoint hinge = springJoint(hinge_scene, "hinge");
+  const SpringJoint universal = springJoint(universal_scene, "cross");
   const SpringData hinge_data = withAngleNoise(simulatedJointAngles(hinge_scene, "hinge", 1, 10.0), kNoise, 17);
   const SpringData universal_data =
       withAngleNoise(simulatedJointAngles(universal_scene, "cross", 2, 10.0), kNoise, 17);

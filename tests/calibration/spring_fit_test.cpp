@@ -18,7 +18,7 @@
 #include "calibration/spring_fit.hpp"
 #include "calibration/spring_residuals.hpp"
 #include "calibration/synthetic_spring.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
 #include "model/scene.hpp"
 #include "liegroup/invalid_input.hpp"
 
@@ -32,7 +32,7 @@ class SpringHinge : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     scene_ = new SceneDescription(loadScene("spring-hinge"));
-    joint_ = new GroundedJointScene(groundedJointScene(*scene_, "hinge"));
+    joint_ = new SpringJoint(springJoint(*scene_, "hinge"));
     clean_ = new SpringData(simulatedJointAngles(*scene_, "hinge", 1, 10.0));
   }
   static void TearDownTestSuite() {
@@ -41,11 +41,11 @@ class SpringHinge : public ::testing::Test {
     delete scene_;
   }
   static SceneDescription* scene_;
-  static GroundedJointScene* joint_;
+  static SpringJoint* joint_;
   static SpringData* clean_;
 };
 SceneDescription* SpringHinge::scene_ = nullptr;
-GroundedJointScene* SpringHinge::joint_ = nullptr;
+SpringJoint* SpringHinge::joint_ = nullptr;
 SpringData* SpringHinge::clean_ = nullptr;
 
 TEST_F(SpringHinge, WithinOnePercentFromStartsWithinAFactorThree) {
@@ -151,7 +151,8 @@ TEST_F(SpringHinge, SigmaIsHonest) {
 TEST_F(SpringHinge, JetJacobianMatchesCentralDifferences) {
   const SpringData data = withAngleNoise(*clean_, 0.01, 3);
   SpringProblemData<1> p;
-  p.model = &joint_->revolute;
+  p.model = &joint_->model();
+  p.hinge = articulated::ScalarDynamics<double>(joint_->model()).groundedHinge();
   p.data = &data;
   p.tableau = ButcherTableau::rk4();
   p.substeps = 2;
@@ -211,7 +212,7 @@ TEST_F(SpringHinge, RefusesDataThatCannotDetermineTheSpring) {
 /// from both recorded angles, the first coordinate's held at the scene's.
 TEST(SpringUniversal, SecondCoordinate) {
   const SceneDescription scene = parseScene(kSpringUniversalSceneJson, "spring-universal.json");
-  const GroundedJointScene joint = groundedJointScene(scene, "cross");
+  const SpringJoint joint = springJoint(scene, "cross");
   const SpringData data = withAngleNoise(simulatedJointAngles(scene, "cross", 2, 6.0), 0.01, 21);
   SpringFitOptions o;
   o.coordinate = 1;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <ceres/jet.h>
 
 #include "dynamics/joint_space/articulated_scene.hpp"
@@ -190,6 +191,86 @@ TEST(ScalarDynamics, JetsCarryTheDerivatives) {
     EXPECT_NEAR(a[j].v[0], dq[j], 1e-6 * (1.0 + std::abs(dq[j]))) << j;
     EXPECT_NEAR(a[j].v[1], dk[j], 1e-6 * (1.0 + std::abs(dk[j]))) << j;
   }
+}
+
+/// A grounded hinge takes GroundedHinge's closed form: the same q̈ as the
+/// simulator's articulated-body algorithm and as the general passes (setAxis
+/// with the model's own axis turns the closed form off) at random states,
+/// with the body on either side of a skew axis through an offset anchor, a
+/// full inertia, gravity off the axis, a spring, a dashpot and a moment.
+TEST(ScalarDynamics, GroundedHingeClosedFormIsTheGeneralAlgorithm) {
+  for (const bool body_main : {false, true}) {
+    SCOPED_TRACE(body_main ? "the body main" : "the body secondary");
+    const std::string body = R"({"name": "bar", "mass": 1.3, "inertia": [[0.05, 0.004, -0.01], [0.004, 0.06, 0.003],
+      [-0.01, 0.003, 0.04]], "position": [0.1, -0.05, -0.3], "orientation": [0.9, 0.1, -0.3, 0.3]})";
+    const std::string ends = body_main ? R"("main": "bar", "secondary": "ground", "anchor_main": [0.05, 0.02, 0.28],)"
+                                         R"( "anchor_secondary": [0.2, -0.1, 0.0],)"
+                                       : R"("main": "ground", "secondary": "bar", "anchor_main": [0.2, -0.1, 0.0],)"
+                                         R"( "anchor_secondary": [0.05, 0.02, 0.28],)";
+    const std::string json = R"({"name": "hinge", "gravity": [0.4, -0.3, -9.81], "bodies": [)" + body +
+                             R"(], "joints": [{"name": "h", "type": "revolute", )" + ends +
+                             R"( "axis_main": [0.3, 0.9, -0.2], "spring": {"stiffness": 3.0, "rest_angle": 0.2},)"
+                             R"( "damper": {"damping": 0.07}, "moment": {"type": "sine", "amplitude": 0.4,)"
+                             R"( "frequency": 1.1}}]})";
+    const Tree t = tree(json.c_str());
+    ScalarDynamics<double> closed(t.model()), general(t.model());
+    ASSERT_TRUE(closed.closedForm());
+    general.setAxis(0, t.model().bodies[0].axis1.normalized());
+    ASSERT_FALSE(general.closedForm());
+    const CoordinateForces<double> forces = modelForces<double>(t.model());
+    std::mt19937 gen(5);
+    std::uniform_real_distribution<double> angle(-3.1, 3.1), rate(-4.0, 4.0);
+    for (int trial = 0; trial < 8; ++trial) {
+      ArticulatedState y = t.assembled->y0;
+      y.q[0] = angle(gen);
+      y.u[0] = rate(gen);
+      const double time = 0.29 * trial;
+      Eigen::VectorXd reference;
+      t.assembled->system->accelerations(time, y, &reference);
+      const double a = closed.accelerations(time, y.q, y.u, forces)[0];
+      EXPECT_NEAR(a, reference[0], 1e-11 * (1.0 + std::abs(reference[0]))) << trial;
+      EXPECT_NEAR(a, general.accelerations(time, y.q, y.u, forces)[0], 1e-12 * (1.0 + std::abs(a))) << trial;
+    }
+    // In Jets: the derivative along the angle is the general passes'.
+    using Jet = ceres::Jet<double, 1>;
+    ScalarDynamics<Jet> closed_jet(t.model()), general_jet(t.model());
+    general_jet.setAxis(0, t.model().bodies[0].axis1.normalized().cast<Jet>());
+    Eigen::Matrix<Jet, Eigen::Dynamic, 1> q(1), u(1);
+    q[0] = Jet(0.7, 0);
+    u[0] = Jet(-1.3);
+    const CoordinateForces<Jet> jet_forces = modelForces<Jet>(t.model());
+    const Jet a = closed_jet.accelerations(0.4, q, u, jet_forces)[0];
+    const Jet b = general_jet.accelerations(0.4, q, u, jet_forces)[0];
+    EXPECT_NEAR(a.a, b.a, 1e-12 * (1.0 + std::abs(b.a)));
+    EXPECT_NEAR(a.v[0], b.v[0], 1e-11 * (1.0 + std::abs(b.v[0])));
+  }
+}
+
+/// The mass matrix is symmetric positive definite, and ½ uᵀ M u is the
+/// bodies' kinetic energy: the energy is conserved by a fine RK4 run of the
+/// gimbal tree with its dashpots taken off (its springs and gravity kept).
+TEST(ScalarDynamics, MassMatrixIsSymmetricAndTheEnergyIsConserved) {
+  const Tree t = tree(kGimbal);
+  const ScalarDynamics<double> dynamics(t.model());
+  CoordinateForces<double> forces = modelForces<double>(t.model());
+  for (double& c : forces.damping) c = 0.0;
+  std::mt19937 gen(8);
+  const ArticulatedState y0 = randomState(t, gen);
+  const Eigen::MatrixXd M = dynamics.massMatrix(y0.q);
+  EXPECT_LT((M - M.transpose()).norm(), 1e-13 * M.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues().minCoeff(), 0.0);
+  Eigen::VectorXd q = y0.q, u = y0.u;
+  const double e0 = dynamics.energy(q, u, forces);
+  const double h = 1e-4;
+  for (int k = 0; k < 2000; ++k) {  // classical RK4 on (q, u)
+    const Eigen::VectorXd a1 = dynamics.accelerations(0.0, q, u, forces);
+    const Eigen::VectorXd a2 = dynamics.accelerations(0.0, q + 0.5 * h * u, u + 0.5 * h * a1, forces);
+    const Eigen::VectorXd a3 = dynamics.accelerations(0.0, q + 0.5 * h * (u + 0.5 * h * a1), u + 0.5 * h * a2, forces);
+    const Eigen::VectorXd a4 = dynamics.accelerations(0.0, q + h * (u + 0.5 * h * a2), u + h * a3, forces);
+    q += h / 6.0 * (u + 2.0 * (u + 0.5 * h * a1) + 2.0 * (u + 0.5 * h * a2) + (u + h * a3));
+    u += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+  }
+  EXPECT_LT(std::abs(dynamics.energy(q, u, forces) - e0), 1e-9 * (1.0 + std::abs(e0)));
 }
 
 /// What it does not take is refused, naming the body: a free root.

@@ -1,11 +1,14 @@
 /// \file
-/// The reduced model of one body on a revolute or universal joint to ground
-/// (calibration/grounded_joint_system.hpp), checked against the maximal-coordinate
-/// multibody path of `lieflow simulate` (an independent formulation: five or
-/// four constraint rows with multipliers, body by body on SO(3) × ℝ³) on the
-/// same scenes, with the body on either side of the joint, tilted axes, a
-/// full inertia matrix, gravity, springs, dashpots and an applied moment;
-/// plus energy conservation and the scenes it must refuse.
+/// The one-joint spring fit's model (calibration/spring_joint.hpp: one body
+/// on a revolute or universal joint to ground as the one-body tree of the
+/// joint formulation's dynamics on any scalar, a grounded hinge in its closed
+/// form, advanced by the fit's RKMK flow of spring_residuals.hpp), checked
+/// against the maximal-coordinate multibody path of `lieflow simulate` (an
+/// independent formulation: five or four constraint rows with multipliers,
+/// body by body on SO(3) × ℝ³) on the same scenes, with the body on either
+/// side of the joint, tilted axes, a full inertia matrix, gravity, springs,
+/// dashpots and an applied moment; plus energy conservation and the scenes it
+/// must refuse.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,12 +20,14 @@
 
 #include "integrators/butcher_tableau.hpp"
 #include "integrators/rkmk.hpp"
-#include "calibration/grounded_joint_scene.hpp"
+#include "calibration/spring_joint.hpp"
+#include "calibration/spring_residuals.hpp"
 #include "model/scene.hpp"
 #include "simulation/simulation.hpp"
 #include "liegroup/invalid_input.hpp"
 
 namespace lieflow {
+namespace calibration {
 namespace {
 
 std::string json(const Eigen::Vector3d& v) {
@@ -83,17 +88,22 @@ std::vector<Eigen::Vector2d> fullAngles(const SceneDescription& scene, const std
   return out;
 }
 
-/// The reduced model's angles with rkmk4 at the same step, every step.
+/// The fit's model's angles with rkmk4 at the same step, every step.
 template <int N>
-std::vector<Eigen::Vector2d> reducedAngles(const GroundedJointScene& g, const GroundedJointModel<N>& model,
-                                           double dt, int steps, std::vector<double>* energy = nullptr) {
-  GroundedJointForces<double, N> forces;
+std::vector<Eigen::Vector2d> reducedAngles(const SpringJoint& g, double dt, int steps,
+                                           std::vector<double>* energy = nullptr) {
+  articulated::CoordinateForces<double> forces;  // for the energy
+  JointSprings<double, N> springs;
   for (int i = 0; i < N; ++i) {
-    forces.stiffness[i] = g.drives[i].stiffness;
-    forces.rest_angle[i] = g.drives[i].rest_angle;
-    forces.damping[i] = g.drives[i].damping;
+    forces.stiffness.push_back(g.drives[i].stiffness);
+    forces.rest_angle.push_back(g.drives[i].rest_angle);
+    forces.damping.push_back(g.drives[i].damping);
+    springs.stiffness[i] = forces.stiffness[i];
+    springs.rest_angle[i] = forces.rest_angle[i];
+    springs.damping[i] = forces.damping[i];
   }
-  const GroundedJointSystem<double, N> system(model, forces);
+  const articulated::ScalarDynamics<double> dynamics(g.model());
+  const SpringJointFlow<double, N> system(g.model(), dynamics.groundedHinge(), springs);
   const RkmkStepper<VectorState<double, N>> stepper(ButcherTableau::rk4());
   VectorState<double, N> y;
   y.x = g.initial_angle.head<N>();
@@ -103,7 +113,7 @@ std::vector<Eigen::Vector2d> reducedAngles(const GroundedJointScene& g, const Gr
     Eigen::Vector2d phi = Eigen::Vector2d::Zero();
     phi.head<N>() = y.x;
     out.push_back(phi);
-    if (energy) energy->push_back(system.energy(k * dt, y));
+    if (energy) energy->push_back(dynamics.energy(y.x, y.v, forces));
     if (k < steps) y = stepper.step(system, k * dt, y, dt);
   }
   return out;
@@ -120,9 +130,9 @@ const Eigen::Quaterniond kR0 = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::
 const Eigen::Vector3d kPivot(0.1, -0.2, 0.4);
 const Eigen::Vector3d kAnchor(0.05, 0.1, 0.35);
 
-TEST(GroundedJoint, SpringHingeSceneMatchesTheMultibodyPath) {
+TEST(SpringJoint, SpringHingeSceneMatchesTheMultibodyPath) {
   const SceneDescription scene = loadScene("spring-hinge");
-  const GroundedJointScene g = groundedJointScene(scene, "");
+  const SpringJoint g = springJoint(scene, "");
   EXPECT_EQ(g.joint_name, "hinge");
   EXPECT_EQ(g.body_name, "bar");
   EXPECT_DOUBLE_EQ(g.initial_angle[0], 0.8);
@@ -132,7 +142,8 @@ TEST(GroundedJoint, SpringHingeSceneMatchesTheMultibodyPath) {
   EXPECT_NEAR(g.gravityMoment(0, g.initial_angle), -2.0 * 9.81 * 0.3 * std::sin(0.8), 1e-13);
   const double dt = 1e-3;
   const auto full = fullAngles(scene, "hinge", dt, 3.0);
-  const auto reduced = reducedAngles(g, g.revolute, dt, 3000);
+  EXPECT_TRUE(articulated::ScalarDynamics<double>(g.model()).closedForm());
+  const auto reduced = reducedAngles<1>(g, dt, 3000);
   EXPECT_LT(maxDifference(full, reduced), 1e-10);  // measured 1.1e-11
 }
 
@@ -143,7 +154,7 @@ struct Case {
   std::string fields;
 };
 
-class GroundedJointCases : public ::testing::TestWithParam<int> {};
+class SpringJointCases : public ::testing::TestWithParam<int> {};
 
 Case makeCase(int i) {
   const Eigen::Vector3d a = Eigen::Vector3d(0.2, 1.0, -0.3).normalized();
@@ -173,26 +184,25 @@ Case makeCase(int i) {
   }
 }
 
-TEST_P(GroundedJointCases, MatchesTheMultibodyPath) {
+TEST_P(SpringJointCases, MatchesTheMultibodyPath) {
   const Case c = makeCase(GetParam());
   SCOPED_TRACE(c.name);
   const SceneDescription scene =
       parseScene(armScene(c.type, c.body_main, kR0, kPivot, kAnchor, c.fields, Eigen::Vector3d(1.5, -2.0, 2.5)),
                  "arm-test.json");
-  const GroundedJointScene g = groundedJointScene(scene, "j");
+  const SpringJoint g = springJoint(scene, "j");
   EXPECT_EQ(g.body_is_main, c.body_main);
   // The assembled initial rates are not all zero (the projection kept part of ω₀).
   EXPECT_GT(g.initial_rate.norm(), 0.1);
   const double dt = 1e-3;
   const auto full = fullAngles(scene, "j", dt, 2.0);
-  const auto reduced = g.coordinates == 1 ? reducedAngles(g, g.revolute, dt, 2000)
-                                          : reducedAngles(g, g.universal, dt, 2000);
+  const auto reduced = g.coordinates == 1 ? reducedAngles<1>(g, dt, 2000) : reducedAngles<2>(g, dt, 2000);
   EXPECT_LT(maxDifference(full, reduced), 1e-11);  // measured 1.9e-14 to 3.5e-13
 }
 
-INSTANTIATE_TEST_SUITE_P(BodySideAndType, GroundedJointCases, ::testing::Values(0, 1, 2, 3));
+INSTANTIATE_TEST_SUITE_P(BodySideAndType, SpringJointCases, ::testing::Values(0, 1, 2, 3));
 
-TEST(GroundedJoint, UniversalEnergyIsConservedToFourthOrder) {
+TEST(SpringJoint, UniversalEnergyIsConservedToFourthOrder) {
   const Eigen::Vector3d a = Eigen::Vector3d(0.2, 1.0, -0.3).normalized();
   const Eigen::Vector3d e2 = a.cross(Eigen::Vector3d(0.1, 0.3, 1.0)).normalized();
   const std::string fields = R"("axis1_main": )" + json(a) + R"(, "axis2_secondary": )" +
@@ -201,12 +211,12 @@ TEST(GroundedJoint, UniversalEnergyIsConservedToFourthOrder) {
                              R"("spring2": {"stiffness": 4.0, "rest_angle": 0.5})";
   const SceneDescription scene = parseScene(
       armScene("universal", false, kR0, kPivot, kAnchor, fields, Eigen::Vector3d(1.5, -2.0, 2.5)), "e.json");
-  const GroundedJointScene g = groundedJointScene(scene, "j");
+  const SpringJoint g = springJoint(scene, "j");
   double drift[2];
   for (int r = 0; r < 2; ++r) {
     const double dt = r == 0 ? 4e-3 : 2e-3;
     std::vector<double> e;
-    reducedAngles(g, g.universal, dt, static_cast<int>(std::lround(2.0 / dt)), &e);
+    reducedAngles<2>(g, dt, static_cast<int>(std::lround(2.0 / dt)), &e);
     drift[r] = 0.0;
     for (double x : e) drift[r] = std::max(drift[r], std::abs(x - e.front()));
   }
@@ -214,10 +224,10 @@ TEST(GroundedJoint, UniversalEnergyIsConservedToFourthOrder) {
   EXPECT_GT(drift[0] / drift[1], 12.0);  // h⁴: 16
 }
 
-TEST(GroundedJoint, RefusesWhatItCannotModel) {
+TEST(SpringJoint, RefusesWhatItCannotModel) {
   auto message = [](const std::string& text, const std::string& joint) {
     try {
-      groundedJointScene(parseScene(text, "bad.json"), joint);
+      springJoint(parseScene(text, "bad.json"), joint);
     } catch (const InvalidInput& e) {
       return std::string(e.what());
     }
@@ -242,7 +252,7 @@ TEST(GroundedJoint, RefusesWhatItCannotModel) {
   const SceneDescription d = loadScene(dp);
   for (const JointDescription& j : d.joints) {
     try {
-      groundedJointScene(d, j.name);
+      springJoint(d, j.name);
       ADD_FAILURE() << "accepted joint " << j.name;
     } catch (const InvalidInput& e) {
       const std::string what = e.what();
@@ -252,4 +262,5 @@ TEST(GroundedJoint, RefusesWhatItCannotModel) {
 }
 
 }  // namespace
+}  // namespace calibration
 }  // namespace lieflow
