@@ -49,7 +49,12 @@
 /// τ(q, q̇, q̈) = Q with Q_k = −k_k (q_k − q₀ₖ) − c_k q̇_k + M_k(t) (springs,
 /// dashpots and applied moments, on the coordinates that have them), so with
 /// h = τ(q, q̇, 0) and the mass matrix's columns τ(q, q̇, e_j) − h (τ is
-/// affine in q̈): q̈ = M⁻¹ (Q − h).
+/// affine in q̈): q̈ = M⁻¹ (Q − h). The orientations, anchors, rates and joint
+/// columns of (q, q̇) are computed once per evaluation; each column of M is
+/// then an acceleration-only pass (τ's part linear in u̇: no rate products,
+/// no gravity): Walker and Orin's method 1 (J. Dyn. Sys. Meas. Control 104,
+/// 1982). One body on a revolute joint to the
+/// ground takes a closed form (GroundedHinge) read off these passes.
 #pragma once
 
 #include <array>
