@@ -87,6 +87,8 @@ struct SpringFitter {
 
     p.model = &joint.model();
     p.hinge = articulated::ScalarDynamics<double>(joint.model()).groundedHinge();
+    if (N == 1 && !p.hinge.valid)  // the flow's closed form divides by it
+      throw InvalidInput(joint.label, "body '" + joint.body_name + "' has no inertia about the joint axis");
     p.data = &data;
     for (int i = 0; i < N; ++i) {
       p.scene_forces.stiffness[i] = joint.drives[i].stiffness;

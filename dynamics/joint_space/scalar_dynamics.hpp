@@ -53,8 +53,8 @@
 /// columns of (q, q̇) are computed once per evaluation; each column of M is
 /// then an acceleration-only pass (τ's part linear in u̇: no rate products,
 /// no gravity): Walker and Orin's method 1 (J. Dyn. Sys. Meas. Control 104,
-/// 1982). One body on a revolute joint to the
-/// ground takes a closed form (GroundedHinge) read off these passes.
+/// 1982). One body on a revolute joint to the ground takes a closed form
+/// (GroundedHinge) read off these passes.
 #pragma once
 
 #include <array>
@@ -66,7 +66,6 @@
 
 #include "dynamics/joint_space/articulated_model.hpp"
 #include "liegroup/invalid_input.hpp"
-#include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace articulated {
@@ -156,11 +155,12 @@ class ScalarDynamics {
   /// The model must outlive the dynamics. Throws as requireScalarDynamics.
   explicit ScalarDynamics(const ArticulatedModel& model, const std::string& field = "`scene`")
       : ScalarDynamics(model, field, false) {
-    if (isGroundedHinge(model)) hinge_ = groundedHinge(ScalarDynamics<double>(model, field, false));
+    if (isGroundedHinge(model)) hinge_ = hingeConstants(ScalarDynamics<double>(model, field, false));
   }
 
-  /// Replaces body i's joint's first axis (a revolute joint's axis a, unit,
-  /// in the joint's main body's frame): the axis as a parameter of a fit.
+  /// Replaces body i's joint's first axis (a revolute joint's axis a, unit —
+  /// a fit keeps it on the sphere — in the joint's main body's frame): the
+  /// axis as a parameter of a fit.
   /// (The closed form of a grounded hinge rests on the model's axis: off.)
   void setAxis(int body, const Vec3& axis) {
     axis1_[static_cast<std::size_t>(body)] = axis;
@@ -291,7 +291,7 @@ class ScalarDynamics {
   }
 
   /// GroundedHinge's constants from the general algorithm (in double).
-  static GroundedHinge groundedHinge(const ScalarDynamics<double>& general) {
+  static GroundedHinge hingeConstants(const ScalarDynamics<double>& general) {
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(1), one = Eigen::VectorXd::Ones(1);
     auto gravity = [&](double q) { return -general.inverseDynamics(Eigen::VectorXd::Constant(1, q), zero, zero)[0]; };
     const double g0 = gravity(0.0), g90 = gravity(0.5 * kPi), g180 = gravity(kPi);
