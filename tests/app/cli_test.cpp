@@ -199,4 +199,21 @@ TEST(Cli, StudyWritesCsvAndErrorsShrinkAtFourthOrder) {
   EXPECT_TRUE(drift.good());
 }
 
+/// The reference of a scene with joints claims Richardson's fifteenth of
+/// |y_h − y_2h| only where a run at 4h shows fourth order: with steps so
+/// short that the runs differ by round-off, its error is that difference.
+TEST(Cli, StudyReferenceErrorIsRichardsonOnlyWhereTheStepsShowFourthOrder) {
+  const std::string dir = testing::TempDir() + "study_reference";
+  const Outcome truncation = run("study double-pendulum --integrators rkmk4 --dt 0.01 --t-end 0.2 "
+                                 "--min-time 0.001 --no-plots --out " + dir);
+  ASSERT_EQ(truncation.status, 0) << truncation.err;
+  EXPECT_NE(truncation.out.find("by Richardson"), std::string::npos) << truncation.out;
+  EXPECT_NE(truncation.out.find(": fourth order)"), std::string::npos) << truncation.out;
+  const Outcome roundoff = run("study double-pendulum --integrators rkmk4 --dt 0.001 --t-end 0.004 "
+                               "--min-time 0.001 --no-plots --out " + dir);
+  ASSERT_EQ(roundoff.status, 0) << roundoff.err;
+  EXPECT_EQ(roundoff.out.find("by Richardson"), std::string::npos) << roundoff.out;
+  EXPECT_NE(roundoff.out.find("(round-off: the run at"), std::string::npos) << roundoff.out;
+}
+
 }  // namespace
