@@ -1,15 +1,25 @@
 /// \file
 /// The mechanism spring fit's model (mechanism_spring_fit.hpp): the tree in
 /// joint coordinates with the joint formulation's dynamics on any scalar
-/// (dynamics/joint_space/scalar_dynamics.hpp), advanced by classical RK4 on
-/// (q, q̇) — on ℝ²ⁿ RKMK4 is RK4 — in the scalar Ceres asks for.
+/// (dynamics/joint_space/scalar_dynamics.hpp), its state (q, N, u) — joint
+/// angles, the spherical joints' relative rotations, rates — advanced by
+/// lieflow's RKMK stepper with the classical RK4 tableau (integrators/rkmk.hpp;
+/// on the angles and rates that is RK4) in the scalar Ceres asks for.
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "dynamics/joint_space/articulated_model.hpp"
+#include "dynamics/joint_space/articulated_state.hpp"
 #include "dynamics/joint_space/scalar_dynamics.hpp"
+#include "integrators/butcher_tableau.hpp"
+#include "integrators/rkmk.hpp"
 #include "liegroup/invalid_input.hpp"
+#include "liegroup/scalar.hpp"
+#include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -20,44 +30,66 @@ template <typename T>
 using MechanismDynamics = articulated::ScalarDynamics<T>;
 
 /// Throws InvalidInput (field `field`) unless the model is a tree of
-/// revolute and universal joints hanging from the ground (the fit's state is
-/// the joint angles and their rates, read from the recording's angle or
-/// gyroscope columns): no spherical joint (a rotation-only body no joint
-/// reaches is on an implicit one), no slide, gimbal or weld, no prescribed
-/// coordinate.
+/// revolute, universal and spherical joints hanging from the ground (a
+/// rotation-only body no joint reaches turns on an implicit spherical one):
+/// no slide, gimbal, weld or offset universal joint, no prescribed
+/// coordinate. The fit's state is the joint angles, the spherical joints'
+/// rotations and the rates, read from the recording's angle or gyroscope
+/// columns.
 inline void requireMechanismSupported(const articulated::ArticulatedModel& model, const std::string& field) {
   for (int i = 0; i < model.bodyCount(); ++i) {
     const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
     const std::string& name = model.names[static_cast<std::size_t>(i)];
-    const bool hinges = b.kind == articulated::JointKind::kRevolute || b.kind == articulated::JointKind::kUniversal;
-    if (!hinges || b.offset)
-      throw InvalidInput(field, "body '" + name + "' " +
-                                    (b.kind == articulated::JointKind::kSpherical && b.scene_joint < 0
-                                         ? std::string("is not joined to the ground (a free body turns on no joint "
-                                                       "of the scene)")
-                                         : std::string("hangs on a joint that is not a revolute or a universal one")) +
-                                    ": the mechanism spring fit takes trees of revolute and universal joints "
-                                    "hanging from the ground");
+    const bool supported = b.kind == articulated::JointKind::kRevolute ||
+                           b.kind == articulated::JointKind::kUniversal ||
+                           b.kind == articulated::JointKind::kSpherical;
+    if (!supported || b.offset)
+      throw InvalidInput(field, "body '" + name +
+                                    "' hangs on a joint that is not a revolute, universal or spherical one: the "
+                                    "mechanism spring fit takes trees of those joints hanging from the ground");
     for (int k = 0; k < b.coordinates(); ++k)
       if (b.prescribed(k))
         throw InvalidInput(field, "the joint of body '" + name + "' has prescribed motion: nothing to fit there");
   }
 }
 
-/// One classical RK4 step of (q, q̇) from t to t + h.
+/// The tree's state in the scalar of the fit: q (the nq joint angles), N
+/// (the spherical joints' relative rotations) and u (nq angle rates, then 3
+/// body-axis rates per spherical joint): the simulator's state type on T.
 template <typename T>
-void rk4Step(const MechanismDynamics<T>& dynamics, const MechanismForces<T>& forces, double t, double h,
-             typename MechanismDynamics<T>::Vec* q, typename MechanismDynamics<T>::Vec* v) {
-  using Vec = typename MechanismDynamics<T>::Vec;
-  const Vec a1 = dynamics.accelerations(t, *q, *v, forces);
-  const Vec q2 = *q + (0.5 * h) * *v, v2 = *v + (0.5 * h) * a1;
-  const Vec a2 = dynamics.accelerations(t + 0.5 * h, q2, v2, forces);
-  const Vec q3 = *q + (0.5 * h) * v2, v3 = *v + (0.5 * h) * a2;
-  const Vec a3 = dynamics.accelerations(t + 0.5 * h, q3, v3, forces);
-  const Vec q4 = *q + h * v3, v4 = *v + h * a3;
-  const Vec a4 = dynamics.accelerations(t + h, q4, v4, forces);
-  *q += (h / 6.0) * (*v + 2.0 * v2 + 2.0 * v3 + v4);
-  *v += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+using MechanismState = articulated::ArticulatedStateT<T>;
+
+/// The tree as a system for integrators/' steppers: f(t, y) = (u, u̇), the
+/// rotations turning at their joints' body-axis rates (Ṅ = N ω̂).
+template <typename T>
+class MechanismFlow {
+ public:
+  using Scalar = T;
+  using State = MechanismState<T>;
+  using Tangent = typename State::Tangent;
+
+  /// The dynamics (whose rotations the flow sets) and the forces must
+  /// outlive the flow.
+  MechanismFlow(MechanismDynamics<T>* dynamics, const MechanismForces<T>& forces)
+      : dynamics_(dynamics), forces_(forces) {}
+
+  void velocity(const T& t, const State& y, Tangent* f) const {
+    const int n = static_cast<int>(y.u.size());
+    for (std::size_t k = 0; k < y.N.size(); ++k) dynamics_->setRotation(static_cast<int>(k), y.N[k].matrix());
+    f->resize(2 * n);
+    f->head(n) = y.u;
+    f->tail(n) = dynamics_->accelerations(scalarValue(t), y.q, y.u, forces_);
+  }
+
+ private:
+  MechanismDynamics<T>* dynamics_;
+  const MechanismForces<T>& forces_;
+};
+
+/// RKMK with the classical RK4 tableau: fourth order on the rotations too.
+template <typename T>
+RkmkStepper<MechanismState<T>> mechanismStepper() {
+  return RkmkStepper<MechanismState<T>>(ButcherTableau::rk4());
 }
 
 }  // namespace calibration

@@ -37,8 +37,10 @@ ceres::CostFunction* segmentCost(const MechanismShared* p, int first, int last, 
   auto* cost = new ceres::DynamicAutoDiffCostFunction<MechanismSegmentCost, 4>(functor);
   cost->AddParameterBlock(theta_size);
   for (std::size_t a = 0; a < p->axis_bodies.size(); ++a) cost->AddParameterBlock(3);
-  cost->AddParameterBlock(2 * p->dofs);
-  if (!final) cost->AddParameterBlock(2 * p->dofs);
+  for (int segment = 0; segment < (final ? 1 : 2); ++segment) {  // its state, then the next's
+    cost->AddParameterBlock(p->stateSize());
+    for (int k = 0; k < p->rotations; ++k) cost->AddParameterBlock(4);
+  }
   cost->SetNumResiduals(residuals);
   return cost;
 }
@@ -51,26 +53,38 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
                   "give the scene values of the recording's order of magnitude (" + solverFailureReason(summary) + ")");
 }
 
-/// The largest natural frequency of the start model about state (q, 0): the
-/// square root of the largest |eigenvalue| of ∂q̈/∂q (central differences).
+/// The largest natural frequency of the start model about its state (q, N)
+/// at rest: the square root of the largest |eigenvalue| of ∂u̇/∂(q, θ)
+/// (central differences; a spherical joint's rotation turned by N exp(±d e_c)).
 double fastestFrequency(const articulated::ArticulatedModel& model, const MechanismForces<double>& forces,
-                        const Eigen::VectorXd& q) {
-  const MechanismDynamics<double> dynamics(model);
-  const int n = static_cast<int>(q.size());
+                        const MechanismState<double>& y0) {
+  MechanismDynamics<double> dynamics(model);
+  const int nq = static_cast<int>(y0.q.size()), n = static_cast<int>(y0.u.size());
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  auto accelerations = [&](const MechanismState<double>& y) {
+    for (std::size_t k = 0; k < y.N.size(); ++k) dynamics.setRotation(static_cast<int>(k), y.N[k].matrix());
+    return dynamics.accelerations(0.0, y.q, zero, forces);
+  };
   Eigen::MatrixXd A(n, n);
   for (int j = 0; j < n; ++j) {
-    Eigen::VectorXd plus = q, minus = q;
-    const double d = kFrequencyProbe * std::max(1.0, std::abs(q[j]));
-    plus[j] += d;
-    minus[j] -= d;
-    A.col(j) = (dynamics.accelerations(0.0, plus, zero, forces) - dynamics.accelerations(0.0, minus, zero, forces)) /
-               (2.0 * d);
+    const double d = kFrequencyProbe * (j < nq ? std::max(1.0, std::abs(y0.q[j])) : 1.0);
+    Eigen::VectorXd step = Eigen::VectorXd::Zero(2 * n);
+    step[j] = d;  // (δq, δθ) lead the tangent
+    A.col(j) = (accelerations(y0.rplus(step)) - accelerations(y0.rplus(-step))) / (2.0 * d);
   }
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(A);
   double largest = 0.0;
   for (int j = 0; j < n; ++j) largest = std::max(largest, std::abs(eig.eigenvalues()[j]));
   return std::sqrt(largest);
+}
+
+/// The scene's initial state as the fit's.
+MechanismState<double> initialState(const ArticulatedScene& tree) {
+  MechanismState<double> y;
+  y.q = tree.y0.q;
+  y.N = tree.y0.N;
+  y.u = tree.y0.u;
+  return y;
 }
 
 /// The mechanism spring fit in its stages, each a member function run in
@@ -89,11 +103,14 @@ struct MechanismFitter {
     const articulated::ArticulatedModel& model = tree->system->model();
     requireMechanismSupported(model, "`scene`");
     p.model = &model;
-    p.dofs = model.scalar_coordinates;
+    p.coordinates = model.scalar_coordinates;
+    p.rotations = model.rotations;
+    p.dofs = model.dofs();
     p.time = recording.time;
-    column_of.assign(static_cast<std::size_t>(p.dofs), std::string());
+    column_of.assign(static_cast<std::size_t>(p.coordinates), std::string());
     for (int i = 0; i < model.bodyCount(); ++i) {
       const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+      if (b.coordinates() == 0) continue;  // a spherical joint: nothing sprung, no angle
       const std::string& joint = scene.joints[static_cast<std::size_t>(b.scene_joint)].name;
       for (int k = 0; k < b.coordinates(); ++k) {
         const CoordinateDrive& d = model.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
@@ -129,7 +146,7 @@ struct MechanismFitter {
   /// body's gyroscopes), the samples and the free parameters.
   void selectData() {
     const articulated::ArticulatedModel& model = *p.model;
-    for (int j = 0; j < p.dofs; ++j) {
+    for (int j = 0; j < p.coordinates; ++j) {
       const std::vector<double>* c = recording.column(column_of[static_cast<std::size_t>(j)]);
       p.angles.push_back(c);
       if (!c) missing_angles.push_back(column_of[static_cast<std::size_t>(j)]);
@@ -141,8 +158,21 @@ struct MechanismFitter {
       if (!p.rates.back()) missing_rates.push_back(name + ".wx," + name + ".wy," + name + ".wz");
     }
     MechanismData data = o.data;
+    std::string spherical;  // a body on a spherical joint: no angle column says where it turns
+    for (int i = 0; i < model.bodyCount() && spherical.empty(); ++i)
+      if (model.bodies[static_cast<std::size_t>(i)].kind == articulated::JointKind::kSpherical)
+        spherical = model.names[static_cast<std::size_t>(i)];
+    if (!spherical.empty() && data == MechanismData::kAngles)
+      throw InvalidInput("`data`", "angles: body '" + spherical +
+                                       "' turns on a spherical joint, which no angle column records: fit from "
+                                       "every body's gyroscopes (`data` gyroscopes)");
+    if (!spherical.empty() && data == MechanismData::kAuto && !missing_rates.empty())
+      throw InvalidInput(recording.source, "body '" + spherical +
+                                               "' turns on a spherical joint, which no angle column records: the "
+                                               "mechanism spring fit needs every body's gyroscopes (missing: " +
+                                               list(missing_rates) + ")");
     if (data == MechanismData::kAuto) {
-      if (missing_angles.empty()) data = MechanismData::kAngles;
+      if (missing_angles.empty() && spherical.empty()) data = MechanismData::kAngles;
       else if (missing_rates.empty()) data = MechanismData::kGyroscopes;
       else
         throw InvalidInput(recording.source, "the mechanism spring fit needs every joint angle (missing: " +
@@ -161,7 +191,8 @@ struct MechanismFitter {
     int spring_parameters = 0;
     for (const CoordinateSpring& c : fitted)
       spring_parameters += c.stiffness_fitted + c.damping_fitted + (o.fit_rest_angle && c.stiffness_fitted);
-    free_parameters = spring_parameters + 2 * static_cast<int>(p.axis_bodies.size()) + 2 * p.dofs;
+    free_parameters =
+        spring_parameters + 2 * static_cast<int>(p.axis_bodies.size()) + p.stateSize() + 3 * p.rotations;
     if (o.fit_axis && p.axis_bodies.empty())
       throw InvalidInput("`fit_axis`", "no sprung or damped revolute joint whose axis could be fitted");
     // The axes, started at the scene's (unit, on the sphere).
@@ -191,11 +222,16 @@ struct MechanismFitter {
       for (std::size_t j = 0; j < integrated.size(); ++j) start_angles[j] = &integrated[j];
       angles_from = "the angles integrated from the gyroscopes (from the scene's initial angles)";
     }
-    const bool have_angles = std::find(start_angles.begin(), start_angles.end(), nullptr) == start_angles.end();
+    // (A spherical joint's rotation is in no angle: its inverse dynamics has no motion to read.)
+    const bool have_angles = p.rotations == 0 &&
+                             std::find(start_angles.begin(), start_angles.end(), nullptr) == start_angles.end();
     if (o.start == MechanismStartFrom::kInverseDynamics && !have_angles)
-      throw InvalidInput("`start`", "inverse-dynamics needs every joint angle in the recording, or every body's "
-                                    "gyroscopes on revolute and universal joints (missing: " +
-                                        list(missing_angles) + ")");
+      throw InvalidInput("`start`", p.rotations > 0
+                                        ? "inverse-dynamics reads the joint angles, and a spherical joint's rotation "
+                                          "is in none: start from the scene (`start` scene)"
+                                        : "inverse-dynamics needs every joint angle in the recording, or every "
+                                          "body's gyroscopes on revolute and universal joints (missing: " +
+                                              list(missing_angles) + ")");
     if (o.start == MechanismStartFrom::kInverseDynamics ||
         (o.start == MechanismStartFrom::kAuto && have_angles && n >= kInverseDynamicsMinSamples)) {
       std::vector<StartCoordinate> coordinates;
@@ -232,7 +268,7 @@ struct MechanismFitter {
   /// the start model's fastest frequency.
   void planSteps() {
     const articulated::ArticulatedModel& model = *p.model;
-    omega = fastestFrequency(model, start_forces, tree->y0.q);
+    omega = fastestFrequency(model, start_forces, initialState(*tree));
     duration = p.time.back() - p.time.front();
     const double max_interval = largestInterval(p.time);
     if (o.substeps == 0) requireResolved(recording.source, max_interval, omega, "of the scene's model");
@@ -260,33 +296,41 @@ struct MechanismFitter {
       theta[3 * f + 2] = fitted[f].rest_angle;
     }
     bound = segmentBounds(n, segments);
-    state.assign(static_cast<std::size_t>(segments), Eigen::VectorXd(2 * p.dofs));
-    if (!p.gyroscopes) {
+    state.assign(static_cast<std::size_t>(segments), Eigen::VectorXd(p.stateSize()));
+    rotation.assign(static_cast<std::size_t>(segments),
+                    std::vector<std::array<double, 4>>(static_cast<std::size_t>(p.rotations)));
+    if (!p.gyroscopes) {  // (no spherical joint: u = q̇)
       SpringData angles;  // localAngleAndRate reads one coordinate at a time
       angles.time = p.time;
       const int half_width = localFitHalfWidth(period, duration, n);
-      for (int j = 0; j < p.dofs; ++j) {
+      for (int j = 0; j < p.coordinates; ++j) {
         angles.angle[0] = *p.angles[static_cast<std::size_t>(j)];
         for (int s = 0; s < segments; ++s) {
           const Eigen::Vector2d xv = localAngleAndRate(angles, 0, bound[s], half_width);
           state[s][j] = xv[0];
-          state[s][p.dofs + j] = xv[1];
+          state[s][p.coordinates + j] = xv[1];
         }
       }
     } else {
       // Only rates recorded: the scene's initial state, advanced by the start
       // model to each segment's first sample.
-      const MechanismDynamics<double> dynamics(model);
-      Eigen::VectorXd q = tree->y0.q, v = tree->y0.u;
+      MechanismDynamics<double> dynamics(model);
+      const MechanismFlow<double> flow(&dynamics, start_forces);
+      const RkmkStepper<MechanismState<double>> stepper = mechanismStepper<double>();
+      MechanismState<double> y = initialState(*tree);
       int s = 0;
       for (int i = 0; i < n; ++i) {
         if (s < segments && i == bound[s]) {
-          state[s] << q, v;
+          state[s] << y.q, y.u;
+          for (int k = 0; k < p.rotations; ++k) {
+            const Eigen::Quaterniond& w = y.N[static_cast<std::size_t>(k)].quaternion();
+            rotation[s][static_cast<std::size_t>(k)] = {w.w(), w.x(), w.y(), w.z()};
+          }
           ++s;
         }
         if (i + 1 == n) break;
         const double h = (p.time[i + 1] - p.time[i]) / p.substeps;
-        for (int m = 0; m < p.substeps; ++m) rk4Step(dynamics, start_forces, p.time[i] + m * h, h, &q, &v);
+        for (int m = 0; m < p.substeps; ++m) y = stepper.step(flow, p.time[i] + m * h, y, h);
       }
     }
   }
@@ -296,11 +340,18 @@ struct MechanismFitter {
     const auto addAxes = [&](ceres::Problem* problem) {
       for (std::array<double, 3>& a : axes) problem->AddParameterBlock(a.data(), 3, new ceres::SphereManifold<3>());
     };
-    const auto blocksOf = [&](double* s_block, double* next) {
+    // A segment's blocks: its state (q, u), then a unit quaternion per spherical joint.
+    const auto addRotations = [&](ceres::Problem* problem, int segment) {
+      for (std::array<double, 4>& w : rotation[static_cast<std::size_t>(segment)])
+        problem->AddParameterBlock(w.data(), 4, new ceres::QuaternionManifold());
+    };
+    const auto blocksOf = [&](int segment, bool with_next) {
       std::vector<double*> blocks = {theta.data()};
       for (std::array<double, 3>& a : axes) blocks.push_back(a.data());
-      blocks.push_back(s_block);
-      if (next) blocks.push_back(next);
+      for (int s = segment; s <= segment + (with_next ? 1 : 0); ++s) {
+        blocks.push_back(state[static_cast<std::size_t>(s)].data());
+        for (std::array<double, 4>& w : rotation[static_cast<std::size_t>(s)]) blocks.push_back(w.data());
+      }
       return blocks;
     };
     const auto addTheta = [&](ceres::Problem* problem) {
@@ -328,11 +379,12 @@ struct MechanismFitter {
       addTheta(&problem);
       addAxes(&problem);
       const double w_rate = o.continuity_weight / std::max(omega, 2.0 * kPi / duration);
+      for (int s = 0; s < segments; ++s) addRotations(&problem, s);
       for (int s = 0; s < segments; ++s) {
         const bool last = s + 1 == segments;
         ceres::CostFunction* cost =
             segmentCost(&p, bound[s], bound[s + 1], last, o.continuity_weight, w_rate, theta_size);
-        problem.AddResidualBlock(cost, nullptr, blocksOf(state[s].data(), last ? nullptr : state[s + 1].data()));
+        problem.AddResidualBlock(cost, nullptr, blocksOf(s, !last));
       }
       ceres::Solver::Summary summary;
       ceres::Solve(so, &problem, &summary);
@@ -344,8 +396,8 @@ struct MechanismFitter {
     ceres::Problem problem;
     addTheta(&problem);
     addAxes(&problem);
-    problem.AddResidualBlock(segmentCost(&p, 0, n - 1, true, 0.0, 0.0, theta_size), nullptr,
-                             blocksOf(state[0].data(), nullptr));
+    addRotations(&problem, 0);
+    problem.AddResidualBlock(segmentCost(&p, 0, n - 1, true, 0.0, 0.0, theta_size), nullptr, blocksOf(0, false));
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     requireUsable(summary, "single shooting");
@@ -367,6 +419,12 @@ struct MechanismFitter {
     ceres::Covariance::Options co;
     co.algorithm_type = ceres::DENSE_SVD;
     co.num_threads = 1;
+    // Gyroscopes read body-axis rates, which do not change when a subtree on
+    // a spherical joint to the ground is turned as a whole about the vertical
+    // through the joint (about any axis without weight): those directions of
+    // its start rotation are the problem's null space, dropped from the
+    // pseudo-inverse (θ is orthogonal to them).
+    co.null_space_rank = unobservableRotations();
     ceres::Covariance covariance(co);
     std::vector<std::pair<const double*, const double*>> pairs = {{theta.data(), theta.data()}};
     for (std::array<double, 3>& a : axes) pairs.emplace_back(a.data(), a.data());
@@ -401,6 +459,27 @@ struct MechanismFitter {
     }
   }
 
+  /// The turns of spherical subtrees the gyroscopes cannot see: per
+  /// spherical joint to the ground, 1 (about the vertical) when weight acts
+  /// on its subtree, else 3.
+  int unobservableRotations() const {
+    const articulated::ArticulatedModel& model = *p.model;
+    int count = 0;
+    for (int i = 0; i < model.bodyCount(); ++i) {
+      const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+      if (b.kind != articulated::JointKind::kSpherical || b.parent != articulated::kGround) continue;
+      bool weighted = false;
+      for (int j = i; j < model.bodyCount(); ++j) {  // the subtree: i and the bodies below it (tree order)
+        int a = j;
+        while (a != articulated::kGround && a != i) a = model.bodies[static_cast<std::size_t>(a)].parent;
+        const articulated::ArticulatedBody& d = model.bodies[static_cast<std::size_t>(j)];
+        if (a == i && !d.rotation_only && d.mass > 0.0) weighted = true;
+      }
+      count += weighted && model.gravity.squaredNorm() > 0.0 ? 1 : 3;
+    }
+    return count;
+  }
+
   static std::string list(const std::vector<std::string>& v) {
     std::string s;
     for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
@@ -424,7 +503,9 @@ struct MechanismFitter {
   int segments = 1, theta_size = 0;
   std::vector<double> theta;                ///< (k, c, φ₀) per fitted coordinate
   std::vector<int> bound;
-  std::vector<Eigen::VectorXd> state;       ///< per segment: (q, q̇) at its start
+  std::vector<Eigen::VectorXd> state;       ///< per segment: (q, u) at its start
+  /// per segment: each spherical joint's rotation at its start, (w, x, y, z)
+  std::vector<std::vector<std::array<double, 4>>> rotation;
 };
 
 }  // namespace

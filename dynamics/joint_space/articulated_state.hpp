@@ -17,19 +17,24 @@
 
 #include <Eigen/Core>
 
+#include "integrators/rigid_body_state.hpp"
 #include "liegroup/so3.hpp"
 
 namespace lieflow {
 namespace articulated {
 
-struct ArticulatedState {
-  using Scalar = double;
-  using Tangent = Eigen::VectorXd;
+/// In any scalar T (double for the simulator, ceres::Jet for the fits that
+/// differentiate the flow: calibration/mechanism_flow.hpp).
+template <typename T>
+struct ArticulatedStateT {
+  using Scalar = T;
+  using Vec = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+  using Tangent = Vec;
   static constexpr int kTangentDim = Eigen::Dynamic;
 
-  Eigen::VectorXd q;         ///< nq angles (unwrapped)
-  std::vector<SO3d> N;       ///< ns relative rotations
-  Eigen::VectorXd u;         ///< nq + 3 ns velocities
+  Vec q;                  ///< nq angles (unwrapped)
+  std::vector<SO3<T>> N;  ///< ns relative rotations
+  Vec u;                  ///< nq + 3 ns velocities
 
   int scalarCount() const { return static_cast<int>(q.size()); }
   int dofs() const { return static_cast<int>(u.size()); }
@@ -37,13 +42,27 @@ struct ArticulatedState {
   int tangentSize() const { return 2 * dofs(); }
   Tangent zeroTangent() const { return Tangent::Zero(tangentSize()); }
 
-  void rplusInPlace(const Tangent& d);
-  ArticulatedState rplus(const Tangent& d) const {
-    ArticulatedState out = *this;
+  void rplusInPlace(const Tangent& d) {
+    const int nq = scalarCount(), n = dofs();
+    q += d.head(nq);
+    for (std::size_t k = 0; k < N.size(); ++k)
+      N[k] *= SO3<T>::exp(d.template segment<3>(nq + 3 * static_cast<int>(k)));
+    u += d.tail(n);
+  }
+  ArticulatedStateT rplus(const Tangent& d) const {
+    ArticulatedStateT out = *this;
     out.rplusInPlace(d);
     return out;
   }
-  void dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const;
+  void dexpInvRightInto(const Tangent& theta, const Tangent& v, int order, Tangent* out) const {
+    *out = v;
+    const int nq = scalarCount();
+    for (std::size_t k = 0; k < N.size(); ++k) {
+      const int o = nq + 3 * static_cast<int>(k);
+      out->template segment<3>(o) =
+          detail::so3DexpInvRight<T>(theta.template segment<3>(o), v.template segment<3>(o), order);
+    }
+  }
   Tangent dexpInvRight(const Tangent& theta, const Tangent& v, int order) const {
     Tangent out;
     dexpInvRightInto(theta, v, order, &out);
@@ -51,8 +70,17 @@ struct ArticulatedState {
   }
   /// Per-component scale of the adaptive error norm: 1 for positions (angles
   /// and rotations are O(1)), |u| for velocities.
-  Tangent magnitude() const;
+  Tangent magnitude() const {
+    const int n = dofs();
+    Tangent m(2 * n);
+    m.head(n).setOnes();
+    m.tail(n) = u.cwiseAbs();
+    return m;
+  }
 };
+
+using ArticulatedState = ArticulatedStateT<double>;
+extern template struct ArticulatedStateT<double>;
 
 bool isFinite(const ArticulatedState& y);
 

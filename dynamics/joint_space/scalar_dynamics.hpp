@@ -170,6 +170,8 @@ class ScalarDynamics {
   /// The spherical joints' relative rotations N (by the model's rotation
   /// index; identity until set): the part of the configuration q leaves out.
   void setRotations(const std::vector<Mat3>& rotations) { N_rel_ = rotations; }
+  /// The same for spherical joint k alone.
+  void setRotation(int k, const Mat3& rotation) { N_rel_[static_cast<std::size_t>(k)] = rotation; }
 
   int coordinates() const { return m_.scalar_coordinates; }
   int dofs() const { return m_.dofs(); }

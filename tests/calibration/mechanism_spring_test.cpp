@@ -45,6 +45,21 @@ const char* kSprungPendulum = R"({"name": "sprung", "gravity": [0, 0, -9.81],
      "anchor_main": [0, 0, 0.5], "anchor_secondary": [0, 0, -0.5], "axis_main": [0.28603877677367767, 0.9534625892455922, 0.09534625892455922],
      "initial_angle": -0.3, "spring": {"stiffness": 3.0, "rest_angle": -0.2}, "damper": {"damping": 0.02}}]})";
 
+/// A ball joint from the ground carrying the upper link (turning about the
+/// vertical and swinging: a spherical pendulum), a sprung and damped elbow
+/// below it.
+const char* kBallPendulum = R"({"name": "ball", "gravity": [0, 0, -9.81],
+  "bodies": [
+    {"name": "upper", "mass": 1.0, "inertia": [0.0833, 0.0833, 0.002], "position": [0, 0, -0.5],
+     "angular_velocity": [0.8, -0.5, 1.5]},
+    {"name": "lower", "mass": 0.7, "inertia": [0.05, 0.04, 0.02], "position": [0, 0, -1.5]}],
+  "joints": [
+    {"name": "ball", "type": "spherical", "main": "ground", "secondary": "upper",
+     "anchor_main": [0, 0, 0], "anchor_secondary": [0, 0, 0.5]},
+    {"name": "elbow", "type": "revolute", "main": "upper", "secondary": "lower",
+     "anchor_main": [0, 0, -0.5], "anchor_secondary": [0, 0, 0.5], "axis_main": [0, 1, 0],
+     "initial_angle": 0.5, "spring": {"stiffness": 6.0, "rest_angle": 0.1}, "damper": {"damping": 0.03}}]})";
+
 const char* kUniversalTree = R"({"name": "tree", "gravity": [0, 0, -9.81],
   "bodies": [
     {"name": "a", "mass": 1.2, "inertia": [0.09, 0.08, 0.03], "position": [0, 0, -0.5]},
@@ -197,6 +212,28 @@ void expectFittedFromAnglesAndGyroscopes(const char* json, const std::vector<Tru
     for (const CoordinateSpring& c : f.coordinates)
       std::printf("%s %s: k %.6f c %.6f\n", mechanismDataName(data), c.joint.c_str(), c.stiffness, c.damping);
     expectRecovered(f, truth, 1e-4);
+  }
+}
+
+/// A spherical joint in the tree: its rotation is a state on SO(3) that the
+/// fit integrates by RKMK and shoots by quaternion blocks, from the bodies'
+/// gyroscopes (no angle records it: `data` angles is refused, naming it).
+TEST(CalibMechanismSprings, BallJointPendulumFromTheGyroscopes) {
+  const Recording r = simulated(kBallPendulum, std::string(kSimulate) + (test::kSanitized ? "--t-end 2" : "--t-end 6"));
+  const SceneDescription start = parseScene(perturbed(kBallPendulum, 1.3, 0.7), "start.json");
+  MechanismSpringOptions o;
+  const MechanismSpringFit f = fitMechanismSprings(start, r, o);
+  EXPECT_TRUE(f.converged) << f.message;
+  EXPECT_EQ(f.data, "gyroscopes");
+  std::printf("ball: k %.7f c %.7f (%d segments, %d substeps, %.2f s)\n", f.coordinates[0].stiffness,
+              f.coordinates[0].damping, f.segments, f.substeps, f.seconds);
+  expectRecovered(f, {{"elbow", 1, 6.0, 0.03}}, 1e-4);
+  o.data = MechanismData::kAngles;
+  try {
+    fitMechanismSprings(start, r, o);
+    ADD_FAILURE() << "angles accepted for a spherical joint";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'upper' turns on a spherical joint"), std::string::npos) << e.what();
   }
 }
 
