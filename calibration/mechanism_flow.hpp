@@ -92,5 +92,25 @@ RkmkStepper<MechanismState<T>> mechanismStepper() {
   return RkmkStepper<MechanismState<T>>(ButcherTableau::rk4());
 }
 
+/// The turns of spherical subtrees that body-axis rates (gyroscopes) cannot
+/// see: per spherical joint to the ground, 1 (about the vertical through it)
+/// when weight acts on its subtree, else 3 — the null space of a fit to them.
+inline int unobservableTurns(const articulated::ArticulatedModel& model) {
+  int count = 0;
+  for (int i = 0; i < model.bodyCount(); ++i) {
+    const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
+    if (b.kind != articulated::JointKind::kSpherical || b.parent != articulated::kGround) continue;
+    bool weighted = false;
+    for (int j = i; j < model.bodyCount(); ++j) {  // the subtree: i and the bodies below it (tree order)
+      int a = j;
+      while (a != articulated::kGround && a != i) a = model.bodies[static_cast<std::size_t>(a)].parent;
+      const articulated::ArticulatedBody& d = model.bodies[static_cast<std::size_t>(j)];
+      if (a == i && !d.rotation_only && d.mass > 0.0) weighted = true;
+    }
+    count += weighted && model.gravity.squaredNorm() > 0.0 ? 1 : 3;
+  }
+  return count;
+}
+
 }  // namespace calibration
 }  // namespace lieflow

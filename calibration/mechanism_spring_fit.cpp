@@ -27,9 +27,6 @@ namespace lieflow {
 namespace calibration {
 namespace {
 
-/// Relative step of the finite differences that estimate the start's frequencies.
-constexpr double kFrequencyProbe = 1e-6;
-
 ceres::CostFunction* segmentCost(const MechanismShared* p, int first, int last, bool final, double w_angle,
                                  double w_rate, int theta_size) {
   auto* functor = new MechanismSegmentCost(p, first, last, final, w_angle, w_rate);
@@ -51,31 +48,6 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
   throw FitFailed(std::string("the mechanism spring fit failed in ") + stage +
                   ": the model could not be integrated from the start values (the scene's springs and dashpots); "
                   "give the scene values of the recording's order of magnitude (" + solverFailureReason(summary) + ")");
-}
-
-/// The largest natural frequency of the start model about its state (q, N)
-/// at rest: the square root of the largest |eigenvalue| of ∂u̇/∂(q, θ)
-/// (central differences; a spherical joint's rotation turned by N exp(±d e_c)).
-double fastestFrequency(const articulated::ArticulatedModel& model, const MechanismForces<double>& forces,
-                        const MechanismState<double>& y0) {
-  MechanismDynamics<double> dynamics(model);
-  const int nq = static_cast<int>(y0.q.size()), n = static_cast<int>(y0.u.size());
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
-  auto accelerations = [&](const MechanismState<double>& y) {
-    for (std::size_t k = 0; k < y.N.size(); ++k) dynamics.setRotation(static_cast<int>(k), y.N[k].matrix());
-    return dynamics.accelerations(0.0, y.q, zero, forces);
-  };
-  Eigen::MatrixXd A(n, n);
-  for (int j = 0; j < n; ++j) {
-    const double d = kFrequencyProbe * (j < nq ? std::max(1.0, std::abs(y0.q[j])) : 1.0);
-    Eigen::VectorXd step = Eigen::VectorXd::Zero(2 * n);
-    step[j] = d;  // (δq, δθ) lead the tangent
-    A.col(j) = (accelerations(y0.rplus(step)) - accelerations(y0.rplus(-step))) / (2.0 * d);
-  }
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(A);
-  double largest = 0.0;
-  for (int j = 0; j < n; ++j) largest = std::max(largest, std::abs(eig.eigenvalues()[j]));
-  return std::sqrt(largest);
 }
 
 /// The scene's initial state as the fit's.
@@ -424,7 +396,7 @@ struct MechanismFitter {
     // through the joint (about any axis without weight): those directions of
     // its start rotation are the problem's null space, dropped from the
     // pseudo-inverse (θ is orthogonal to them).
-    co.null_space_rank = unobservableRotations();
+    co.null_space_rank = unobservableTurns(*p.model);
     ceres::Covariance covariance(co);
     std::vector<std::pair<const double*, const double*>> pairs = {{theta.data(), theta.data()}};
     for (std::array<double, 3>& a : axes) pairs.emplace_back(a.data(), a.data());
@@ -457,27 +429,6 @@ struct MechanismFitter {
       if (!std::isfinite(c.axis_sigma_deg))
         throw NotIdentifiable("the σ of joint '" + c.joint + "''s axis is not finite");
     }
-  }
-
-  /// The turns of spherical subtrees the gyroscopes cannot see: per
-  /// spherical joint to the ground, 1 (about the vertical) when weight acts
-  /// on its subtree, else 3.
-  int unobservableRotations() const {
-    const articulated::ArticulatedModel& model = *p.model;
-    int count = 0;
-    for (int i = 0; i < model.bodyCount(); ++i) {
-      const articulated::ArticulatedBody& b = model.bodies[static_cast<std::size_t>(i)];
-      if (b.kind != articulated::JointKind::kSpherical || b.parent != articulated::kGround) continue;
-      bool weighted = false;
-      for (int j = i; j < model.bodyCount(); ++j) {  // the subtree: i and the bodies below it (tree order)
-        int a = j;
-        while (a != articulated::kGround && a != i) a = model.bodies[static_cast<std::size_t>(a)].parent;
-        const articulated::ArticulatedBody& d = model.bodies[static_cast<std::size_t>(j)];
-        if (a == i && !d.rotation_only && d.mass > 0.0) weighted = true;
-      }
-      count += weighted && model.gravity.squaredNorm() > 0.0 ? 1 : 3;
-    }
-    return count;
   }
 
   static std::string list(const std::vector<std::string>& v) {

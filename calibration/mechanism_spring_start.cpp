@@ -1,5 +1,5 @@
-// The inverse-dynamics start of the mechanism spring fit
-// (mechanism_spring_start.hpp states the method).
+// The inverse-dynamics start of the mechanism spring fit and the start
+// model's fastest frequency (mechanism_spring_start.hpp states the methods).
 #include "calibration/mechanism_spring_start.hpp"
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 
 #include "calibration/mechanism_flow.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -172,6 +173,28 @@ bool anglesFromGyroscopes(const articulated::ArticulatedModel& model, const Eige
     }
   }
   return true;
+}
+
+double fastestFrequency(const articulated::ArticulatedModel& model, const MechanismForces<double>& forces,
+                        const MechanismState<double>& y0) {
+  MechanismDynamics<double> dynamics(model);
+  const int nq = static_cast<int>(y0.q.size()), n = static_cast<int>(y0.u.size());
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  auto accelerations = [&](const MechanismState<double>& y) {
+    for (std::size_t k = 0; k < y.N.size(); ++k) dynamics.setRotation(static_cast<int>(k), y.N[k].matrix());
+    return dynamics.accelerations(0.0, y.q, zero, forces);
+  };
+  Eigen::MatrixXd A(n, n);
+  for (int j = 0; j < n; ++j) {
+    const double d = kFrequencyProbe * (j < nq ? std::max(1.0, std::abs(y0.q[j])) : 1.0);
+    Eigen::VectorXd step = Eigen::VectorXd::Zero(2 * n);
+    step[j] = d;  // (δq, δθ) lead the tangent
+    A.col(j) = (accelerations(y0.rplus(step)) - accelerations(y0.rplus(-step))) / (2.0 * d);
+  }
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(A);
+  double largest = 0.0;
+  for (int j = 0; j < n; ++j) largest = std::max(largest, std::abs(eig.eigenvalues()[j]));
+  return std::sqrt(largest);
 }
 
 }  // namespace calibration

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "calibration/mechanism_flow.hpp"
 #include "dynamics/joint_space/articulated_model.hpp"
 
 namespace lieflow {
@@ -78,6 +79,14 @@ bool anglesFromGyroscopes(const articulated::ArticulatedModel& model, const Eige
                           const std::vector<double>& time,
                           const std::vector<const std::vector<Eigen::Vector3d>*>& rates,
                           std::vector<std::vector<double>>* angles);
+
+/// The largest natural frequency of the start model about the state y0 at
+/// rest: the square root of the largest |eigenvalue| of ∂u̇/∂(q, θ) (central
+/// differences of relative step kFrequencyProbe; a spherical joint's rotation
+/// turned by N exp(±d e_c)). It sets the fit's steps and segments.
+double fastestFrequency(const articulated::ArticulatedModel& model, const MechanismForces<double>& forces,
+                        const MechanismState<double>& y0);
+constexpr double kFrequencyProbe = 1e-6;
 
 }  // namespace calibration
 }  // namespace lieflow
