@@ -50,15 +50,6 @@ void requireUsable(const ceres::Solver::Summary& summary, const char* stage) {
                   "give the scene values of the recording's order of magnitude (" + solverFailureReason(summary) + ")");
 }
 
-/// The scene's initial state as the fit's.
-MechanismState<double> initialState(const ArticulatedScene& tree) {
-  MechanismState<double> y;
-  y.q = tree.y0.q;
-  y.N = tree.y0.N;
-  y.u = tree.y0.u;
-  return y;
-}
-
 /// The mechanism spring fit in its stages, each a member function run in
 /// order by fitMechanismSprings; what one stage finds, the next reads.
 struct MechanismFitter {
@@ -240,7 +231,7 @@ struct MechanismFitter {
   /// the start model's fastest frequency.
   void planSteps() {
     const articulated::ArticulatedModel& model = *p.model;
-    omega = fastestFrequency(model, start_forces, initialState(*tree));
+    omega = fastestFrequency(model, start_forces, tree->y0);  // (the fit's state type in double)
     duration = p.time.back() - p.time.front();
     const double max_interval = largestInterval(p.time);
     if (o.substeps == 0) requireResolved(recording.source, max_interval, omega, "of the scene's model");
@@ -289,7 +280,7 @@ struct MechanismFitter {
       MechanismDynamics<double> dynamics(model);
       const MechanismFlow<double> flow(&dynamics, start_forces);
       const RkmkStepper<MechanismState<double>> stepper = mechanismStepper<double>();
-      MechanismState<double> y = initialState(*tree);
+      MechanismState<double> y = tree->y0;
       int s = 0;
       for (int i = 0; i < n; ++i) {
         if (s < segments && i == bound[s]) {

@@ -106,7 +106,7 @@ MechanismStart inverseDynamicsStart(const articulated::ArticulatedModel& model, 
         const articulated::ArticulatedBody& body = model.bodies[static_cast<std::size_t>(b)];
         if (j < body.q_begin || j >= body.q_begin + body.coordinates()) continue;
         const auto& drive = model.drives[static_cast<std::size_t>(b)][static_cast<std::size_t>(j - body.q_begin)];
-        if (drive.moment) y -= (*drive.moment)(time[static_cast<std::size_t>(k)]);
+        y -= drive.appliedMoment(time[static_cast<std::size_t>(k)]);
       }
       const Eigen::Vector3d row(c.stiffness ? -(c.rest_angle_fitted ? q[j] : q[j] - c.rest_angle) : 0.0,
                                 c.damping ? -qd[j] : 0.0, c.stiffness && c.rest_angle_fitted ? 1.0 : 0.0);

@@ -29,17 +29,17 @@
 namespace lieflow {
 namespace calibration {
 
-/// The one-body tree as a system on ℝᴺ × ℝᴺ (VectorState: x = φ, v = φ̇), so
-/// that every RKMK tableau of integrators/ advances it (exp is the identity
-/// there: RKMK is the Runge–Kutta method). A hinge (N = 1) takes the closed
-/// form whose constants the caller computed once (ScalarDynamics<double>::
-/// groundedHinge()); a universal joint the general recursive Newton–Euler.
 /// Spring, dashpot and rest angle of each coordinate, in the fit's scalar.
 template <typename T, int N>
 struct JointSprings {
   std::array<T, N> stiffness{}, damping{}, rest_angle{};
 };
 
+/// The one-body tree as a system on ℝᴺ × ℝᴺ (VectorState: x = φ, v = φ̇), so
+/// that every RKMK tableau of integrators/ advances it (exp is the identity
+/// there: RKMK is the Runge–Kutta method). A hinge (N = 1) takes the closed
+/// form whose constants the caller computed once (ScalarDynamics<double>::
+/// groundedHinge()); a universal joint the general recursive Newton–Euler.
 template <typename T, int N>
 class SpringJointFlow {
  public:
@@ -65,10 +65,9 @@ class SpringJointFlow {
   void velocity(const T& t, const State& y, Tangent* f) const {
     f->template head<N>() = y.v;
     if constexpr (N == 1) {
-      const auto& moment = model_.drives[0][0].moment;
       (*f)[1] = articulated::groundedHingeAcceleration(hinge_, y.x[0], y.v[0], springs_.stiffness[0],
                                                        springs_.damping[0], springs_.rest_angle[0],
-                                                       moment ? (*moment)(scalarValue(t)) : 0.0);
+                                                       model_.drives[0][0].appliedMoment(scalarValue(t)));
     } else {
       const Vec q = y.x, u = y.v;
       f->template tail<N>() = dynamics_->accelerations(scalarValue(t), q, u, forces_);

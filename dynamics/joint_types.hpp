@@ -116,10 +116,11 @@ struct CoordinateDrive {
   bool hasForce() const {
     return stiffness != 0.0 || damping != 0.0 || moment.has_value() || static_cast<bool>(user_moment);
   }
+  /// The applied moment M(t) (0 without one).
+  double appliedMoment(double t) const { return moment ? (*moment)(t) : 0.0; }
   /// The moment of the force elements at (t, φ, φ̇).
   double momentAt(double t, double phi, double phidot) const {
-    double M = -stiffness * (phi - rest_angle) - damping * phidot;
-    if (moment) M += (*moment)(t);
+    double M = -stiffness * (phi - rest_angle) - damping * phidot + appliedMoment(t);
     if (user_moment) M += user_moment(t, phi, phidot);
     return M;
   }

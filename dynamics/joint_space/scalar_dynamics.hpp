@@ -150,11 +150,6 @@ class ScalarDynamics {
   bool closedForm() const { return hinge_.valid; }
   /// Its constants (valid: false when the model is not a grounded hinge).
   const GroundedHinge& groundedHinge() const { return hinge_; }
-  /// The applied moment M(t) on coordinate k of body i (0 without one).
-  double appliedMoment(int i, int k, double t) const {
-    const CoordinateDrive& drive = m_.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
-    return drive.moment ? (*drive.moment)(t) : 0.0;
-  }
 
   /// Q: the springs', dashpots' and applied moments' generalized forces.
   Vec appliedForces(double t, const Vec& q, const Vec& u, const CoordinateForces<T>& forces) const {
@@ -164,7 +159,7 @@ class ScalarDynamics {
       for (int k = 0; k < b.coordinates(); ++k) {
         const int j = b.q_begin + k, v = b.u_begin + k;
         Q[v] = -forces.stiffness[j] * (q[j] - forces.rest_angle[j]) - forces.damping[j] * u[v] +
-               T(appliedMoment(i, k, t));
+               T(m_.drives[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)].appliedMoment(t));
       }
     }
     return Q;
@@ -177,7 +172,7 @@ class ScalarDynamics {
     if (hinge_.valid) {
       Vec out(1);
       out[0] = groundedHingeAcceleration(hinge_, q[0], u[0], forces.stiffness[0], forces.damping[0],
-                                         forces.rest_angle[0], appliedMoment(0, 0, t));
+                                         forces.rest_angle[0], m_.drives[0][0].appliedMoment(t));
       return out;
     }
     const int n = dofs();
