@@ -185,10 +185,20 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
   Json j;
   const calibration::HingeFit fit = calibration::fitHinge(joints, options);
   if (joints.size() > 1) {
+    // With --fit-gyro-bias each recording's biases are its own: in its entry.
     Json recordings = Json::array();
-    for (const calibration::JointSamples& r : joints)
-      recordings.push_back({{"file", r.source}, {"samples", r.size()}, {"t_start", r.time.front()},
-                            {"t_end", r.time.back()}});
+    for (std::size_t r = 0; r < joints.size(); ++r) {
+      Json entry = {{"file", joints[r].source}, {"samples", joints[r].size()}, {"t_start", joints[r].time.front()},
+                    {"t_end", joints[r].time.back()}};
+      if (r < fit.recording_biases.size()) {
+        const calibration::SensorNuisanceEstimate& b = fit.recording_biases[r];
+        entry["gyro_bias_main"] = vector3(b.gyro_bias_main);
+        entry["gyro_bias_secondary"] = vector3(b.gyro_bias_secondary);
+        entry["gyro_bias_main_sigma"] = b.gyro_bias_main_sigma;
+        entry["gyro_bias_secondary_sigma"] = b.gyro_bias_secondary_sigma;
+      }
+      recordings.push_back(entry);
+    }
     j["recordings"] = recordings;
   }
   j["axis_main"] = vector3(fit.axis_main);
@@ -199,16 +209,19 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
   addSummary(j, fit.summary, joint);
   j["sign"] = fit.sign;
   if (fit.fitted_gyro_bias) {
-    j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
-    j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
-    j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
-    j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+    if (fit.recording_biases.empty()) {
+      j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
+      j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
+      j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
+      j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
+    }
     j["gyro_bias_note"] =
-        fit.likelihood.fitted_gyro_bias
-            ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
-              "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
-            : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
-              "axis: reported 0)";
+        std::string(fit.recording_biases.empty() ? "" : "each recording's own, in its entry of `recordings`; ") +
+        (fit.likelihood.fitted_gyro_bias
+             ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
+               "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
+             : "rad/s in each body's axes, perpendicular to the axis (a hinge does not observe a bias along its "
+               "axis: reported 0)");
   }
   j["estimator"] = calibration::hingeEstimatorName(fit.estimator);
   j["estimator_reason"] = fit.estimator_reason;

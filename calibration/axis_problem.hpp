@@ -8,6 +8,7 @@
 /// Internal to calibration/.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -48,42 +49,59 @@ class AxisProblem {
     // process inside Ceres).
     problem_.AddParameterBlock(axis1_, 3, &sphere_);
     problem_.AddParameterBlock(axis2_, 3, &sphere_);
+    // One nuisance block per index the kinds name (ResidualKind::
+    // nuisanceBlock: a recording's own biases), sized before any is added.
     bool uses_nuisance = false;
-    for (std::size_t k = 0; k < kinds_.size(); ++k) {
-      kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, nuisance_, &ids_[k]);
-      uses_nuisance = uses_nuisance || kinds_[k]->usesNuisance();
-    }
+    int blocks = 1;
+    for (const ResidualKind* kind : kinds_)
+      if (kind->usesNuisance()) {
+        uses_nuisance = true;
+        blocks = std::max(blocks, kind->nuisanceBlock() + 1);
+      }
+    nuisance_.assign(static_cast<std::size_t>(kNuisanceSize) * blocks, 0.0);
+    for (std::size_t k = 0; k < kinds_.size(); ++k)
+      kinds_[k]->addBlocks(&problem_, loss_.get(), &weights_[k], axis1_, axis2_, nuisanceOf(*kinds_[k]), &ids_[k]);
     if (problem_.NumResidualBlocks() == 0)
       throw NotIdentifiable("no sample is left to fit (the recording is shorter than the rates' differencing "
                             "window and the clock-offset shifts)");
-    active_ = uses_nuisance ? nuisance.count() : 0;
-    if (uses_nuisance && active_ == 0) throw std::logic_error("two-axis fit: a nuisance kind with nothing to estimate");
-    if (active_ > 0 && active_ < kNuisanceSize) {
+    const int per_block = uses_nuisance ? nuisance.count() : 0;
+    if (uses_nuisance && per_block == 0)
+      throw std::logic_error("two-axis fit: a nuisance kind with nothing to estimate");
+    if (per_block > 0 && per_block < kNuisanceSize) {
       std::vector<int> constant;
       for (int i = 0; i < kNuisanceSize; ++i)
         if (!nuisance.active[i]) constant.push_back(i);
       subset_ = std::make_unique<ceres::SubsetManifold>(kNuisanceSize, constant);
-      if (problem_.HasParameterBlock(nuisance_)) problem_.SetManifold(nuisance_, subset_.get());
     }
-    for (int i = 0; i < kNuisanceSize; ++i)
-      if (nuisance.active[i]) active_index_.push_back(i);
+    // The blocks a residual uses (a recording whose samples all fall to the
+    // differencing window adds none), in index order: the Jacobian's columns.
+    for (int b = 0; b < blocks && per_block > 0; ++b) {
+      double* block = nuisance_.data() + kNuisanceSize * b;
+      if (!problem_.HasParameterBlock(block)) continue;
+      used_blocks_.push_back(block);
+      if (subset_) problem_.SetManifold(block, subset_.get());
+      for (int i = 0; i < kNuisanceSize; ++i)
+        if (nuisance.active[i]) active_index_.push_back(kNuisanceSize * b + i);
+    }
+    active_ = static_cast<int>(active_index_.size());
   }
 
-  /// Estimated nuisance coordinates (0 without a nuisance block).
+  /// Estimated nuisance coordinates (0 without a nuisance block), over all blocks.
   int nuisanceCount() const { return active_; }
-  /// The nuisance block's coordinate of the i-th estimated one.
+  /// The i-th estimated one's coordinate in nuisance(): kNuisanceSize × its
+  /// block's index + its coordinate in the block.
   int activeIndex(int i) const { return active_index_[i]; }
-  double* nuisance() { return nuisance_; }
-  /// The parameter blocks whose Jacobian the analyses use: the axes, then the nuisance.
+  /// The nuisance blocks one after the other (kNuisanceSize × nuisanceBlocks() values).
+  const double* nuisance() const { return nuisance_.data(); }
+  int nuisanceBlocks() const { return static_cast<int>(nuisance_.size()) / kNuisanceSize; }
+  /// The parameter blocks whose Jacobian the analyses use: the axes, then the nuisance blocks.
   std::vector<double*> blocks() {
     std::vector<double*> b = {axis1_, axis2_};
-    if (active_ > 0) b.push_back(nuisance_);
+    b.insert(b.end(), used_blocks_.begin(), used_blocks_.end());
     return b;
   }
-  void resetNuisance() {
-    for (double& x : nuisance_) x = 0.0;
-  }
-  /// The estimated coordinates of the nuisance block, in order.
+  void resetNuisance() { std::fill(nuisance_.begin(), nuisance_.end(), 0.0); }
+  /// The estimated coordinates of the nuisance blocks, in order (block by block).
   Eigen::VectorXd activeNuisance() const {
     Eigen::VectorXd v(active_);
     for (int i = 0; i < active_; ++i) v[i] = nuisance_[active_index_[i]];
@@ -159,13 +177,15 @@ class AxisProblem {
     if (active_ > 0) setActiveNuisance(saved_nuisance + nuisance_delta);
     double cost = 0.0;
     for (std::size_t k = 0; k < kinds_.size(); ++k)
-      cost += kinds_[k]->cost(axis1_, axis2_, nuisance_, &weights_[k], loss_.get());
+      cost += kinds_[k]->cost(axis1_, axis2_, nuisanceOf(*kinds_[k]), &weights_[k], loss_.get());
     setAxes(saved);
     if (active_ > 0) setActiveNuisance(saved_nuisance);
     return cost;
   }
 
  private:
+  double* nuisanceOf(const ResidualKind& kind) { return nuisance_.data() + kNuisanceSize * kind.nuisanceBlock(); }
+
   static ceres::Problem::Options problemOptions() {
     ceres::Problem::Options o;
     o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -181,7 +201,8 @@ class AxisProblem {
   std::unique_ptr<ceres::SubsetManifold> subset_;
   double axis1_[3] = {1.0, 0.0, 0.0};
   double axis2_[3] = {1.0, 0.0, 0.0};
-  double nuisance_[kNuisanceSize] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  std::vector<double> nuisance_;       ///< kNuisanceSize per block, never resized after the first
+  std::vector<double*> used_blocks_;   ///< the blocks residuals use, in index order
   int active_ = 0;
   std::vector<int> active_index_;
   ceres::Problem problem_;

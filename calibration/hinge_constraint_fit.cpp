@@ -269,21 +269,39 @@ void relativeAxisSign(const Recordings& runs, const DataSelection& data,
 
 /// The fitted gyroscope biases (b = B ν in each body's axes, B the plane
 /// perpendicular to the first start's axis: the component along the axis is
-/// not observable) and clock offset (the whole-sample shift plus the fitted
-/// fraction), with their σ.
-void setNuisance(const JointSamples& samples, const NuisanceSelection& nuisance, const NamedStart& first, int shift,
+/// not observable) of nuisance block `block`, with their σ.
+SensorNuisanceEstimate biasesOf(const NamedStart& first, const TwoAxisSolution& solution, int block) {
+  const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1);
+  const Eigen::Matrix<double, 3, 2> B2 = perpendicularBasis(first.axes.axis2);
+  const int at = kNuisanceSize * block;
+  SensorNuisanceEstimate e;
+  e.fitted_gyro_bias = true;
+  e.gyro_bias_main = B1 * solution.nuisance.segment<2>(at);
+  e.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(at + 2);
+  e.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(at, at).trace());
+  e.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(at + 2, at + 2).trace());
+  return e;
+}
+
+/// The fitted biases (the first recording's, and with several each one's in
+/// recording_biases) and clock offset (the whole-sample shift plus the
+/// fitted fraction), with their σ.
+void setNuisance(const Recordings& runs, const NuisanceSelection& nuisance, const NamedStart& first, int shift,
                  const TwoAxisSolution& solution, HingeFit* out) {
   HingeFit& fit = *out;
   if (nuisance.active[0]) {
-    const Eigen::Matrix<double, 3, 2> B1 = perpendicularBasis(first.axes.axis1);
-    const Eigen::Matrix<double, 3, 2> B2 = perpendicularBasis(first.axes.axis2);
-    fit.gyro_bias_main = B1 * solution.nuisance.segment<2>(0);
-    fit.gyro_bias_secondary = B2 * solution.nuisance.segment<2>(2);
-    fit.gyro_bias_main_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(0, 0).trace());
-    fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
+    const SensorNuisanceEstimate biases = biasesOf(first, solution, 0);
     fit.fitted_gyro_bias = true;
+    fit.gyro_bias_main = biases.gyro_bias_main;
+    fit.gyro_bias_secondary = biases.gyro_bias_secondary;
+    fit.gyro_bias_main_sigma = biases.gyro_bias_main_sigma;
+    fit.gyro_bias_secondary_sigma = biases.gyro_bias_secondary_sigma;
+    if (runs.size() > 1)
+      for (std::size_t r = 0; r < runs.size(); ++r)
+        fit.recording_biases.push_back(biasesOf(first, solution, static_cast<int>(r)));
   }
   if (nuisance.active[4]) {
+    const JointSamples& samples = *runs.front();
     const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
     fit.time_offset = shift * h + solution.nuisance[4];
     fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
@@ -308,7 +326,8 @@ int totalSamples(const Recordings& runs) {
 /// The gyroscopes' residual kind with the nuisance block; `shift` whole
 /// samples of clock offset (0 without one).
 std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, const Eigen::Vector3d& j1,
-                                               const Eigen::Vector3d& j2, int shift, bool offset) {
+                                               const Eigen::Vector3d& j2, int shift, bool offset,
+                                               const std::string& label) {
   const std::vector<Eigen::Vector3d>& w1 = samples.main.angular_velocity;
   const std::vector<Eigen::Vector3d>& w2 = samples.secondary.angular_velocity;
   const int n = samples.size();
@@ -330,8 +349,25 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
     blocks.push_back(r);
   }
   return std::make_unique<SampleResidualKind<GyroHingeNuisanceResidual, 1, true>>(
-      kGyroKindName + " with gyroscope biases/clock offset", "rad/s", 1, std::move(blocks));
+      kGyroKindName + " with gyroscope biases/clock offset" + label, "rad/s", 1, std::move(blocks));
 }
+
+namespace {
+
+/// Recording r's gyroscope kind: with the nuisance block when biases or a
+/// clock offset (`offset`: its fraction) are estimated, its bias planes from
+/// the first start's axes `at`, and its own block (its own biases).
+std::unique_ptr<ResidualKind> recordingGyroKind(const Recordings& runs, std::size_t r, const AxisPair& at, int shift,
+                                                const NuisanceSelection& nuisance, bool offset) {
+  const std::string label = recordingLabel(runs, r);
+  std::unique_ptr<ResidualKind> kind = nuisance.count() > 0
+                                           ? gyroNuisanceKind(*runs[r], at.axis1, at.axis2, shift, offset, label)
+                                           : gyroKind(*runs[r], shift, label);
+  kind->setNuisanceBlock(static_cast<int>(r));
+  return kind;
+}
+
+}  // namespace
 
 /// The fit of `runs` with the clock offset's whole samples given (0 without
 /// one; a clock offset and biases only on one recording). Several
@@ -386,13 +422,8 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
       rateStarts(samples, w1, w2, data.accelerometers, &starts, &search_starts);
       context.hint = kRateHint;
     }
-    // The gyroscopes' kinds, with the nuisance block when biases or a clock
-    // offset are estimated (its bias planes from the first start's axes).
-    const AxisPair& at = starts.front().axes;
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      const JointSamples& run = *runs[r];
-      kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(run, at.axis1, at.axis2, shift, options.fit_time_offset)
-                                           : gyroKind(run, shift, recordingLabel(runs, r)));
+      kinds.push_back(recordingGyroKind(runs, r, starts.front().axes, shift, nuisance, options.fit_time_offset));
       if (!filtered)
         kinds.back()->setIndependentNoise(run_noise[r], "the third differences of the recorded angular velocities");
     }
@@ -418,12 +449,9 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
     const Recordings& raw = unfiltered.samples;
     if (data.orientations)
       for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(orientationKind(R12[r]));
-    if (data.rates) {
-      const AxisPair& at = starts.front().axes;
-      for (const JointSamples* run : raw)
-        raw_kinds.push_back(nuisance.count() > 0 ? gyroNuisanceKind(*run, at.axis1, at.axis2, shift, false)
-                                                 : gyroKind(*run, shift));
-    }
+    if (data.rates)
+      for (std::size_t r = 0; r < raw.size(); ++r)
+        raw_kinds.push_back(recordingGyroKind(raw, r, starts.front().axes, shift, nuisance, false));
     if (data.accelerometers)
       for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(accelerometerKind(*raw[r], nullptr, &centres[r]));
     low_pass.power_gain = unfiltered.power_gain;
@@ -442,7 +470,7 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
   fit.sigma_main_deg = solution.sigma1_rad * kRadToDeg;
   fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
-  setNuisance(samples, nuisance, starts.front(), shift, solution, &fit);
+  setNuisance(runs, nuisance, starts.front(), shift, solution, &fit);
   modelMisfit(runs, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centres : nullptr, &fit);
   if (!data.rates) fit.gyro_misfit = -1.0;
   fit.information = solution.information;

@@ -46,14 +46,17 @@ extern const std::string kGyroKindName;
 
 /// The gyroscopes' residual kind with the nuisance block (biases in the
 /// planes perpendicular to j1, j2; a clock offset's fraction with `offset`);
-/// `shift` whole samples of clock offset (0 without one).
+/// `shift` whole samples of clock offset (0 without one); `label` after its name.
 std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, const Eigen::Vector3d& j1,
-                                               const Eigen::Vector3d& j2, int shift, bool offset);
+                                               const Eigen::Vector3d& j2, int shift, bool offset,
+                                               const std::string& label = "");
 
 /// The constraint fit of `runs` with the clock offset's whole samples
-/// given (0 without one; a clock offset and biases on one recording only).
+/// given (0 without one; a clock offset on one recording only).
 /// Several recordings add their residual kinds side by side, each with its
-/// own noise (its own third differences, its own weight): one axis pair.
+/// own noise (its own third differences, its own weight) and, with
+/// fit_gyro_bias, its own biases (its own nuisance block;
+/// HingeFit::recording_biases): one axis pair.
 /// With `unfiltered`, `runs` are low-passed and the statistics account for
 /// the filter.
 HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, int shift,

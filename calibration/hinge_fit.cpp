@@ -54,6 +54,7 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, i
   ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
   ml_options.gyro_bias_main_start = fit.gyro_bias_main;
   ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
+  ml_options.recording_bias_starts = fit.recording_biases;  // several recordings: each one's own
   ml_options.fit_time_offset = fit.fitted_time_offset;
   ml_options.offset_shift = shift;
   if (fit.fitted_time_offset) {
@@ -73,6 +74,7 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, i
     fit.gyro_bias_secondary = ml.gyro_bias_secondary;
     fit.gyro_bias_main_sigma = ml.gyro_bias_main_sigma;
     fit.gyro_bias_secondary_sigma = ml.gyro_bias_secondary_sigma;
+    fit.recording_biases = ml.recording_biases;
   }
   if (ml.fitted_time_offset) {
     fit.time_offset = ml.time_offset;
@@ -135,8 +137,7 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
       label.empty()
           ? "the gyroscopes carry a constant bias: fitting one (`fit_gyro_bias`) " + found + "; rerun with `fit_gyro_bias`"
           : "the gyroscopes of " + samples.source + " carry a constant bias: fitting one " + found +
-                "; a fit over several recordings does not estimate biases: fit that recording alone with "
-                "`fit_gyro_bias`";
+                "; rerun with `fit_gyro_bias` (each recording's biases its own)";
 }
 
 namespace {
@@ -326,13 +327,12 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
                                        first.source + " joins '" + first.main.name + "' and '" +
                                        first.secondary.name + "': the recordings of one fit are of one joint "
                                        "(name the bodies with `main` and `secondary`)");
-    if (options.fit_gyro_bias || options.fit_time_offset)
-      throw InvalidInput(r.source, std::string(options.fit_gyro_bias ? "`fit_gyro_bias`" : "`fit_time_offset`") +
-                                       " with several recordings: each recording's " +
-                                       (options.fit_gyro_bias ? "biases" : "clock offset") +
-                                       " would be its own, and the fit over several recordings does not estimate "
-                                       "them; fit each recording alone with it");
   }
+  if (options.fit_time_offset)
+    throw InvalidInput(recordings[1].source,
+                       "`fit_time_offset` with several recordings: each recording's clock offset would be its own, and "
+                       "the fit over several recordings does not estimate them (it does each one's biases, "
+                       "`fit_gyro_bias`); fit each recording alone with it");
   // A recording given twice would count its information twice (σ √2 too small).
   for (std::size_t a = 0; a < recordings.size(); ++a)
     for (std::size_t b = a + 1; b < recordings.size(); ++b)

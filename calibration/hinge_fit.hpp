@@ -82,6 +82,10 @@ struct HingeFit : SensorNuisanceEstimate {
   ModelCheck model_check;
   AxisInformation information;
   AxisFitSummary summary;
+  /// With several recordings and fit_gyro_bias: each recording's biases, in
+  /// the recordings' order (the fields of SensorNuisanceEstimate above hold
+  /// the first's); empty otherwise.
+  std::vector<SensorNuisanceEstimate> recording_biases;
   /// The estimator used (never kAuto) and why (hinge_estimator.hpp).
   HingeEstimator estimator = HingeEstimator::kConstraint;
   std::string estimator_reason;
@@ -98,9 +102,11 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options = A
 /// One axis pair from several recordings of the same joint (the same two
 /// bodies, the same columns): each recording keeps its own time series (its
 /// own filter, noise level, joint angle and sampling interval; no stencil
-/// reaches from one into the next), and they share j₁ and j₂. Biases and a
-/// clock offset are not estimated over several recordings (InvalidInput
-/// with fit_gyro_bias or fit_time_offset; the bias check runs on each). The
+/// reaches from one into the next), and they share j₁ and j₂. With
+/// fit_gyro_bias each recording's biases are its own (HingeFit::
+/// recording_biases); without, the bias check runs on each. A clock offset
+/// is not estimated over several recordings (InvalidInput with
+/// fit_time_offset). The
 /// model check fits each recording alone (checkHingeAcrossRecordings): where
 /// they disagree beyond their σ, σ includes their spread.
 HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options = AxisFitOptions());

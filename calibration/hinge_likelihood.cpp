@@ -1,5 +1,6 @@
 #include "calibration/hinge_likelihood.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
@@ -125,24 +126,35 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   const int n = rates.samples();
   if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
   // With biases, the start's rates are the measured ones less the start's
-  // biases.
+  // biases: one set, or each recording's own.
+  const std::vector<SensorNuisanceEstimate>& own = options_in.recording_bias_starts;
+  const bool per_recording = options_in.fit_gyro_bias && !own.empty();
+  if (per_recording && own.size() != recordings.size())
+    throw std::invalid_argument("fitHingeLikelihood: a start of biases per recording expected");
+  const int sets = per_recording ? rates.runs() : 1;
+  Eigen::Matrix3Xd main_start(3, sets), secondary_start(3, sets);
+  for (int b = 0; b < sets; ++b) {
+    main_start.col(b) = per_recording ? own[b].gyro_bias_main : options_in.gyro_bias_main_start;
+    secondary_start.col(b) = per_recording ? own[b].gyro_bias_secondary : options_in.gyro_bias_secondary_start;
+  }
   std::vector<Eigen::Vector3d> c1 = rates.main, c2 = rates.secondary;
   if (options_in.fit_gyro_bias)
-    for (int k = 0; k < n; ++k) {
-      c1[k] -= options_in.gyro_bias_main_start;
-      c2[k] -= options_in.gyro_bias_secondary_start;
-    }
+    for (int r = 0; r < rates.runs(); ++r)
+      for (int k = rates.run_begin[r]; k < rates.run_begin[r + 1]; ++k) {
+        c1[k] -= main_start.col(std::min(r, sets - 1));
+        c2[k] -= secondary_start.col(std::min(r, sets - 1));
+      }
   // j₂'s sign: the start whose perpendicular rates turn into each other.
   HingeUnknowns p, turned;
   const double coherence = startFrom(axis_main, axis_secondary, c1, c2, rates, &p);
   if (startFrom(axis_main, -axis_secondary, c1, c2, rates, &turned) > coherence) p = turned;
   p.offset_fraction = offset ? options_in.offset_fraction_start : 0.0;
   if (options_in.fit_gyro_bias) {
-    p.main_bias = p.main_bias_basis.transpose() * options_in.gyro_bias_main_start;
-    p.secondary_bias = p.secondary_bias_basis.transpose() * options_in.gyro_bias_secondary_start;
+    p.main_bias = p.main_bias_basis.transpose() * main_start;
+    p.secondary_bias = p.secondary_bias_basis.transpose() * secondary_start;
   }
 
-  const HingeFreedoms free{options_in.fit_gyro_bias, offset};
+  const HingeFreedoms free{options_in.fit_gyro_bias, offset, sets};
   HingeSolveOptions solve;
   solve.progress = options_in.progress;
   solve.interrupt = options_in.interrupt;
@@ -166,11 +178,16 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   fit.sigma_main_deg = s * sigmas.axis_main * kRadToDeg;
   fit.sigma_secondary_deg = s * sigmas.axis_secondary * kRadToDeg;
   if (options_in.fit_gyro_bias) {
-    fit.fitted_gyro_bias = true;
-    fit.gyro_bias_main = p.main_bias_basis * p.main_bias;
-    fit.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias;
-    fit.gyro_bias_main_sigma = s * sigmas.main_bias;
-    fit.gyro_bias_secondary_sigma = s * sigmas.secondary_bias;
+    for (int b = 0; b < sets; ++b) {
+      SensorNuisanceEstimate e;
+      e.fitted_gyro_bias = true;
+      e.gyro_bias_main = p.main_bias_basis * p.main_bias.col(b);
+      e.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias.col(b);
+      e.gyro_bias_main_sigma = s * sigmas.main_bias[b];
+      e.gyro_bias_secondary_sigma = s * sigmas.secondary_bias[b];
+      if (b == 0) static_cast<SensorNuisanceEstimate&>(fit) = e;
+      if (per_recording) fit.recording_biases.push_back(e);
+    }
   }
   if (offset) {
     fit.fitted_time_offset = true;

@@ -57,6 +57,10 @@ struct HingeLikelihoodOptions {
   bool fit_gyro_bias = false;
   Eigen::Vector3d gyro_bias_main_start = Eigen::Vector3d::Zero();       ///< rad/s, main body axes
   Eigen::Vector3d gyro_bias_secondary_start = Eigen::Vector3d::Zero();  ///< rad/s, secondary body axes
+  /// With several recordings and fit_gyro_bias: each recording's biases are
+  /// its own, started here (one entry per recording, in order); empty: one
+  /// set of biases shared by all, started at the two values above.
+  std::vector<SensorNuisanceEstimate> recording_bias_starts;
   bool fit_time_offset = false;
   int offset_shift = 0;                ///< whole samples
   double offset_fraction_start = 0.0;  ///< s
@@ -79,6 +83,9 @@ struct HingeLikelihoodFit : SensorNuisanceEstimate {
   int iterations = 0;
   bool converged = false;
   std::string message;             ///< why the solve stopped (solverStopMessage)
+  /// With HingeLikelihoodOptions::recording_bias_starts: each recording's
+  /// biases (the fields of SensorNuisanceEstimate hold the first's).
+  std::vector<SensorNuisanceEstimate> recording_biases;
 };
 
 /// Maximum likelihood from both bodies' gyroscopes, started at a hinge fit's
@@ -88,7 +95,8 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
                                       const Eigen::Vector3d& axis_secondary, const HingeLikelihoodOptions& options = {});
 
 /// The same over several recordings of one joint: one j₁ and C (and the
-/// biases with fit_gyro_bias), each recording's joint angle its own (its
+/// biases with fit_gyro_bias: shared, or each recording's own with
+/// recording_bias_starts), each recording's joint angle its own (its
 /// samples are not neighbours of another's in time, its sampling interval
 /// its own). InvalidInput with fit_time_offset and more than one recording.
 HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& recordings,

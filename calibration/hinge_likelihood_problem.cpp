@@ -45,11 +45,24 @@ constexpr double kMinRelativeDecrease = 1e-3;
 /// reciprocal condition).
 constexpr double kSingular = 1e-14;
 
-/// The free globals' count G is a template parameter (5, 6, 10 or 11:
-/// withGlobals dispatches once per call), so every per-sample product is of
-/// fixed size.
+/// The globals one sample depends on, G, are a template parameter (5, 6, 10
+/// or 11: withGlobals dispatches once per call), so every per-sample product
+/// is of fixed size; so is the count of all free globals, Total, where it is
+/// G (one set of biases). With each recording's biases its own, Total is
+/// Eigen::Dynamic and a sample's bias columns are its recording's (widened).
 template <int G>
 using Globals = Eigen::Matrix<double, G, 1>;
+/// Total + 1 columns: the globals' and the gradient's.
+template <int Total>
+constexpr int kPlusOne = Total == Eigen::Dynamic ? Eigen::Dynamic : Total + 1;
+/// The first `total` columns of m, of fixed count where Total is fixed.
+template <int Total, typename M>
+auto leftTotal(M& m, int total) {
+  if constexpr (Total == Eigen::Dynamic)
+    return m.leftCols(total);
+  else
+    return m.template leftCols<Total>();
+}
 /// Whether G's globals hold the biases (b₁, b₂) and the clock offset ν.
 template <int G>
 constexpr bool kHasBiases = G >= 10;
@@ -75,8 +88,8 @@ struct Frame {
   Eigen::Matrix3d c;                       ///< C
   Eigen::Vector3d j;                       ///< j₁
   Eigen::Matrix<double, 3, 2> tangent;     ///< j₁'s tangent basis
-  Eigen::Vector3d b1;                      ///< B₁ b₁
-  Eigen::Vector3d b2;                      ///< E₂ b₂
+  Eigen::Matrix3Xd b1;                     ///< B₁ b₁, a column per set of biases
+  Eigen::Matrix3Xd b2;                     ///< E₂ b₂
   double scale;                            ///< w / √2
   explicit Frame(const HingeUnknowns& t, double weight) {
     c = t.mount.normalized().toRotationMatrix();
@@ -89,9 +102,12 @@ struct Frame {
   }
 };
 
+/// The set of biases recording r reads.
+int biasSet(const HingeUnknowns& t, int r) { return std::min(r, static_cast<int>(t.main_bias.cols()) - 1); }
+
 template <int G>
-void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, int k,
-                 double step, bool jacobian, SampleTerms<G>* out) {
+void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, int k, double step, int set,
+                 bool jacobian, SampleTerms<G>* out) {
   const double rate = fivePointRate(t.phi, k, step);
   const double c = std::cos(t.phi[k]), s = std::sin(t.phi[k]);
   const Eigen::Vector3d& j = f.j;
@@ -103,9 +119,9 @@ void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, in
     return (c * y + s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval();
   };
   const Eigen::Vector3d slope = m.secondary_slope.empty() ? Eigen::Vector3d::Zero() : m.secondary_slope[k];
-  const Eigen::Vector3d a = m.main[k] - f.b1;
+  const Eigen::Vector3d a = m.main[k] - f.b1.col(set);
   // b without its φ̇ term: m₂ − E₂ b₂ − ν ṁ₂.
-  const Eigen::Vector3d b = m.secondary[k] - f.b2 - t.offset_fraction * slope;
+  const Eigen::Vector3d b = m.secondary[k] - f.b2.col(set) - t.offset_fraction * slope;
   out->rho = f.scale * (f.ct * (turn(a) + rate * j) - b);
   // x* = (a + Rᵀ b_full)/2 with Rᵀ = exp(φ j₁) C and b_full = b − φ̇ Cᵀ j₁.
   out->main_rate = 0.5 * (a + back(f.c * b) - rate * j);
@@ -133,6 +149,8 @@ void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, in
 
 void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
   const int n = m.samples();
+  if (t.main_bias.cols() < 1 || t.secondary_bias.cols() != t.main_bias.cols() || t.main_bias.cols() > m.runs())
+    throw std::invalid_argument("hinge likelihood: the biases' sets are not one or one per recording");
   if (static_cast<int>(m.secondary.size()) != n || static_cast<int>(t.phi.size()) != n ||
       (!m.secondary_slope.empty() && static_cast<int>(m.secondary_slope.size()) != n))
     throw std::invalid_argument("hinge likelihood: the rates, slopes and angles differ in length");
@@ -145,32 +163,51 @@ void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
                                   std::to_string(2 * kHalfStencil + 2) + " samples or no positive interval");
 }
 
-/// Calls f(k, h) for every interior sample (a full stencil in its recording).
+/// Calls f(k, h, r) for every interior sample k (a full stencil in its
+/// recording r, sampled at interval h).
 template <typename F>
 void forInterior(const HingeRates& m, F&& f) {
   for (int r = 0; r < m.runs(); ++r)
-    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, m.run_step[r]);
+    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, m.run_step[r], r);
+}
+
+/// A sample's Jacobian on the globals placed in the columns of all free
+/// globals: its set's biases at 5 + 5 set, ν last (itself where Total = G).
+template <int G, int Total>
+const Eigen::Matrix<double, 3, Total>& widened(const SampleTerms<G>& s, int set, int total,
+                                               Eigen::Matrix<double, 3, Total>* wide) {
+  if constexpr (Total == G) {
+    return s.globals;
+  } else {
+    wide->setZero(3, total);
+    wide->template leftCols<5>() = s.globals.template leftCols<5>();
+    if constexpr (kHasBiases<G>) wide->template middleCols<5>(5 + 5 * set) = s.globals.template middleCols<5>(5);
+    if constexpr (kHasOffset<G>) wide->col(total - 1) = s.globals.col(G - 1);
+    return *wide;
+  }
 }
 
 /// The normal equations JᵀJ δ = −Jᵀρ at θ: the angles' block banded
 /// (band[k][d] = H(k, k − d), d ≤ 4), their border with the globals, the
 /// globals' block, and the gradient. φ₀'s row is the identity (held).
-template <int G>
+template <int G, int Total>
 struct Normal {
-  static constexpr int g = G;
   int n = 0;
+  int total = 0;  ///< free globals
   std::vector<double> band;
-  Eigen::Matrix<double, Eigen::Dynamic, G, Eigen::RowMajor> border;  ///< N × G
-  GlobalMatrix<G> globals;
+  Eigen::Matrix<double, Eigen::Dynamic, Total, Eigen::RowMajor> border;  ///< N × total
+  GlobalMatrix<Total> globals;
   Eigen::VectorXd grad_phi;
-  Globals<G> grad_globals;
+  Globals<Total> grad_globals;
   double cost = 0.0;
   Eigen::Matrix<double, 3, 2> tangent;  ///< the j₁ tangent basis of this linearization
 
-  explicit Normal(int samples) : n(samples) {
+  Normal(int samples, int globals_count) : n(samples), total(globals_count) {
     band.resize(static_cast<std::size_t>(n) * (kBand + 1));
-    border.resize(n, G);
+    border.resize(n, total);
+    globals.resize(total, total);
     grad_phi.resize(n);
+    grad_globals.resize(total);
   }
   double& at(int k, int d) { return band[static_cast<std::size_t>(k) * (kBand + 1) + d]; }
   double at(int k, int d) const { return band[static_cast<std::size_t>(k) * (kBand + 1) + d]; }
@@ -185,18 +222,21 @@ struct Normal {
     const Frame f(t, m.weight);
     tangent = f.tangent;
     SampleTerms<G> s;
-    forInterior(m, [&](int k, double step) {
-      sampleTerms(m, t, f, k, step, true, &s);
+    Eigen::Matrix<double, 3, Total> wide;
+    forInterior(m, [&](int k, double step, int r) {
+      const int set = biasSet(t, r);
+      sampleTerms(m, t, f, k, step, set, true, &s);
       if (k == kHalfStencil) s.phi.col(0).setZero();  // φ₀ of the first recording is held
       cost += 0.5 * s.rho.squaredNorm();
+      const Eigen::Matrix<double, 3, Total>& sg = widened(s, set, total, &wide);
       const int first = k - kHalfStencil;
       for (int i = 0; i <= kBand; ++i) {
         for (int l = 0; l <= i; ++l) at(first + i, i - l) += s.phi.col(i).dot(s.phi.col(l));
-        border.row(first + i).noalias() += s.phi.col(i).transpose() * s.globals;
+        border.row(first + i).noalias() += s.phi.col(i).transpose() * sg;
         grad_phi[first + i] += s.phi.col(i).dot(s.rho);
       }
-      globals.noalias() += s.globals.transpose() * s.globals;
-      grad_globals.noalias() += s.globals.transpose() * s.rho;
+      globals.noalias() += sg.transpose() * sg;
+      grad_globals.noalias() += sg.transpose() * s.rho;
     });
     at(0, 0) = 1.0;
   }
@@ -221,42 +261,43 @@ bool wellConditioned(const Llt& llt) {
 double clampedDiagonal(double d) { return std::min(std::max(d, kMinDiagonal), kMaxDiagonal); }
 
 /// Buffers of the damped solves, reused across iterations.
-template <int G>
+template <int Total>
 struct SolveWork {
   std::vector<double> band;
-  BandRhs<G + 1> x;  ///< N × (G + 1): (H_φφ)⁻¹ [H_φg | −g_φ]
+  BandRhs<kPlusOne<Total>> x;  ///< N × (total + 1): (H_φφ)⁻¹ [H_φg | −g_φ]
 };
 
 /// (H + diag(H)/μ) δ = −g by the banded Cholesky of the angles' block and
 /// the Schur complement onto the globals (μ = ∞: undamped). False when
 /// singular.
-template <int G>
-bool solveNormal(const Normal<G>& h, double radius, SolveWork<G>* w, Eigen::VectorXd* delta_phi,
-                 Globals<G>* delta_globals) {
+template <int G, int Total>
+bool solveNormal(const Normal<G, Total>& h, double radius, SolveWork<Total>* w, Eigen::VectorXd* delta_phi,
+                 Globals<Total>* delta_globals) {
+  const int g = h.total;
   const double lambda = std::isinf(radius) ? 0.0 : 1.0 / radius;
   w->band = h.band;
   for (int k = 0; k < h.n; ++k)
     w->band[static_cast<std::size_t>(k) * (kBand + 1)] += lambda * clampedDiagonal(h.at(k, 0));
   if (!bandedCholesky<kBand>(&w->band, h.n, kSingular)) return false;
-  w->x.resize(h.n, G + 1);
-  w->x.template leftCols<G>() = h.border;
-  w->x.col(G) = -h.grad_phi;
+  w->x.resize(h.n, g + 1);
+  leftTotal<Total>(w->x, g) = h.border;
+  w->x.col(g) = -h.grad_phi;
   bandedSolve<kBand>(w->band, h.n, &w->x);
-  GlobalMatrix<G> s = h.globals;
-  for (int i = 0; i < G; ++i) s(i, i) += lambda * clampedDiagonal(h.globals(i, i));
-  s.noalias() -= h.border.transpose() * w->x.template leftCols<G>();
-  const Globals<G> r = -h.grad_globals - h.border.transpose() * w->x.col(G);
-  const Eigen::LLT<GlobalMatrix<G>> llt(s);
+  GlobalMatrix<Total> s = h.globals;
+  for (int i = 0; i < g; ++i) s(i, i) += lambda * clampedDiagonal(h.globals(i, i));
+  s.noalias() -= h.border.transpose() * leftTotal<Total>(w->x, g);
+  const Globals<Total> r = -h.grad_globals - h.border.transpose() * w->x.col(g);
+  const Eigen::LLT<GlobalMatrix<Total>> llt(s);
   if (!wellConditioned(llt)) return false;
   *delta_globals = llt.solve(r);
-  *delta_phi = w->x.col(G) - w->x.template leftCols<G>() * *delta_globals;
+  *delta_phi = w->x.col(g) - leftTotal<Total>(w->x, g) * *delta_globals;
   return true;
 }
 
 /// θ ⊞ δ: φ += δφ, j₁ along its great circle, C ← exp(δ) C, the rest added.
-template <int G>
+template <int G, int Total>
 void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, const Eigen::VectorXd& delta_phi,
-          const Globals<G>& delta, HingeUnknowns* out_ptr) {
+          const Globals<Total>& delta, HingeUnknowns* out_ptr) {
   HingeUnknowns& out = *out_ptr;
   out = t;
   for (std::size_t k = 0; k < out.phi.size(); ++k) out.phi[k] += delta_phi[static_cast<Eigen::Index>(k)];
@@ -265,11 +306,11 @@ void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, co
   if (angle > 0.0) out.axis_main = (std::cos(angle) * t.axis_main + std::sin(angle) / angle * v).normalized();
   out.mount = (SO3d::exp(delta.template segment<3>(2)).quaternion() * t.mount).normalized();
   int col = 5;
-  if constexpr (kHasBiases<G>) {
-    out.main_bias += delta.template segment<3>(col);
-    out.secondary_bias += delta.template segment<2>(col + 3);
-    col += 5;
-  }
+  if constexpr (kHasBiases<G>)
+    for (Eigen::Index b = 0; b < out.main_bias.cols(); ++b, col += 5) {
+      out.main_bias.col(b) += delta.template segment<3>(col);
+      out.secondary_bias.col(b) += delta.template segment<2>(col + 3);
+    }
   if constexpr (kHasOffset<G>) out.offset_fraction += delta[col];
 }
 
@@ -281,14 +322,22 @@ double norm(const HingeUnknowns& t, const HingeFreedoms& free) {
   return std::sqrt(s);
 }
 
-/// Calls f(std::integral_constant<int, G>) for the free globals' count G.
+template <int G, int Total = G>
+struct GlobalCounts {
+  static constexpr int kSample = G;
+  static constexpr int kTotal = Total;
+};
+
+/// Calls f(GlobalCounts<G, Total>) for a sample's globals G and all of them.
 template <typename F>
 auto withGlobals(const HingeFreedoms& free, F&& f) {
-  switch (free.globals()) {
-    case 5: return f(std::integral_constant<int, 5>{});
-    case 6: return f(std::integral_constant<int, 6>{});
-    case 10: return f(std::integral_constant<int, 10>{});
-    default: return f(std::integral_constant<int, 11>{});
+  if (free.biases && free.bias_sets > 1)
+    return free.offset ? f(GlobalCounts<11, Eigen::Dynamic>{}) : f(GlobalCounts<10, Eigen::Dynamic>{});
+  switch (free.sampleGlobals()) {
+    case 5: return f(GlobalCounts<5>{});
+    case 6: return f(GlobalCounts<6>{});
+    case 10: return f(GlobalCounts<10>{});
+    default: return f(GlobalCounts<11>{});
   }
 }
 
@@ -297,21 +346,21 @@ double costOf(const HingeRates& rates, const HingeUnknowns& theta) {
   const Frame f(theta, rates.weight);
   SampleTerms<G> s;
   double cost = 0.0;
-  forInterior(rates, [&](int k, double step) {
-    sampleTerms(rates, theta, f, k, step, false, &s);
+  forInterior(rates, [&](int k, double step, int r) {
+    sampleTerms(rates, theta, f, k, step, biasSet(theta, r), false, &s);
     cost += 0.5 * s.rho.squaredNorm();
   });
   return cost;
 }
 
-template <int G>
+template <int G, int Total>
 HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
                         const HingeSolveOptions& options, HingeSigmas* sigmas) {
   HingeSolveSummary summary;
   // The linearization at θ and at the trial point: a step is taken by
   // swapping them (the trial's Jacobian is computed with its cost; Gauss–
   // Newton steps are rarely refused, so it is rarely wasted).
-  Normal<G> h(rates.samples()), next(rates.samples());
+  Normal<G, Total> h(rates.samples(), free.globals()), next(rates.samples(), free.globals());
   h.assemble(rates, *theta);
   summary.initial_cost = summary.final_cost = h.cost;
   // h is always the linearization at *theta: the σ come from it, without
@@ -326,9 +375,9 @@ HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const Hin
       summary.stop = HingeSolveSummary::Stop::kGradientVanished;
       return;
     }
-    SolveWork<G> work;
+    SolveWork<Total> work;
     Eigen::VectorXd delta_phi;
-    Globals<G> delta;
+    Globals<Total> delta;
     HingeUnknowns trial;
     double radius = kInitialRadius, decrease = 2.0;
     for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
@@ -350,12 +399,12 @@ HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const Hin
         summary.stop = HingeSolveSummary::Stop::kStepVanished;
         return;
       }
-      plus(*theta, h.tangent, delta_phi, delta, &trial);
+      plus<G, Total>(*theta, h.tangent, delta_phi, delta, &trial);
       next.assemble(rates, trial);
       // The linear model's decrease: −gᵀδ − ½ δᵀHδ = ½ (δᵀ D δ / μ − gᵀδ).
       double damped = 0.0;
       for (int k = 0; k < h.n; ++k) damped += clampedDiagonal(h.at(k, 0)) * delta_phi[k] * delta_phi[k];
-      for (int i = 0; i < G; ++i) damped += clampedDiagonal(h.globals(i, i)) * delta[i] * delta[i];
+      for (int i = 0; i < h.total; ++i) damped += clampedDiagonal(h.globals(i, i)) * delta[i] * delta[i];
       const double predicted = 0.5 * (damped / radius - h.grad_phi.dot(delta_phi) - h.grad_globals.dot(delta));
       const double ratio = (h.cost - next.cost) / predicted;
       if (std::isfinite(next.cost) && predicted > 0.0 && ratio > kMinRelativeDecrease) {
@@ -396,19 +445,19 @@ HingeSolveSummary solve(const HingeRates& rates, HingeUnknowns* theta, const Hin
 }
 
 /// The σ from the linearization `h` at θ.
-template <int G>
-bool sigmasAt(const Normal<G>& h, const HingeUnknowns& theta, double scale, HingeSigmas* sigmas) {
+template <int G, int Total>
+bool sigmasAt(const Normal<G, Total>& h, const HingeUnknowns& theta, double scale, HingeSigmas* sigmas) {
   // The globals' covariance: the inverse of the Schur complement
   // S = H_gg − H_gφ H_φφ⁻¹ H_φg of the undamped Gauss–Newton matrix.
   std::vector<double> band = h.band;
   if (!bandedCholesky<kBand>(&band, h.n, kSingular)) return false;
-  BandRhs<G> x = h.border;
+  BandRhs<Total> x = h.border;
   bandedSolve<kBand>(band, h.n, &x);
-  GlobalMatrix<G> s = h.globals;
+  GlobalMatrix<Total> s = h.globals;
   s.noalias() -= h.border.transpose() * x;
-  const Eigen::LLT<GlobalMatrix<G>> llt(s);
+  const Eigen::LLT<GlobalMatrix<Total>> llt(s);
   if (!wellConditioned(llt)) return false;
-  const GlobalMatrix<G> covariance = scale * llt.solve(GlobalMatrix<G>::Identity());
+  const GlobalMatrix<Total> covariance = scale * llt.solve(GlobalMatrix<Total>::Identity(h.total, h.total));
   // j₂ = Cᵀ j₁: ∂j₂ = Cᵀ E δj + Cᵀ [j₁]× δC (C ← exp(δC) C).
   const Eigen::Matrix3d ct = theta.mount.normalized().toRotationMatrix().transpose();
   Eigen::Matrix<double, 3, 5> d;
@@ -416,18 +465,21 @@ bool sigmasAt(const Normal<G>& h, const HingeUnknowns& theta, double scale, Hing
   sigmas->axis_main = std::sqrt(covariance.template topLeftCorner<2, 2>().trace());
   sigmas->axis_secondary = std::sqrt((d * covariance.template topLeftCorner<5, 5>() * d.transpose()).trace());
   int col = 5;
-  if constexpr (kHasBiases<G>) {
-    sigmas->main_bias = std::sqrt(covariance.block(col, col, 3, 3).trace());
-    sigmas->secondary_bias = std::sqrt(covariance.block(col + 3, col + 3, 2, 2).trace());
-    col += 5;
-  }
+  sigmas->main_bias.clear();
+  sigmas->secondary_bias.clear();
+  if constexpr (kHasBiases<G>)
+    for (Eigen::Index b = 0; b < theta.main_bias.cols(); ++b, col += 5) {
+      sigmas->main_bias.push_back(std::sqrt(covariance.block(col, col, 3, 3).trace()));
+      sigmas->secondary_bias.push_back(std::sqrt(covariance.block(col + 3, col + 3, 2, 2).trace()));
+    }
   if constexpr (kHasOffset<G>) sigmas->offset_fraction = std::sqrt(covariance(col, col));
   return std::isfinite(sigmas->axis_main) && std::isfinite(sigmas->axis_secondary);
 }
 
-template <int G>
-bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, double scale, HingeSigmas* sigmas) {
-  Normal<G> h(rates.samples());
+template <int G, int Total>
+bool sigmasOf(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free, double scale,
+              HingeSigmas* sigmas) {
+  Normal<G, Total> h(rates.samples(), free.globals());
   h.assemble(rates, theta);
   return sigmasAt(h, theta, scale, sigmas);
 }
@@ -452,12 +504,12 @@ std::string HingeSolveSummary::message() const {
 
 double hingeLikelihoodCost(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free) {
   checkSizes(rates, theta);
-  return withGlobals(free, [&](auto g) { return costOf<decltype(g)::value>(rates, theta); });
+  return withGlobals(free, [&](auto g) { return costOf<decltype(g)::kSample>(rates, theta); });
 }
 
 int hingeLikelihoodDegreesOfFreedom(const HingeRates& rates, const HingeFreedoms& free) {
   int interior = 0;
-  forInterior(rates, [&](int, double) { ++interior; });
+  forInterior(rates, [&](int, double, int) { ++interior; });
   return 3 * interior - (rates.samples() - 1) - free.globals();
 }
 
@@ -465,10 +517,12 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
   checkSizes(rates, theta);
   const Frame f(theta, rates.weight);
   std::vector<Eigen::Vector3d> x(rates.main.size());
-  for (std::size_t k = 0; k < x.size(); ++k) x[k] = rates.main[k] - f.b1;
+  for (int r = 0; r < rates.runs(); ++r)
+    for (int k = rates.run_begin[r]; k < rates.run_begin[r + 1]; ++k)
+      x[k] = rates.main[k] - f.b1.col(biasSet(theta, r));
   SampleTerms<5> s;
-  forInterior(rates, [&](int k, double step) {
-    sampleTerms(rates, theta, f, k, step, false, &s);
+  forInterior(rates, [&](int k, double step, int r) {
+    sampleTerms(rates, theta, f, k, step, biasSet(theta, r), false, &s);
     x[k] = s.main_rate;
   });
   return x;
@@ -477,13 +531,21 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
 HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
                                        const HingeSolveOptions& options, HingeSigmas* sigmas) {
   checkSizes(rates, *theta);
-  return withGlobals(free, [&](auto g) { return solve<decltype(g)::value>(rates, theta, free, options, sigmas); });
+  if (free.biases && theta->main_bias.cols() != free.bias_sets)
+    throw std::invalid_argument("hinge likelihood: the biases' columns differ from their sets");
+  return withGlobals(free, [&](auto g) {
+    return solve<decltype(g)::kSample, decltype(g)::kTotal>(rates, theta, free, options, sigmas);
+  });
 }
 
 bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,
                            double scale, HingeSigmas* sigmas) {
   checkSizes(rates, theta);
-  return withGlobals(free, [&](auto g) { return sigmasOf<decltype(g)::value>(rates, theta, scale, sigmas); });
+  if (free.biases && theta.main_bias.cols() != free.bias_sets)
+    throw std::invalid_argument("hinge likelihood: the biases' columns differ from their sets");
+  return withGlobals(free, [&](auto g) {
+    return sigmasOf<decltype(g)::kSample, decltype(g)::kTotal>(rates, theta, free, scale, sigmas);
+  });
 }
 
 }  // namespace calibration

@@ -23,8 +23,9 @@
 ///
 /// φ̇_k is the five-point difference of φ_{k−2} … φ_{k+2}, so JᵀJ is banded in
 /// φ (half-bandwidth 4) with a dense border of at most 11 columns (j₁ on its
-/// sphere: 2, C: 3, b₁: 3, b₂: 2, ν: 1): one banded Cholesky and a small
-/// Schur complement per iteration, O(N).
+/// sphere: 2, C: 3, b₁: 3, b₂: 2, ν: 1; 5 more per recording whose biases are
+/// its own): one banded Cholesky and a small Schur complement per
+/// iteration, O(N).
 #pragma once
 
 #include <functional>
@@ -65,13 +66,15 @@ struct HingeRates {
 /// The unknowns θ. φ of the first recording's first sample is held (it and
 /// C's turn about j₁ are one freedom). b₁ are the main gyroscope's bias's
 /// coordinates in `main_bias_basis` (3 × 3, orthonormal), b₂ the secondary's
-/// in `secondary_bias_basis` (3 × 2, perpendicular to the start's j₂).
+/// in `secondary_bias_basis` (3 × 2, perpendicular to the start's j₂): one
+/// column per set of biases (HingeFreedoms::bias_sets; recording r reads
+/// column min(r, sets − 1)).
 struct HingeUnknowns {
   std::vector<double> phi;
   Eigen::Vector3d axis_main = Eigen::Vector3d::UnitZ();  ///< j₁, unit
   Eigen::Quaterniond mount = Eigen::Quaterniond::Identity();  ///< C (C j₂ = j₁)
-  Eigen::Vector3d main_bias = Eigen::Vector3d::Zero();
-  Eigen::Vector2d secondary_bias = Eigen::Vector2d::Zero();
+  Eigen::Matrix3Xd main_bias = Eigen::Matrix3Xd::Zero(3, 1);
+  Eigen::Matrix2Xd secondary_bias = Eigen::Matrix2Xd::Zero(2, 1);
   double offset_fraction = 0.0;  ///< ν [s]
   Eigen::Matrix3d main_bias_basis = Eigen::Matrix3d::Identity();
   Eigen::Matrix<double, 3, 2> secondary_bias_basis = Eigen::Matrix<double, 3, 2>::Zero();
@@ -79,11 +82,17 @@ struct HingeUnknowns {
   Eigen::Vector3d axisSecondary() const { return mount.conjugate() * axis_main; }
 };
 
-/// Which of θ's global parts are free (φ, j₁ and C always are).
+/// Which of θ's global parts are free (φ, j₁ and C always are): with
+/// `biases`, one set shared by every recording or (bias_sets = the number of
+/// recordings) each recording's own.
 struct HingeFreedoms {
   bool biases = false;
   bool offset = false;
-  int globals() const { return 5 + (biases ? 5 : 0) + (offset ? 1 : 0); }
+  int bias_sets = 1;
+  /// The globals one sample's residual depends on: j₁ 2, C 3, its biases 5, ν 1.
+  int sampleGlobals() const { return 5 + (biases ? 5 : 0) + (offset ? 1 : 0); }
+  /// All free globals, in the order j₁, C, each set's (b₁, b₂), ν.
+  int globals() const { return 5 + (biases ? 5 * bias_sets : 0) + (offset ? 1 : 0); }
 };
 
 /// Limits of the solve: far below any gyroscope's noise.
@@ -112,7 +121,8 @@ struct HingeSolveSummary {
 
 struct HingeSigmas;
 
-/// Levenberg–Marquardt on (2) from `theta` (updated in place). With
+/// Levenberg–Marquardt on (2) from `theta` (updated in place; its bias
+/// matrices have bias_sets columns). With
 /// `sigmas`, also hingeLikelihoodSigmas at the solution with scale 1 (from
 /// the last linearization; summary.covariance says whether it was regular).
 /// Throws std::invalid_argument when the sizes disagree or a recording has
@@ -132,8 +142,8 @@ int hingeLikelihoodDegreesOfFreedom(const HingeRates& rates, const HingeFreedoms
 struct HingeSigmas {
   double axis_main = 0.0;       ///< √trace of j₁'s covariance [rad]
   double axis_secondary = 0.0;  ///< √trace of j₂'s [rad]
-  double main_bias = 0.0;       ///< √trace of b₁'s [rad/s] (biases free)
-  double secondary_bias = 0.0;  ///< √trace of b₂'s [rad/s]
+  std::vector<double> main_bias;       ///< per set of biases: √trace of b₁'s [rad/s] (biases free)
+  std::vector<double> secondary_bias;  ///< √trace of b₂'s [rad/s]
   double offset_fraction = 0.0;  ///< ν's σ [s] (offset free)
 };
 /// False when the information matrix is singular (not identifiable).

@@ -38,6 +38,11 @@ class ResidualKind {
 
   /// Whether the blocks also depend on the nuisance block (kNuisanceSize).
   virtual bool usesNuisance() const { return false; }
+  /// Which nuisance block they use: 0, or with several recordings whose
+  /// gyroscopes each have their own biases, the recording's index (the
+  /// problem holds one block per index, AxisProblem).
+  int nuisanceBlock() const { return nuisance_block_; }
+  void setNuisanceBlock(int index) { nuisance_block_ = index; }
 
   /// Adds one block per sample on (axis1, axis2) — and `nuisance` where
   /// usesNuisance() — each with `loss`, its residuals multiplied by *weight
@@ -67,6 +72,7 @@ class ResidualKind {
  private:
   double independent_noise_ = 0.0;
   std::string independent_noise_source_;
+  int nuisance_block_ = 0;
 };
 
 /// ½ ρ(‖r‖²) of one block of n residuals (ρ(s) = s without a loss).

@@ -248,21 +248,33 @@ struct TwoAxisSolver {
   void covariances() {
     // 5. Covariance: (JᵀJ)⁻¹ of the information at the best axes (step 4's
     // Jacobian, the robust loss's weights applied), unit noise; refused
-    // where its eigenvalues' ratio is below kCovarianceConditioning.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information);
+    // where the eigenvalues' ratio of the Jacobi-scaled information
+    // D^-1/2 JᵀJ D^-1/2 (D its diagonal) is below kCovarianceConditioning.
+    // Scaled, because the axes (per rad) and the nuisance (per rad/s, per s)
+    // differ in units: exact orientations, weighted at the noise floor, put
+    // the axes' information 1e20 above the biases', and the unscaled ratio
+    // called a determined fit rank deficient.
+    const Eigen::VectorXd diagonal = information.diagonal();
+    if (!(diagonal.minCoeff() > 0.0))
+      throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
+    const Eigen::VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * information * scale.asDiagonal());
     const Eigen::VectorXd& lambda = eig.eigenvalues();
     if (eig.info() != Eigen::Success || !(lambda.minCoeff() > kCovarianceConditioning * lambda.maxCoeff()))
       throw NotIdentifiable("the covariance of the axes is rank deficient; " + context.hint);
-    const Eigen::MatrixXd inverse =
-        eig.eigenvectors() * lambda.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+    const Eigen::MatrixXd inverse = scale.asDiagonal() *
+                                    (eig.eigenvectors() * lambda.cwiseInverse().asDiagonal() *
+                                     eig.eigenvectors().transpose()) *
+                                    scale.asDiagonal();
     const int n = static_cast<int>(inverse.rows());
     if (p.nuisanceCount() > 0) {
       // Zero for the coordinates held (the block's ambient covariance).
-      out.nuisance_covariance.setZero();
+      const int size = kNuisanceSize * p.nuisanceBlocks();
+      out.nuisance_covariance.setZero(size, size);
       for (int i = 0; i < n - 4; ++i)
         for (int j = 0; j < n - 4; ++j)
           out.nuisance_covariance(p.activeIndex(i), p.activeIndex(j)) = s2 * inverse(4 + i, 4 + j);
-      out.nuisance = Eigen::Map<const Eigen::Matrix<double, kNuisanceSize, 1>>(p.nuisance());
+      out.nuisance = Eigen::Map<const Eigen::VectorXd>(p.nuisance(), size);
     }
     // Per rad² of axis rotation; SphereManifold's tangent units are
     // kSphereTangentPerRadian per rad.

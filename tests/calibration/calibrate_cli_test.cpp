@@ -176,9 +176,19 @@ TEST(CalibCli, HingeFromSeveralRecordings) {
   EXPECT_LE(e1, 3.0 * j["axis_main_sigma_deg"].get<double>());
   EXPECT_LE(e2, 3.0 * j["axis_secondary_sigma_deg"].get<double>());
 
+  // Each recording's biases are its own, in its entry of `recordings`.
   const Outcome bias = run("calibrate hinge " + a + " " + b + " --fit-gyro-bias");
-  EXPECT_EQ(bias.status, 2) << bias.err;
-  EXPECT_NE(bias.err.find("with several recordings"), std::string::npos) << bias.err;
+  ASSERT_EQ(bias.status, 0) << bias.err;
+  const nlohmann::json jb = nlohmann::json::parse(bias.out);
+  EXPECT_FALSE(jb.contains("gyro_bias_main"));
+  EXPECT_NE(jb["gyro_bias_note"].get<std::string>().find("each recording's own"), std::string::npos);
+  for (const auto& entry : jb["recordings"]) {
+    EXPECT_EQ(entry["gyro_bias_main"].size(), 3u) << entry;
+    EXPECT_GT(entry["gyro_bias_secondary_sigma"].get<double>(), 0.0) << entry;
+  }
+  const Outcome offset = run("calibrate hinge " + a + " " + b + " --fit-time-offset");
+  EXPECT_EQ(offset.status, 2) << offset.err;
+  EXPECT_NE(offset.err.find("with several recordings"), std::string::npos) << offset.err;
   const Outcome universal = run("calibrate universal " + a + " " + b);
   EXPECT_EQ(universal.status, 2) << universal.err;
   EXPECT_NE(universal.err.find("calibrate hinge A.csv B.csv"), std::string::npos) << universal.err;
