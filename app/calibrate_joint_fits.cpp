@@ -178,6 +178,24 @@ CommandOutcome runSpherical(const calibration::JointSamples& recorded, const std
   }
 }
 
+namespace {
+
+/// The biases and the clock offset a fit estimated, as fields of `j`.
+void addNuisance(Json& j, const calibration::SensorNuisanceEstimate& e) {
+  if (e.fitted_gyro_bias) {
+    j["gyro_bias_main"] = vector3(e.gyro_bias_main);
+    j["gyro_bias_secondary"] = vector3(e.gyro_bias_secondary);
+    j["gyro_bias_main_sigma"] = e.gyro_bias_main_sigma;
+    j["gyro_bias_secondary_sigma"] = e.gyro_bias_secondary_sigma;
+  }
+  if (e.fitted_time_offset) {
+    j["time_offset"] = e.time_offset;
+    j["time_offset_sigma"] = e.time_offset_sigma;
+  }
+}
+
+}  // namespace
+
 /// `calibrate hinge` of one or several recordings of the joint: its JSON.
 CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, const AxisFitOptions& options,
                         const std::string& what) {
@@ -185,18 +203,12 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
   Json j;
   const calibration::HingeFit fit = calibration::fitHinge(joints, options);
   if (joints.size() > 1) {
-    // With --fit-gyro-bias each recording's biases are its own: in its entry.
+    // Each recording's biases and clock offset are its own: in its entry.
     Json recordings = Json::array();
     for (std::size_t r = 0; r < joints.size(); ++r) {
       Json entry = {{"file", joints[r].source}, {"samples", joints[r].size()}, {"t_start", joints[r].time.front()},
                     {"t_end", joints[r].time.back()}};
-      if (r < fit.recording_biases.size()) {
-        const calibration::SensorNuisanceEstimate& b = fit.recording_biases[r];
-        entry["gyro_bias_main"] = vector3(b.gyro_bias_main);
-        entry["gyro_bias_secondary"] = vector3(b.gyro_bias_secondary);
-        entry["gyro_bias_main_sigma"] = b.gyro_bias_main_sigma;
-        entry["gyro_bias_secondary_sigma"] = b.gyro_bias_secondary_sigma;
-      }
+      if (r < fit.recording_nuisance.size()) addNuisance(entry, fit.recording_nuisance[r]);
       recordings.push_back(entry);
     }
     j["recordings"] = recordings;
@@ -208,15 +220,10 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
   j["axis_secondary_sigma_deg"] = fit.sigma_secondary_deg;
   addSummary(j, fit.summary, joint);
   j["sign"] = fit.sign;
+  if (fit.recording_nuisance.empty()) addNuisance(j, fit);
   if (fit.fitted_gyro_bias) {
-    if (fit.recording_biases.empty()) {
-      j["gyro_bias_main"] = vector3(fit.gyro_bias_main);
-      j["gyro_bias_secondary"] = vector3(fit.gyro_bias_secondary);
-      j["gyro_bias_main_sigma"] = fit.gyro_bias_main_sigma;
-      j["gyro_bias_secondary_sigma"] = fit.gyro_bias_secondary_sigma;
-    }
     j["gyro_bias_note"] =
-        std::string(fit.recording_biases.empty() ? "" : "each recording's own, in its entry of `recordings`; ") +
+        std::string(fit.recording_nuisance.empty() ? "" : "each recording's own, in its entry of `recordings`; ") +
         (fit.likelihood.fitted_gyro_bias
              ? "rad/s in each body's axes; along the axis the joint angle sees only the difference of the two "
                "biases: the secondary's is reported 0 there and the main one's is the difference (main - secondary)"
@@ -230,10 +237,6 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
     j["constraint_axis_secondary_sigma_deg"] = fit.constraint_sigma_secondary_deg;
     j["likelihood_noise_sigma"] = fit.likelihood.noise_sigma;
     j["likelihood_iterations"] = fit.likelihood.iterations;
-  }
-  if (fit.fitted_time_offset) {
-    j["time_offset"] = fit.time_offset;
-    j["time_offset_sigma"] = fit.time_offset_sigma;
   }
   if (fit.gyro_misfit >= 0.0) j["gyro_misfit"] = fit.gyro_misfit;
   if (fit.accelerometer_misfit >= 0.0) j["accelerometer_misfit"] = fit.accelerometer_misfit;

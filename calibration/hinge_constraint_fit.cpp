@@ -114,11 +114,12 @@ std::unique_ptr<ResidualKind> gyroKind(const JointSamples& samples, int shift, c
 /// How well the hinge explains the data, per kind, as a fraction of the
 /// signal it compares: RMS(‖ω₁×j₁‖ − ‖ω₂×j₂‖) over the RMS mean of the two
 /// (gyroscopes), RMS(j₁·f_c,1 − j₂·f_c,2) over the RMS of ‖f_c‖ (accelerometers).
-void modelMisfit(const Recordings& runs, int shift, const Eigen::Vector3d& j1, const Eigen::Vector3d& j2,
+void modelMisfit(const Recordings& runs, const Shifts& shifts, const Eigen::Vector3d& j1, const Eigen::Vector3d& j2,
                  const std::vector<AxisPair>* centres, HingeFit* fit) {
   double gd2 = 0.0, gm2 = 0.0, ad2 = 0.0, am2 = 0.0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const JointSamples& samples = *runs[r];
+    const int shift = shifts[r];
     if (samples.hasAngularVelocities())
       for (int k = std::max(0, shift); k < samples.size() && k - shift < samples.size(); ++k) {
         const double a = samples.main.angular_velocity[k].cross(j1).norm();
@@ -283,29 +284,25 @@ SensorNuisanceEstimate biasesOf(const NamedStart& first, const TwoAxisSolution& 
   return e;
 }
 
-/// The fitted biases (the first recording's, and with several each one's in
-/// recording_biases) and clock offset (the whole-sample shift plus the
-/// fitted fraction), with their σ.
-void setNuisance(const Recordings& runs, const NuisanceSelection& nuisance, const NamedStart& first, int shift,
-                 const TwoAxisSolution& solution, HingeFit* out) {
+/// The fitted biases and clock offsets (the whole-sample shift plus the
+/// fitted fraction), with their σ: the first recording's, and with several
+/// each one's in recording_nuisance (its own block).
+void setNuisance(const Recordings& runs, const NuisanceSelection& nuisance, const NamedStart& first,
+                 const Shifts& shifts, const TwoAxisSolution& solution, HingeFit* out) {
   HingeFit& fit = *out;
-  if (nuisance.active[0]) {
-    const SensorNuisanceEstimate biases = biasesOf(first, solution, 0);
-    fit.fitted_gyro_bias = true;
-    fit.gyro_bias_main = biases.gyro_bias_main;
-    fit.gyro_bias_secondary = biases.gyro_bias_secondary;
-    fit.gyro_bias_main_sigma = biases.gyro_bias_main_sigma;
-    fit.gyro_bias_secondary_sigma = biases.gyro_bias_secondary_sigma;
-    if (runs.size() > 1)
-      for (std::size_t r = 0; r < runs.size(); ++r)
-        fit.recording_biases.push_back(biasesOf(first, solution, static_cast<int>(r)));
-  }
-  if (nuisance.active[4]) {
-    const JointSamples& samples = *runs.front();
-    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
-    fit.time_offset = shift * h + solution.nuisance[4];
-    fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
-    fit.fitted_time_offset = true;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    SensorNuisanceEstimate e;
+    if (nuisance.active[0]) e = biasesOf(first, solution, static_cast<int>(r));
+    if (nuisance.active[4]) {
+      const JointSamples& samples = *runs[r];
+      const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+      const int at = kNuisanceSize * static_cast<int>(r) + 4;
+      e.fitted_time_offset = true;
+      e.time_offset = shifts[r] * h + solution.nuisance[at];
+      e.time_offset_sigma = std::sqrt(solution.nuisance_covariance(at, at));
+    }
+    if (r == 0) static_cast<SensorNuisanceEstimate&>(fit) = e;
+    if (runs.size() > 1 && nuisance.count() > 0) fit.recording_nuisance.push_back(e);
   }
 }
 
@@ -373,13 +370,17 @@ std::unique_ptr<ResidualKind> recordingGyroKind(const Recordings& runs, std::siz
 /// one; a clock offset and biases only on one recording). Several
 /// recordings add their residual kinds side by side, each with its own
 /// noise (its own third differences, its own weight): one axis pair.
-HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, int shift,
+Shifts sameShift(const Recordings& runs, int shift) { return Shifts(runs.size(), shift); }
+
+HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, const Shifts& shifts,
                          const Unfiltered& unfiltered) {
   const auto start_time = std::chrono::steady_clock::now();
   const JointSamples& samples = *runs.front();
+  if (shifts.size() != runs.size()) throw std::invalid_argument("fitHingeAtShift: a shift per recording expected");
   DataSelection data = hingeData(runs, options);
   requireEnoughSamples(totalSamples(runs), options);
-  const NuisanceSelection nuisance = nuisanceOf(samples, data, options);
+  NuisanceSelection nuisance;
+  for (const JointSamples* run : runs) nuisance = nuisanceOf(*run, data, options);
   const bool filtered = !unfiltered.samples.empty();
 
   std::vector<std::vector<Eigen::Matrix3d>> R12(runs.size());
@@ -406,7 +407,9 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
     // noise (after a low-pass filter third differences no longer measure it).
     std::vector<Eigen::Vector3d> w1, w2;
     std::vector<double> run_noise;
-    for (const JointSamples* run : runs) {
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const JointSamples* run = runs[r];
+      const int shift = shifts[r];
       std::vector<Eigen::Vector3d> v1, v2;
       for (int k = std::max(0, shift); k < run->size() && k - shift < run->size(); ++k) {
         v1.push_back(run->main.angular_velocity[k]);
@@ -423,7 +426,7 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
       context.hint = kRateHint;
     }
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      kinds.push_back(recordingGyroKind(runs, r, starts.front().axes, shift, nuisance, options.fit_time_offset));
+      kinds.push_back(recordingGyroKind(runs, r, starts.front().axes, shifts[r], nuisance, options.fit_time_offset));
       if (!filtered)
         kinds.back()->setIndependentNoise(run_noise[r], "the third differences of the recorded angular velocities");
     }
@@ -451,7 +454,7 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
       for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(orientationKind(R12[r]));
     if (data.rates)
       for (std::size_t r = 0; r < raw.size(); ++r)
-        raw_kinds.push_back(recordingGyroKind(raw, r, starts.front().axes, shift, nuisance, false));
+        raw_kinds.push_back(recordingGyroKind(raw, r, starts.front().axes, shifts[r], nuisance, false));
     if (data.accelerometers)
       for (std::size_t r = 0; r < raw.size(); ++r) raw_kinds.push_back(accelerometerKind(*raw[r], nullptr, &centres[r]));
     low_pass.power_gain = unfiltered.power_gain;
@@ -470,8 +473,8 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
   fit.sigma_main_deg = solution.sigma1_rad * kRadToDeg;
   fit.sigma_secondary_deg = solution.sigma2_rad * kRadToDeg;
   fit.covariance = solution.covariance;
-  setNuisance(runs, nuisance, starts.front(), shift, solution, &fit);
-  modelMisfit(runs, data.rates ? shift : 0, j1, j2, data.accelerometers ? &centres : nullptr, &fit);
+  setNuisance(runs, nuisance, starts.front(), shifts, solution, &fit);
+  modelMisfit(runs, data.rates ? shifts : sameShift(runs, 0), j1, j2, data.accelerometers ? &centres : nullptr, &fit);
   if (!data.rates) fit.gyro_misfit = -1.0;
   fit.information = solution.information;
   fit.summary = solution.summary;

@@ -51,15 +51,18 @@ std::unique_ptr<ResidualKind> gyroNuisanceKind(const JointSamples& samples, cons
                                                const Eigen::Vector3d& j2, int shift, bool offset,
                                                const std::string& label = "");
 
-/// The constraint fit of `runs` with the clock offset's whole samples
-/// given (0 without one; a clock offset on one recording only).
-/// Several recordings add their residual kinds side by side, each with its
-/// own noise (its own third differences, its own weight) and, with
-/// fit_gyro_bias, its own biases (its own nuisance block;
-/// HingeFit::recording_biases): one axis pair.
+/// Each recording's whole samples of clock offset (0 without one).
+using Shifts = std::vector<int>;
+Shifts sameShift(const Recordings& runs, int shift);
+
+/// The constraint fit of `runs` with each one's clock offset's whole samples
+/// given. Several recordings add their residual kinds side by side, each
+/// with its own noise (its own third differences, its own weight) and its
+/// own biases and clock offset's fraction (its own nuisance block;
+/// HingeFit::recording_nuisance): one axis pair.
 /// With `unfiltered`, `runs` are low-passed and the statistics account for
 /// the filter.
-HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, int shift,
+HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, const Shifts& shifts,
                          const Unfiltered& unfiltered = Unfiltered());
 
 }  // namespace calibration

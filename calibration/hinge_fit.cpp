@@ -40,11 +40,17 @@ constexpr double kBiasChiSquare = 30.0;
 constexpr int kOffsetProfile = 4;
 constexpr int kOffsetRefits = 3;
 
-/// With --estimator likelihood: the constraint fit at `shift` refined by
+/// A recording's mean sampling interval.
+double meanStep(const JointSamples& samples) {
+  return (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+}
+
+/// With --estimator likelihood: the constraint fit at `shifts` refined by
 /// maximum likelihood over the joint angle (hinge_likelihood.hpp), with the
-/// biases and the clock offset where the constraint fit estimated them
-/// (started from its values).
-void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, int shift, HingeFit* fit_out) {
+/// biases and the clock offsets where the constraint fit estimated them
+/// (started from its values; several recordings: each one's own).
+void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, const Shifts& shifts,
+                        HingeFit* fit_out) {
   const auto start_time = std::chrono::steady_clock::now();
   const JointSamples& samples = *runs.front();
   HingeFit& fit = *fit_out;
@@ -54,12 +60,12 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, i
   ml_options.fit_gyro_bias = fit.fitted_gyro_bias;
   ml_options.gyro_bias_main_start = fit.gyro_bias_main;
   ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
-  ml_options.recording_bias_starts = fit.recording_biases;  // several recordings: each one's own
   ml_options.fit_time_offset = fit.fitted_time_offset;
-  ml_options.offset_shift = shift;
-  if (fit.fitted_time_offset) {
-    const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
-    ml_options.offset_fraction_start = fit.time_offset - shift * h;
+  ml_options.offset_shift = shifts.front();
+  if (fit.fitted_time_offset) ml_options.offset_fraction_start = fit.time_offset - shifts.front() * meanStep(samples);
+  if (!fit.recording_nuisance.empty()) {  // several recordings: each one's own
+    ml_options.recording_starts = fit.recording_nuisance;
+    ml_options.recording_shifts = shifts;
   }
   const HingeLikelihoodFit ml = fitHingeLikelihood(runs, fit.axis_main, fit.axis_secondary, ml_options);
   fit.constraint_sigma_main_deg = fit.sigma_main_deg;
@@ -74,12 +80,12 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, i
     fit.gyro_bias_secondary = ml.gyro_bias_secondary;
     fit.gyro_bias_main_sigma = ml.gyro_bias_main_sigma;
     fit.gyro_bias_secondary_sigma = ml.gyro_bias_secondary_sigma;
-    fit.recording_biases = ml.recording_biases;
   }
   if (ml.fitted_time_offset) {
     fit.time_offset = ml.time_offset;
     fit.time_offset_sigma = ml.time_offset_sigma;
   }
+  if (!ml.recording_nuisance.empty()) fit.recording_nuisance = ml.recording_nuisance;
   fit.likelihood = ml;
   fit.sign = "R1 j1 = R2 j2 from the joint angle that turns the perpendicular rates (likelihood); overall sign: "
              "largest component of axis_main positive";
@@ -142,6 +148,8 @@ void checkForGyroscopeBias(const JointSamples& samples, const AxisFitOptions& op
 
 namespace {
 
+HingeFit fitHingeOffsetsPerRecording(const Recordings& runs, const AxisFitOptions& options);
+
 /// fitHinge with options.estimator chosen (not kAuto).
 HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& options) {
   const JointSamples& samples = *runs.front();
@@ -165,18 +173,18 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
       raw.samples.push_back(&trimmed[r]);
     }
     raw.power_gain = filter.noisePowerGain();
-    HingeFit fit = fitHingeAtShift(filtered_runs, options, 0, raw);
+    HingeFit fit = fitHingeAtShift(filtered_runs, options, sameShift(runs, 0), raw);
     fit.low_pass_hz = options.low_pass_hz;
     fit.low_pass_noise_gain = raw.power_gain;
     return fit;
   }
   if (!options.fit_time_offset) {
-    HingeFit fit = fitHingeAtShift(runs, options, 0);
+    HingeFit fit = fitHingeAtShift(runs, options, sameShift(runs, 0));
     for (std::size_t r = 0; r < runs.size(); ++r) checkForGyroscopeBias(*runs[r], options, &fit, recordingLabel(runs, r));
-    if (likelihood) refineByLikelihood(runs, options, 0, &fit);
+    if (likelihood) refineByLikelihood(runs, options, sameShift(runs, 0), &fit);
     return fit;
   }
-  // (A clock offset is fitted on one recording: fitHinge refuses it on several.)
+  if (runs.size() > 1) return fitHingeOffsetsPerRecording(runs, options);
   // The profile over whole samples: the fit at every shift within
   // ±kOffsetProfile of the search's (wholeSampleOffset), recentred while the
   // best lies on the window's edge; the least residual wins, and every fit
@@ -193,7 +201,7 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
     for (int m = std::max(-reach, best - kOffsetProfile); m <= std::min(reach, best + kOffsetProfile); ++m) {
       if (fits.count(m)) continue;
       try {
-        fits.emplace(m, fitHingeAtShift(runs, options, m));
+        fits.emplace(m, fitHingeAtShift(runs, options, sameShift(runs, m)));
       } catch (const NotIdentifiable&) {
       }
     }
@@ -204,7 +212,7 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
            })->first;
     if (std::abs(best - previous) < kOffsetProfile) break;
   }
-  if (fits.empty()) return fitHingeAtShift(runs, options, best);  // throws why
+  if (fits.empty()) return fitHingeAtShift(runs, options, sameShift(runs, best));  // throws why
   const HingeFit& fit = fits.at(best);
   const double noise = std::pow(fit.summary.residuals.front().independent_noise, 2);
   for (const auto& entry : fits) {
@@ -226,7 +234,7 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
   // its fraction says another whole sample is nearer (|ν| > h/2).
   int shift = clampedInt(std::round(fit.time_offset / h), -samples.size(), samples.size());
   HingeFit refined = fit;
-  refineByLikelihood(runs, options, shift, &refined);
+  refineByLikelihood(runs, options, sameShift(runs, shift), &refined);
   for (int round = 0; round < kOffsetRefits; ++round) {
     const int step = clampedInt(std::round((refined.time_offset - shift * h) / h), -samples.size(), samples.size());
     if (step == 0 || std::abs(shift + step) > reach) break;
@@ -234,7 +242,56 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
     const double estimate = refined.time_offset;  // the fraction starts from the likelihood's estimate
     refined = fit;
     refined.time_offset = estimate;
-    refineByLikelihood(runs, options, shift, &refined);
+    refineByLikelihood(runs, options, sameShift(runs, shift), &refined);
+  }
+  return refined;
+}
+
+/// Several recordings with fit_time_offset, each with its own clock. A
+/// recording's whole samples come from its own profile (the one-recording
+/// fit above, constraint estimator) or, where it does not answer alone, from
+/// the search (wholeSampleOffset). Then one fit over all at those shifts,
+/// each recording's fraction (and biases) its own, recentred while a
+/// fraction says another whole sample is nearer (|ν| > h/2); then the
+/// likelihood where chosen, recentred the same way.
+HingeFit fitHingeOffsetsPerRecording(const Recordings& runs, const AxisFitOptions& options) {
+  AxisFitOptions alone = options;
+  alone.estimator = HingeEstimator::kConstraint;
+  Shifts shifts;
+  std::vector<int> reach;
+  for (const JointSamples* run : runs) {
+    const double h = meanStep(*run);
+    reach.push_back(clampedInt(std::floor(options.max_time_offset / h), 0, run->size() / 2));
+    try {
+      const double offset = fitHingeWithEstimator({run}, alone).time_offset;
+      shifts.push_back(clampedInt(std::round(offset / h), -reach.back(), reach.back()));
+    } catch (const NotIdentifiable&) {
+      shifts.push_back(wholeSampleOffset(*run, options.max_time_offset));
+    }
+  }
+  // Moves each shift whose recording's offset lies nearer another whole sample; false when none moved.
+  const auto recentre = [&](const HingeFit& f) {
+    bool moved = false;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const double h = meanStep(*runs[r]);
+      const int n = runs[r]->size();
+      const int step = clampedInt(std::round((f.recording_nuisance[r].time_offset - shifts[r] * h) / h), -n, n);
+      if (step == 0 || std::abs(shifts[r] + step) > reach[r]) continue;
+      shifts[r] += step;
+      moved = true;
+    }
+    return moved;
+  };
+  HingeFit fit = fitHingeAtShift(runs, options, shifts);
+  for (int round = 0; round < kOffsetRefits && recentre(fit); ++round) fit = fitHingeAtShift(runs, options, shifts);
+  if (options.estimator != HingeEstimator::kLikelihood) return fit;
+  HingeFit refined = fit;
+  refineByLikelihood(runs, options, shifts, &refined);
+  for (int round = 0; round < kOffsetRefits && recentre(refined); ++round) {
+    const std::vector<SensorNuisanceEstimate> estimates = refined.recording_nuisance;  // the fractions' starts
+    refined = fit;
+    refined.recording_nuisance = estimates;
+    refineByLikelihood(runs, options, shifts, &refined);
   }
   return refined;
 }
@@ -328,11 +385,7 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
                                        first.secondary.name + "': the recordings of one fit are of one joint "
                                        "(name the bodies with `main` and `secondary`)");
   }
-  if (options.fit_time_offset)
-    throw InvalidInput(recordings[1].source,
-                       "`fit_time_offset` with several recordings: each recording's clock offset would be its own, and "
-                       "the fit over several recordings does not estimate them (it does each one's biases, "
-                       "`fit_gyro_bias`); fit each recording alone with it");
+
   // A recording given twice would count its information twice (σ √2 too small).
   for (std::size_t a = 0; a < recordings.size(); ++a)
     for (std::size_t b = a + 1; b < recordings.size(); ++b)

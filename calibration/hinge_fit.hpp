@@ -82,10 +82,10 @@ struct HingeFit : SensorNuisanceEstimate {
   ModelCheck model_check;
   AxisInformation information;
   AxisFitSummary summary;
-  /// With several recordings and fit_gyro_bias: each recording's biases, in
-  /// the recordings' order (the fields of SensorNuisanceEstimate above hold
-  /// the first's); empty otherwise.
-  std::vector<SensorNuisanceEstimate> recording_biases;
+  /// With several recordings and fit_gyro_bias or fit_time_offset: each
+  /// recording's biases and clock offset, in the recordings' order (the
+  /// fields of SensorNuisanceEstimate above hold the first's); empty otherwise.
+  std::vector<SensorNuisanceEstimate> recording_nuisance;
   /// The estimator used (never kAuto) and why (hinge_estimator.hpp).
   HingeEstimator estimator = HingeEstimator::kConstraint;
   std::string estimator_reason;
@@ -103,10 +103,9 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options = A
 /// bodies, the same columns): each recording keeps its own time series (its
 /// own filter, noise level, joint angle and sampling interval; no stencil
 /// reaches from one into the next), and they share j₁ and j₂. With
-/// fit_gyro_bias each recording's biases are its own (HingeFit::
-/// recording_biases); without, the bias check runs on each. A clock offset
-/// is not estimated over several recordings (InvalidInput with
-/// fit_time_offset). The
+/// fit_gyro_bias and fit_time_offset each recording's biases and clock
+/// offset are its own (HingeFit::recording_nuisance); without biases, the
+/// bias check runs on each. The
 /// model check fits each recording alone (checkHingeAcrossRecordings): where
 /// they disagree beyond their σ, σ includes their spread.
 HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options = AxisFitOptions());

@@ -94,18 +94,27 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
     if (!samples->hasAngularVelocities())
       throw InvalidInput(samples->source, "the likelihood hinge fit needs both bodies' gyroscopes");
   const bool offset = options_in.fit_time_offset;
-  if (offset && recordings.size() > 1)
-    throw InvalidInput(recordings[1]->source, "the likelihood hinge fit estimates a clock offset on one recording "
-                                              "only (fit each recording alone for its clock offset)");
+  // Each recording's own biases and clock offset, or one set shared by all.
+  const std::vector<SensorNuisanceEstimate>& own = options_in.recording_starts;
+  const bool per_recording = !own.empty();
+  if (per_recording && (own.size() != recordings.size() || options_in.recording_shifts.size() != recordings.size()))
+    throw std::invalid_argument("fitHingeLikelihood: a start and a shift per recording expected");
+  if (offset && recordings.size() > 1 && !per_recording)
+    throw InvalidInput(recordings[1]->source, "the likelihood hinge fit estimates one clock offset shared by "
+                                              "several recordings only per recording (recording_starts)");
+  const auto shiftOf = [&](std::size_t r) {
+    return !offset ? 0 : per_recording ? options_in.recording_shifts[r] : options_in.offset_shift;
+  };
   // The samples paired across the clock offset's whole samples: main k with
   // secondary k − shift, and the secondary's slope there (its window inside).
   // Consecutive samples of a uniform series stay uniform: one step h per
   // recording for the paired ones.
   HingeRates rates;
   rates.run_begin.push_back(0);
-  for (const JointSamples* samples : recordings) {
+  for (std::size_t r = 0; r < recordings.size(); ++r) {
+    const JointSamples* samples = recordings[r];
     rates.run_step.push_back(uniformStep(samples->time, samples->source));
-    const int all = samples->size(), shift = offset ? options_in.offset_shift : 0, edge = offset ? kRateWindow : 0;
+    const int all = samples->size(), shift = shiftOf(r), edge = offset ? kRateWindow : 0;
     for (int k = 0; k < all; ++k) {
       const int k2 = k - shift;
       if (k2 < edge || k2 >= all - edge) continue;
@@ -121,21 +130,16 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
       throw NotIdentifiable(samples->source + " has " + std::to_string(paired) + " samples: the likelihood fit needs " +
                             "at least " + std::to_string(2 * kHalfStencil + 2) + " in each recording");
   }
-  const double h = rates.run_step.front();
-  const int shift = offset ? options_in.offset_shift : 0;
   const int n = rates.samples();
   if (n < 2 * kHalfStencil + 8) throw NotIdentifiable("too few samples for the likelihood hinge fit");
   // With biases, the start's rates are the measured ones less the start's
   // biases: one set, or each recording's own.
-  const std::vector<SensorNuisanceEstimate>& own = options_in.recording_bias_starts;
-  const bool per_recording = options_in.fit_gyro_bias && !own.empty();
-  if (per_recording && own.size() != recordings.size())
-    throw std::invalid_argument("fitHingeLikelihood: a start of biases per recording expected");
-  const int sets = per_recording ? rates.runs() : 1;
+  const int sets = per_recording && options_in.fit_gyro_bias ? rates.runs() : 1;
+  const int offset_sets = per_recording && offset ? rates.runs() : 1;
   Eigen::Matrix3Xd main_start(3, sets), secondary_start(3, sets);
   for (int b = 0; b < sets; ++b) {
-    main_start.col(b) = per_recording ? own[b].gyro_bias_main : options_in.gyro_bias_main_start;
-    secondary_start.col(b) = per_recording ? own[b].gyro_bias_secondary : options_in.gyro_bias_secondary_start;
+    main_start.col(b) = sets > 1 ? own[b].gyro_bias_main : options_in.gyro_bias_main_start;
+    secondary_start.col(b) = sets > 1 ? own[b].gyro_bias_secondary : options_in.gyro_bias_secondary_start;
   }
   std::vector<Eigen::Vector3d> c1 = rates.main, c2 = rates.secondary;
   if (options_in.fit_gyro_bias)
@@ -148,13 +152,17 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   HingeUnknowns p, turned;
   const double coherence = startFrom(axis_main, axis_secondary, c1, c2, rates, &p);
   if (startFrom(axis_main, -axis_secondary, c1, c2, rates, &turned) > coherence) p = turned;
-  p.offset_fraction = offset ? options_in.offset_fraction_start : 0.0;
+  // ν = δ − shift h: each recording's own, or the one offset's.
+  p.offset_fraction = Eigen::VectorXd::Zero(offset_sets);
+  for (int o = 0; o < offset_sets && offset; ++o)
+    p.offset_fraction[o] = offset_sets > 1 ? own[o].time_offset - shiftOf(o) * rates.run_step[o]
+                                           : options_in.offset_fraction_start;
   if (options_in.fit_gyro_bias) {
     p.main_bias = p.main_bias_basis.transpose() * main_start;
     p.secondary_bias = p.secondary_bias_basis.transpose() * secondary_start;
   }
 
-  const HingeFreedoms free{options_in.fit_gyro_bias, offset, sets};
+  const HingeFreedoms free{options_in.fit_gyro_bias, offset, sets, offset_sets};
   HingeSolveOptions solve;
   solve.progress = options_in.progress;
   solve.interrupt = options_in.interrupt;
@@ -177,22 +185,24 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   if (!summary.covariance) throw NotIdentifiable("the likelihood hinge fit's covariance is rank deficient");
   fit.sigma_main_deg = s * sigmas.axis_main * kRadToDeg;
   fit.sigma_secondary_deg = s * sigmas.axis_secondary * kRadToDeg;
-  if (options_in.fit_gyro_bias) {
-    for (int b = 0; b < sets; ++b) {
-      SensorNuisanceEstimate e;
+  // Each recording's biases and offset (its set's), the first's at the top.
+  for (int r = 0; r < (per_recording ? rates.runs() : 1); ++r) {
+    SensorNuisanceEstimate e;
+    const int b = std::min(r, sets - 1), o = std::min(r, offset_sets - 1);
+    if (options_in.fit_gyro_bias) {
       e.fitted_gyro_bias = true;
       e.gyro_bias_main = p.main_bias_basis * p.main_bias.col(b);
       e.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias.col(b);
       e.gyro_bias_main_sigma = s * sigmas.main_bias[b];
       e.gyro_bias_secondary_sigma = s * sigmas.secondary_bias[b];
-      if (b == 0) static_cast<SensorNuisanceEstimate&>(fit) = e;
-      if (per_recording) fit.recording_biases.push_back(e);
     }
-  }
-  if (offset) {
-    fit.fitted_time_offset = true;
-    fit.time_offset = shift * h + p.offset_fraction;
-    fit.time_offset_sigma = s * sigmas.offset_fraction;
+    if (offset) {
+      e.fitted_time_offset = true;
+      e.time_offset = shiftOf(r) * rates.run_step[r] + p.offset_fraction[o];
+      e.time_offset_sigma = s * sigmas.offset_fraction[o];
+    }
+    if (r == 0) static_cast<SensorNuisanceEstimate&>(fit) = e;
+    if (per_recording) fit.recording_nuisance.push_back(e);
   }
   return fit;
 }

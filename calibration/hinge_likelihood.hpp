@@ -57,10 +57,13 @@ struct HingeLikelihoodOptions {
   bool fit_gyro_bias = false;
   Eigen::Vector3d gyro_bias_main_start = Eigen::Vector3d::Zero();       ///< rad/s, main body axes
   Eigen::Vector3d gyro_bias_secondary_start = Eigen::Vector3d::Zero();  ///< rad/s, secondary body axes
-  /// With several recordings and fit_gyro_bias: each recording's biases are
-  /// its own, started here (one entry per recording, in order); empty: one
-  /// set of biases shared by all, started at the two values above.
-  std::vector<SensorNuisanceEstimate> recording_bias_starts;
+  /// Several recordings, each with its own biases (fit_gyro_bias) and clock
+  /// offset (fit_time_offset), started here: one entry per recording, in
+  /// order, and each one's whole samples of offset. Empty: one set of biases
+  /// shared by all, started at the two values above (and a clock offset
+  /// only on one recording).
+  std::vector<SensorNuisanceEstimate> recording_starts;
+  std::vector<int> recording_shifts;
   bool fit_time_offset = false;
   int offset_shift = 0;                ///< whole samples
   double offset_fraction_start = 0.0;  ///< s
@@ -83,9 +86,9 @@ struct HingeLikelihoodFit : SensorNuisanceEstimate {
   int iterations = 0;
   bool converged = false;
   std::string message;             ///< why the solve stopped (solverStopMessage)
-  /// With HingeLikelihoodOptions::recording_bias_starts: each recording's
-  /// biases (the fields of SensorNuisanceEstimate hold the first's).
-  std::vector<SensorNuisanceEstimate> recording_biases;
+  /// With HingeLikelihoodOptions::recording_starts: each recording's biases
+  /// and clock offset (the fields of SensorNuisanceEstimate hold the first's).
+  std::vector<SensorNuisanceEstimate> recording_nuisance;
 };
 
 /// Maximum likelihood from both bodies' gyroscopes, started at a hinge fit's
@@ -96,9 +99,10 @@ HingeLikelihoodFit fitHingeLikelihood(const JointSamples& samples, const Eigen::
 
 /// The same over several recordings of one joint: one j₁ and C (and the
 /// biases with fit_gyro_bias: shared, or each recording's own with
-/// recording_bias_starts), each recording's joint angle its own (its
-/// samples are not neighbours of another's in time, its sampling interval
-/// its own). InvalidInput with fit_time_offset and more than one recording.
+/// recording_starts, as its clock offset), each recording's joint angle its
+/// own (its samples are not neighbours of another's in time, its sampling
+/// interval its own). InvalidInput with fit_time_offset, several recordings
+/// and no recording_starts.
 HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& recordings,
                                       const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary,
                                       const HingeLikelihoodOptions& options = {});

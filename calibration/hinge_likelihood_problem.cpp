@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 
 #include "calibration/banded_cholesky.hpp"
+#include "calibration/hinge_likelihood_terms.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/so3.hpp"
 
@@ -17,11 +18,9 @@ namespace lieflow {
 namespace calibration {
 namespace {
 
-/// The five-point difference's half-width (fivePointRate) is the normal
-/// equations' half-bandwidth; its weights, for the Jacobian.
-constexpr int kHalfStencil = kHingeStencilHalfWidth;
-constexpr int kBand = 2 * kHalfStencil;
-constexpr double kStencil[2 * kHalfStencil + 1] = {1.0, -8.0, 0.0, 8.0, -1.0};
+using namespace hinge_likelihood;  // the terms of one sample (hinge_likelihood_terms.hpp)
+
+constexpr int kBand = 2 * kHalfStencil;  // the normal equations' half-bandwidth
 
 /// Levenberg–Marquardt's trust region μ (the damping is diag(JᵀJ)/μ), as
 /// Ceres': its limits and the clamp of the diagonal. The first radius is the
@@ -45,112 +44,11 @@ constexpr double kMinRelativeDecrease = 1e-3;
 /// reciprocal condition).
 constexpr double kSingular = 1e-14;
 
-/// The globals one sample depends on, G, are a template parameter (5, 6, 10
-/// or 11: withGlobals dispatches once per call), so every per-sample product
-/// is of fixed size; so is the count of all free globals, Total, where it is
-/// G (one set of biases). With each recording's biases its own, Total is
-/// Eigen::Dynamic and a sample's bias columns are its recording's (widened).
-template <int G>
-using Globals = Eigen::Matrix<double, G, 1>;
-/// Total + 1 columns: the globals' and the gradient's.
-template <int Total>
-constexpr int kPlusOne = Total == Eigen::Dynamic ? Eigen::Dynamic : Total + 1;
-/// The first `total` columns of m, of fixed count where Total is fixed.
-template <int Total, typename M>
-auto leftTotal(M& m, int total) {
-  if constexpr (Total == Eigen::Dynamic)
-    return m.leftCols(total);
-  else
-    return m.template leftCols<Total>();
-}
-/// Whether G's globals hold the biases (b₁, b₂) and the clock offset ν.
-template <int G>
-constexpr bool kHasBiases = G >= 10;
-template <int G>
-constexpr bool kHasOffset = G == 6 || G == 11;
-template <int G>
-using GlobalMatrix = Eigen::Matrix<double, G, G>;
-
-/// One interior sample's ρ_k, and with `jacobian` its Kaufman Jacobian: on
-/// φ_{k−2} … φ_{k+2} (3 × 5) and on the free globals in the order j₁'s
-/// tangent (2: perpendicularBasis(j₁)), C's (3: C ← exp(δ) C), b₁ (3), b₂ (2), ν.
-template <int G>
-struct SampleTerms {
-  Eigen::Vector3d rho;
-  Eigen::Matrix<double, 3, 2 * kHalfStencil + 1> phi;
-  Eigen::Matrix<double, 3, G> globals;
-  Eigen::Vector3d main_rate;  ///< x*
-};
-
-/// θ's pieces every sample reads, once per evaluation.
-struct Frame {
-  Eigen::Matrix3d ct;                      ///< Cᵀ
-  Eigen::Matrix3d c;                       ///< C
-  Eigen::Vector3d j;                       ///< j₁
-  Eigen::Matrix<double, 3, 2> tangent;     ///< j₁'s tangent basis
-  Eigen::Matrix3Xd b1;                     ///< B₁ b₁, a column per set of biases
-  Eigen::Matrix3Xd b2;                     ///< E₂ b₂
-  double scale;                            ///< w / √2
-  explicit Frame(const HingeUnknowns& t, double weight) {
-    c = t.mount.normalized().toRotationMatrix();
-    ct = c.transpose();
-    j = t.axis_main;
-    tangent = perpendicularBasis(j);
-    b1 = t.main_bias_basis * t.main_bias;
-    b2 = t.secondary_bias_basis * t.secondary_bias;
-    scale = weight / std::sqrt(2.0);
-  }
-};
-
-/// The set of biases recording r reads.
-int biasSet(const HingeUnknowns& t, int r) { return std::min(r, static_cast<int>(t.main_bias.cols()) - 1); }
-
-template <int G>
-void sampleTerms(const HingeRates& m, const HingeUnknowns& t, const Frame& f, int k, double step, int set,
-                 bool jacobian, SampleTerms<G>* out) {
-  const double rate = fivePointRate(t.phi, k, step);
-  const double c = std::cos(t.phi[k]), s = std::sin(t.phi[k]);
-  const Eigen::Vector3d& j = f.j;
-  // exp(∓φ j₁) y by Rodrigues' formula.
-  const auto turn = [&](const Eigen::Vector3d& y) {
-    return (c * y - s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval();
-  };
-  const auto back = [&](const Eigen::Vector3d& y) {
-    return (c * y + s * j.cross(y) + (1.0 - c) * j.dot(y) * j).eval();
-  };
-  const Eigen::Vector3d slope = m.secondary_slope.empty() ? Eigen::Vector3d::Zero() : m.secondary_slope[k];
-  const Eigen::Vector3d a = m.main[k] - f.b1.col(set);
-  // b without its φ̇ term: m₂ − E₂ b₂ − ν ṁ₂.
-  const Eigen::Vector3d b = m.secondary[k] - f.b2.col(set) - t.offset_fraction * slope;
-  out->rho = f.scale * (f.ct * (turn(a) + rate * j) - b);
-  // x* = (a + Rᵀ b_full)/2 with Rᵀ = exp(φ j₁) C and b_full = b − φ̇ Cᵀ j₁.
-  out->main_rate = 0.5 * (a + back(f.c * b) - rate * j);
-  if (!jacobian) return;
-  const Eigen::Vector3d& x = out->main_rate;
-  const Eigen::Vector3d z = turn(x);
-  const Eigen::Vector3d along = f.scale / (12.0 * step) * (f.ct * j);
-  for (int i = 0; i <= 2 * kHalfStencil; ++i) out->phi.col(i) = kStencil[i] * along;
-  // ∂/∂φ (Cᵀ exp(−φ j₁) x) = −Cᵀ (j₁ × exp(−φ j₁) x).
-  out->phi.col(kHalfStencil) -= f.scale * (f.ct * j.cross(z));
-  // ∂/∂j₁ of exp(−φ j₁) x: sin φ [x]× + (1 − cos φ)(j₁ xᵀ + (j₁·x) I); and φ̇ Cᵀ δ.
-  Eigen::Matrix3d d = s * SO3d::hat(x) + (1.0 - c) * (j * x.transpose() + j.dot(x) * Eigen::Matrix3d::Identity());
-  d.diagonal().array() += rate;
-  out->globals.template leftCols<2>() = f.scale * (f.ct * d * f.tangent);
-  // Cᵀ ← Cᵀ exp(−δ): ∂(Cᵀ v)/∂δ = Cᵀ [v]×, v = exp(−φ j₁) x + φ̇ j₁.
-  out->globals.template middleCols<3>(2) = f.scale * (f.ct * SO3d::hat(z + rate * j));
-  int col = 5;
-  if constexpr (kHasBiases<G>) {
-    for (int i = 0; i < 3; ++i) out->globals.col(col + i) = -f.scale * (f.ct * turn(t.main_bias_basis.col(i)));
-    out->globals.template middleCols<2>(col + 3) = f.scale * t.secondary_bias_basis;
-    col += 5;
-  }
-  if constexpr (kHasOffset<G>) out->globals.col(col) = f.scale * slope;
-}
-
 void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
   const int n = m.samples();
-  if (t.main_bias.cols() < 1 || t.secondary_bias.cols() != t.main_bias.cols() || t.main_bias.cols() > m.runs())
-    throw std::invalid_argument("hinge likelihood: the biases' sets are not one or one per recording");
+  if (t.main_bias.cols() < 1 || t.secondary_bias.cols() != t.main_bias.cols() || t.main_bias.cols() > m.runs() ||
+      t.offset_fraction.size() < 1 || t.offset_fraction.size() > m.runs())
+    throw std::invalid_argument("hinge likelihood: the biases' or offsets' sets are not one or one per recording");
   if (static_cast<int>(m.secondary.size()) != n || static_cast<int>(t.phi.size()) != n ||
       (!m.secondary_slope.empty() && static_cast<int>(m.secondary_slope.size()) != n))
     throw std::invalid_argument("hinge likelihood: the rates, slopes and angles differ in length");
@@ -163,29 +61,6 @@ void checkSizes(const HingeRates& m, const HingeUnknowns& t) {
                                   std::to_string(2 * kHalfStencil + 2) + " samples or no positive interval");
 }
 
-/// Calls f(k, h, r) for every interior sample k (a full stencil in its
-/// recording r, sampled at interval h).
-template <typename F>
-void forInterior(const HingeRates& m, F&& f) {
-  for (int r = 0; r < m.runs(); ++r)
-    for (int k = m.run_begin[r] + kHalfStencil; k + kHalfStencil < m.run_begin[r + 1]; ++k) f(k, m.run_step[r], r);
-}
-
-/// A sample's Jacobian on the globals placed in the columns of all free
-/// globals: its set's biases at 5 + 5 set, ν last (itself where Total = G).
-template <int G, int Total>
-const Eigen::Matrix<double, 3, Total>& widened(const SampleTerms<G>& s, int set, int total,
-                                               Eigen::Matrix<double, 3, Total>* wide) {
-  if constexpr (Total == G) {
-    return s.globals;
-  } else {
-    wide->setZero(3, total);
-    wide->template leftCols<5>() = s.globals.template leftCols<5>();
-    if constexpr (kHasBiases<G>) wide->template middleCols<5>(5 + 5 * set) = s.globals.template middleCols<5>(5);
-    if constexpr (kHasOffset<G>) wide->col(total - 1) = s.globals.col(G - 1);
-    return *wide;
-  }
-}
 
 /// The normal equations JᵀJ δ = −Jᵀρ at θ: the angles' block banded
 /// (band[k][d] = H(k, k − d), d ≤ 4), their border with the globals, the
@@ -223,12 +98,13 @@ struct Normal {
     tangent = f.tangent;
     SampleTerms<G> s;
     Eigen::Matrix<double, 3, Total> wide;
+    const int offset_base = 5 + (kHasBiases<G> ? 5 * static_cast<int>(t.main_bias.cols()) : 0);
     forInterior(m, [&](int k, double step, int r) {
-      const int set = biasSet(t, r);
+      const RecordingSets set = setsOf(t, r);
       sampleTerms(m, t, f, k, step, set, true, &s);
       if (k == kHalfStencil) s.phi.col(0).setZero();  // φ₀ of the first recording is held
       cost += 0.5 * s.rho.squaredNorm();
-      const Eigen::Matrix<double, 3, Total>& sg = widened(s, set, total, &wide);
+      const Eigen::Matrix<double, 3, Total>& sg = widened(s, set, total, offset_base, &wide);
       const int first = k - kHalfStencil;
       for (int i = 0; i <= kBand; ++i) {
         for (int l = 0; l <= i; ++l) at(first + i, i - l) += s.phi.col(i).dot(s.phi.col(l));
@@ -311,14 +187,14 @@ void plus(const HingeUnknowns& t, const Eigen::Matrix<double, 3, 2>& tangent, co
       out.main_bias.col(b) += delta.template segment<3>(col);
       out.secondary_bias.col(b) += delta.template segment<2>(col + 3);
     }
-  if constexpr (kHasOffset<G>) out.offset_fraction += delta[col];
+  if constexpr (kHasOffset<G>) out.offset_fraction += delta.segment(col, out.offset_fraction.size());
 }
 
 double norm(const HingeUnknowns& t, const HingeFreedoms& free) {
   double s = 2.0;  // |j₁|² + |q|²
   for (double p : t.phi) s += p * p;
   if (free.biases) s += t.main_bias.squaredNorm() + t.secondary_bias.squaredNorm();
-  if (free.offset) s += t.offset_fraction * t.offset_fraction;
+  if (free.offset) s += t.offset_fraction.squaredNorm();
   return std::sqrt(s);
 }
 
@@ -331,8 +207,10 @@ struct GlobalCounts {
 /// Calls f(GlobalCounts<G, Total>) for a sample's globals G and all of them.
 template <typename F>
 auto withGlobals(const HingeFreedoms& free, F&& f) {
-  if (free.biases && free.bias_sets > 1)
+  if ((free.biases && free.bias_sets > 1) || (free.offset && free.offset_sets > 1)) {
+    if (!free.biases) return f(GlobalCounts<6, Eigen::Dynamic>{});
     return free.offset ? f(GlobalCounts<11, Eigen::Dynamic>{}) : f(GlobalCounts<10, Eigen::Dynamic>{});
+  }
   switch (free.sampleGlobals()) {
     case 5: return f(GlobalCounts<5>{});
     case 6: return f(GlobalCounts<6>{});
@@ -347,7 +225,7 @@ double costOf(const HingeRates& rates, const HingeUnknowns& theta) {
   SampleTerms<G> s;
   double cost = 0.0;
   forInterior(rates, [&](int k, double step, int r) {
-    sampleTerms(rates, theta, f, k, step, biasSet(theta, r), false, &s);
+    sampleTerms(rates, theta, f, k, step, setsOf(theta, r), false, &s);
     cost += 0.5 * s.rho.squaredNorm();
   });
   return cost;
@@ -472,7 +350,10 @@ bool sigmasAt(const Normal<G, Total>& h, const HingeUnknowns& theta, double scal
       sigmas->main_bias.push_back(std::sqrt(covariance.block(col, col, 3, 3).trace()));
       sigmas->secondary_bias.push_back(std::sqrt(covariance.block(col + 3, col + 3, 2, 2).trace()));
     }
-  if constexpr (kHasOffset<G>) sigmas->offset_fraction = std::sqrt(covariance(col, col));
+  sigmas->offset_fraction.clear();
+  if constexpr (kHasOffset<G>)
+    for (Eigen::Index o = 0; o < theta.offset_fraction.size(); ++o)
+      sigmas->offset_fraction.push_back(std::sqrt(covariance(col + o, col + o)));
   return std::isfinite(sigmas->axis_main) && std::isfinite(sigmas->axis_secondary);
 }
 
@@ -519,10 +400,10 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
   std::vector<Eigen::Vector3d> x(rates.main.size());
   for (int r = 0; r < rates.runs(); ++r)
     for (int k = rates.run_begin[r]; k < rates.run_begin[r + 1]; ++k)
-      x[k] = rates.main[k] - f.b1.col(biasSet(theta, r));
+      x[k] = rates.main[k] - f.b1.col(setsOf(theta, r).bias);
   SampleTerms<5> s;
   forInterior(rates, [&](int k, double step, int r) {
-    sampleTerms(rates, theta, f, k, step, biasSet(theta, r), false, &s);
+    sampleTerms(rates, theta, f, k, step, setsOf(theta, r), false, &s);
     x[k] = s.main_rate;
   });
   return x;
@@ -531,8 +412,9 @@ std::vector<Eigen::Vector3d> hingeMainRates(const HingeRates& rates, const Hinge
 HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* theta, const HingeFreedoms& free,
                                        const HingeSolveOptions& options, HingeSigmas* sigmas) {
   checkSizes(rates, *theta);
-  if (free.biases && theta->main_bias.cols() != free.bias_sets)
-    throw std::invalid_argument("hinge likelihood: the biases' columns differ from their sets");
+  if ((free.biases && theta->main_bias.cols() != free.bias_sets) ||
+      (free.offset && theta->offset_fraction.size() != free.offset_sets))
+    throw std::invalid_argument("hinge likelihood: the biases' columns or the offsets differ from their sets");
   return withGlobals(free, [&](auto g) {
     return solve<decltype(g)::kSample, decltype(g)::kTotal>(rates, theta, free, options, sigmas);
   });
@@ -541,8 +423,9 @@ HingeSolveSummary solveHingeLikelihood(const HingeRates& rates, HingeUnknowns* t
 bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,
                            double scale, HingeSigmas* sigmas) {
   checkSizes(rates, theta);
-  if (free.biases && theta.main_bias.cols() != free.bias_sets)
-    throw std::invalid_argument("hinge likelihood: the biases' columns differ from their sets");
+  if ((free.biases && theta.main_bias.cols() != free.bias_sets) ||
+      (free.offset && theta.offset_fraction.size() != free.offset_sets))
+    throw std::invalid_argument("hinge likelihood: the biases' columns or the offsets differ from their sets");
   return withGlobals(free, [&](auto g) {
     return sigmasOf<decltype(g)::kSample, decltype(g)::kTotal>(rates, theta, free, scale, sigmas);
   });

@@ -75,7 +75,9 @@ struct HingeUnknowns {
   Eigen::Quaterniond mount = Eigen::Quaterniond::Identity();  ///< C (C j₂ = j₁)
   Eigen::Matrix3Xd main_bias = Eigen::Matrix3Xd::Zero(3, 1);
   Eigen::Matrix2Xd secondary_bias = Eigen::Matrix2Xd::Zero(2, 1);
-  double offset_fraction = 0.0;  ///< ν [s]
+  /// ν [s]: one, or one per recording (HingeFreedoms::offset_sets; recording
+  /// r reads entry min(r, sets − 1), as the biases).
+  Eigen::VectorXd offset_fraction = Eigen::VectorXd::Zero(1);
   Eigen::Matrix3d main_bias_basis = Eigen::Matrix3d::Identity();
   Eigen::Matrix<double, 3, 2> secondary_bias_basis = Eigen::Matrix<double, 3, 2>::Zero();
   /// j₂ = Cᵀ j₁.
@@ -83,16 +85,17 @@ struct HingeUnknowns {
 };
 
 /// Which of θ's global parts are free (φ, j₁ and C always are): with
-/// `biases`, one set shared by every recording or (bias_sets = the number of
-/// recordings) each recording's own.
+/// `biases` (`offset`), one set shared by every recording or (bias_sets,
+/// offset_sets = the number of recordings) each recording's own.
 struct HingeFreedoms {
   bool biases = false;
   bool offset = false;
   int bias_sets = 1;
-  /// The globals one sample's residual depends on: j₁ 2, C 3, its biases 5, ν 1.
+  int offset_sets = 1;
+  /// The globals one sample's residual depends on: j₁ 2, C 3, its biases 5, its ν 1.
   int sampleGlobals() const { return 5 + (biases ? 5 : 0) + (offset ? 1 : 0); }
-  /// All free globals, in the order j₁, C, each set's (b₁, b₂), ν.
-  int globals() const { return 5 + (biases ? 5 * bias_sets : 0) + (offset ? 1 : 0); }
+  /// All free globals, in the order j₁, C, each set's (b₁, b₂), each set's ν.
+  int globals() const { return 5 + (biases ? 5 * bias_sets : 0) + (offset ? offset_sets : 0); }
 };
 
 /// Limits of the solve: far below any gyroscope's noise.
@@ -144,7 +147,7 @@ struct HingeSigmas {
   double axis_secondary = 0.0;  ///< √trace of j₂'s [rad]
   std::vector<double> main_bias;       ///< per set of biases: √trace of b₁'s [rad/s] (biases free)
   std::vector<double> secondary_bias;  ///< √trace of b₂'s [rad/s]
-  double offset_fraction = 0.0;  ///< ν's σ [s] (offset free)
+  std::vector<double> offset_fraction;  ///< per set of ν: its σ [s] (offset free)
 };
 /// False when the information matrix is singular (not identifiable).
 bool hingeLikelihoodSigmas(const HingeRates& rates, const HingeUnknowns& theta, const HingeFreedoms& free,

@@ -664,8 +664,8 @@ def calibrate_hinge(recording, main=None, secondary=None, use=None, loss=None, l
     "failed" and "failure" added instead. fit_gyro_bias / fit_time_offset
     estimate the gyroscopes' biases and the secondary sensor's clock offset
     (gyro_bias_main, gyro_bias_secondary, time_offset and their _sigma; with
-    several recordings each one's biases are its own, in its entry of
-    "recordings", and a clock offset is refused);
+    several recordings each one's biases and clock offset are its own, in its
+    entry of "recordings");
     estimator: None or "auto" (the default: maximum likelihood over the joint
     angle on gyroscopes alone, else the constraint fit; the result's
     "estimator" and "estimator_reason" say which and why), "likelihood" or

@@ -101,9 +101,10 @@ Case makeCase(unsigned seed, bool biases, bool offset, int samples) {
 }
 
 /// Two recordings of one hinge (its own motion each, 100 and 50 Hz), each
-/// with its own biases, one after the other: each recording's biases are
-/// their own set (HingeFreedoms::bias_sets = 2), started at zero.
-Case makeTwoRecordingCase(unsigned seed, int samples) {
+/// with its own biases and, with `offsets`, its own clock offset (4 and
+/// −3 ms), one after the other: each recording's biases and ν are their own
+/// set (HingeFreedoms::bias_sets = offset_sets = 2), started at zero.
+Case makeTwoRecordingCase(unsigned seed, int samples, bool offsets) {
   std::mt19937 gen(seed);
   const HingeMotion m = randomHingeMotion(gen);
   HingeMotion m2 = randomHingeMotion(gen);
@@ -112,13 +113,15 @@ Case makeTwoRecordingCase(unsigned seed, int samples) {
   const double rate[2] = {100.0, 50.0};
   const Eigen::Vector3d bias[2][2] = {{{0.03, -0.02, 0.05}, {-0.04, 0.01, 0.02}},
                                       {{-0.05, 0.04, 0.01}, {0.02, 0.03, -0.06}}};
+  const double clock[2] = {0.004, -0.003};
   Case c;
-  c.free = HingeFreedoms{true, false, 2};
+  c.free = HingeFreedoms{true, offsets, 2, 2};
   c.rates.run_begin = {0};
   for (int r = 0; r < 2; ++r) {
     RecordingNoise noise = test::gyroscopeNoise(0.1);
     noise.gyro_bias_main = bias[r][0];
     noise.gyro_bias_secondary = bias[r][1];
+    if (offsets) noise.secondary_clock_offset = clock[r];
     const HingeMotion& motion = r == 0 ? m : m2;
     const int n = r == 0 ? samples : samples / 2;
     const JointSamples s = recordMotion(motion, n, rate[r], noise, gen);
@@ -126,6 +129,12 @@ Case makeTwoRecordingCase(unsigned seed, int samples) {
     c.rates.main.insert(c.rates.main.end(), s.main.angular_velocity.begin(), s.main.angular_velocity.end());
     c.rates.secondary.insert(c.rates.secondary.end(), s.secondary.angular_velocity.begin(),
                              s.secondary.angular_velocity.end());
+    // The secondary's slope by central differences (zero at the ends), for ν.
+    for (int k = 0; k < n && offsets; ++k)
+      c.rates.secondary_slope.push_back(k == 0 || k + 1 == n ? Eigen::Vector3d::Zero()
+                                                             : Eigen::Vector3d((s.secondary.angular_velocity[k + 1] -
+                                                                                s.secondary.angular_velocity[k - 1]) *
+                                                                               (0.5 * rate[r])));
     c.rates.run_begin.push_back(c.rates.samples());
     c.rates.run_step.push_back(1.0 / rate[r]);
     c.start.phi.insert(c.start.phi.end(), truth.angle.begin(), truth.angle.end());
@@ -137,6 +146,7 @@ Case makeTwoRecordingCase(unsigned seed, int samples) {
   c.start.secondary_bias_basis = perpendicularBasis(c.start.axisSecondary());
   c.start.main_bias = Eigen::Matrix3Xd::Zero(3, 2);
   c.start.secondary_bias = Eigen::Matrix2Xd::Zero(2, 2);
+  c.start.offset_fraction = Eigen::VectorXd::Zero(2);
   return c;
 }
 
@@ -165,7 +175,10 @@ Whole solveWhole(const Case& c) {
     for (int i = 0; i < 3; ++i) b1[b][i] = c.start.main_bias(i, b);
     for (int i = 0; i < 2; ++i) b2[b][i] = c.start.secondary_bias(i, b);
   }
-  double j1[3], q[4], nu = c.start.offset_fraction;
+  // ... and its ν (one shared, or its own).
+  const int offset_sets = static_cast<int>(c.start.offset_fraction.size());
+  std::vector<double> nu(c.start.offset_fraction.data(), c.start.offset_fraction.data() + offset_sets);
+  double j1[3], q[4];
   for (int i = 0; i < 3; ++i) j1[i] = c.start.axis_main[i];
   q[0] = c.start.mount.w();
   q[1] = c.start.mount.x();
@@ -190,7 +203,7 @@ Whole solveWhole(const Case& c) {
           new ceres::AutoDiffCostFunction<SecondaryGyro, 3, 3, 1, 1, 1, 1, 1, 3, 4, 2, 1>(new SecondaryGyro{
               c.rates.secondary[k], slope, c.start.secondary_bias_basis, 1.0 / c.rates.run_step[r]}),
           nullptr, w1[k].data(), &phi[k - 2], &phi[k - 1], &phi[k], &phi[k + 1], &phi[k + 2], j1, q,
-          b2[setOf(r)].data(), &nu);
+          b2[setOf(r)].data(), &nu[std::min(r, offset_sets - 1)]);
       residuals += 3;
     }
   }
@@ -202,7 +215,8 @@ Whole solveWhole(const Case& c) {
       problem.SetParameterBlockConstant(b1[b].data());
       problem.SetParameterBlockConstant(b2[b].data());
     }
-  if (!c.free.offset) problem.SetParameterBlockConstant(&nu);
+  if (!c.free.offset)
+    for (double& v : nu) problem.SetParameterBlockConstant(&v);
   out.degrees_of_freedom = residuals - (3 * n + (n - 1) + c.free.globals());
   ceres::Solver::Options o;
   o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -217,7 +231,7 @@ Whole solveWhole(const Case& c) {
     out.theta.main_bias.col(b) = Eigen::Vector3d(b1[b][0], b1[b][1], b1[b][2]);
     out.theta.secondary_bias.col(b) = Eigen::Vector2d(b2[b][0], b2[b][1]);
   }
-  out.theta.offset_fraction = nu;
+  for (int o = 0; o < offset_sets; ++o) out.theta.offset_fraction[o] = nu[o];
   out.main_rates = w1;
 
   ceres::Covariance::Options co;
@@ -305,7 +319,8 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
           << what;
     }
     if (setting.offset) {
-      EXPECT_NEAR(reduced.offset_fraction, whole.theta.offset_fraction, share * noise * sigmas.offset_fraction)
+      EXPECT_NEAR(reduced.offset_fraction[0], whole.theta.offset_fraction[0],
+                  share * noise * sigmas.offset_fraction.at(0))
           << what;
     }
     std::printf("%s (biases %d, offset %d): reduced %d iterations; cost %.12g vs Ceres %.12g, axes apart %.1e / "
@@ -318,46 +333,60 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
 }
 
 /// Two recordings, each with its own biases (a set of five coordinates per
-/// recording: the border of the normal equations grows by five columns per
-/// recording): the reduced solve is the whole problem by Ceres with a bias
-/// block per recording, as on one recording (cost to 1e-10 relative, σ of
-/// the axes to 1e-6, the axes and each recording's biases within 1e-5 of
-/// their σ); each recording's biases lie within 3.5σ of its truth.
-TEST(CalibHingeLikelihood, ReducedProblemWithEachRecordingsBiasesIsTheWholeOne) {
+/// recording: the normal equations' border grows by five columns per
+/// recording) and then also its own clock offset's ν: the reduced solve is
+/// the whole problem by Ceres with a bias block and a ν per recording, as on
+/// one recording (cost to 1e-10 relative, σ of the axes to 1e-6, the axes,
+/// each recording's biases and ν within 1e-5 of their σ); each recording's
+/// biases and ν lie within 3.5σ of its truth.
+TEST(CalibHingeLikelihood, ReducedProblemWithEachRecordingsNuisanceIsTheWholeOne) {
   const int samples = test::kSanitized ? 200 : 500;
-  Case c = makeTwoRecordingCase(15, samples);
-  const Whole whole = solveWhole(c);
-  HingeUnknowns reduced = c.start;
-  HingeSolveOptions o;
-  o.function_tolerance = o.gradient_tolerance = o.parameter_tolerance = 1e-15;
-  HingeSigmas sigmas;
-  const HingeSolveSummary summary = solveHingeLikelihood(c.rates, &reduced, c.free, o, &sigmas);
-  EXPECT_NE(summary.stop, HingeSolveSummary::Stop::kIterationLimit) << summary.message();
-  ASSERT_TRUE(summary.covariance);
-  EXPECT_NEAR(summary.final_cost / whole.cost, 1.0, 1e-10);
-  EXPECT_EQ(hingeLikelihoodDegreesOfFreedom(c.rates, c.free), whole.degrees_of_freedom);
-  EXPECT_NEAR(sigmas.axis_main / whole.sigma_main, 1.0, 1e-6);
-  EXPECT_NEAR(sigmas.axis_secondary / whole.sigma_secondary, 1.0, 1e-6);
-  const double noise = std::sqrt(2.0 * whole.cost / whole.degrees_of_freedom), share = 1e-5;
-  EXPECT_LT(angleBetween(reduced.axis_main, whole.theta.axis_main), share * noise * sigmas.axis_main);
-  ASSERT_EQ(sigmas.main_bias.size(), 2u);
   const Eigen::Vector3d truth[2][2] = {{{0.03, -0.02, 0.05}, {-0.04, 0.01, 0.02}},
                                        {{-0.05, 0.04, 0.01}, {0.02, 0.03, -0.06}}};
-  const Eigen::Vector3d j1 = reduced.axis_main, j2 = reduced.axisSecondary();
-  for (int r = 0; r < 2; ++r) {
-    EXPECT_LT((reduced.main_bias.col(r) - whole.theta.main_bias.col(r)).norm(), share * noise * sigmas.main_bias[r]);
-    EXPECT_LT((reduced.secondary_bias.col(r) - whole.theta.secondary_bias.col(r)).norm(),
-              share * noise * sigmas.secondary_bias[r]);
-    // The main bias holds the difference along the axis (hinge_likelihood.hpp).
-    const Eigen::Vector3d main = reduced.main_bias_basis * reduced.main_bias.col(r);
-    const Eigen::Vector3d main_truth =
-        test::perpendicular(truth[r][0], j1) + (truth[r][0].dot(j1) - truth[r][1].dot(j2)) * j1;
-    const Eigen::Vector3d secondary = reduced.secondary_bias_basis * reduced.secondary_bias.col(r);
-    EXPECT_LT((main - main_truth).norm(), 3.5 * noise * sigmas.main_bias[r]) << r;
-    EXPECT_LT((secondary - test::perpendicular(truth[r][1], j2)).norm(), 3.5 * noise * sigmas.secondary_bias[r]) << r;
+  const double clock[2] = {0.004, -0.003};
+  for (const bool offsets : {false, true}) {
+    const std::string what = offsets ? "biases and offsets" : "biases";
+    Case c = makeTwoRecordingCase(15, samples, offsets);
+    const Whole whole = solveWhole(c);
+    HingeUnknowns reduced = c.start;
+    HingeSolveOptions o;
+    o.function_tolerance = o.gradient_tolerance = o.parameter_tolerance = 1e-15;
+    HingeSigmas sigmas;
+    const HingeSolveSummary summary = solveHingeLikelihood(c.rates, &reduced, c.free, o, &sigmas);
+    EXPECT_NE(summary.stop, HingeSolveSummary::Stop::kIterationLimit) << what << ": " << summary.message();
+    ASSERT_TRUE(summary.covariance) << what;
+    EXPECT_NEAR(summary.final_cost / whole.cost, 1.0, 1e-10) << what;
+    EXPECT_EQ(hingeLikelihoodDegreesOfFreedom(c.rates, c.free), whole.degrees_of_freedom) << what;
+    EXPECT_NEAR(sigmas.axis_main / whole.sigma_main, 1.0, 1e-6) << what;
+    EXPECT_NEAR(sigmas.axis_secondary / whole.sigma_secondary, 1.0, 1e-6) << what;
+    const double noise = std::sqrt(2.0 * whole.cost / whole.degrees_of_freedom), share = 1e-5;
+    EXPECT_LT(angleBetween(reduced.axis_main, whole.theta.axis_main), share * noise * sigmas.axis_main) << what;
+    ASSERT_EQ(sigmas.main_bias.size(), 2u);
+    ASSERT_EQ(sigmas.offset_fraction.size(), offsets ? 2u : 0u);
+    const Eigen::Vector3d j1 = reduced.axis_main, j2 = reduced.axisSecondary();
+    for (int r = 0; r < 2; ++r) {
+      EXPECT_LT((reduced.main_bias.col(r) - whole.theta.main_bias.col(r)).norm(), share * noise * sigmas.main_bias[r])
+          << what;
+      EXPECT_LT((reduced.secondary_bias.col(r) - whole.theta.secondary_bias.col(r)).norm(),
+                share * noise * sigmas.secondary_bias[r])
+          << what;
+      // The main bias holds the difference along the axis (hinge_likelihood.hpp).
+      const Eigen::Vector3d main = reduced.main_bias_basis * reduced.main_bias.col(r);
+      const Eigen::Vector3d main_truth =
+          test::perpendicular(truth[r][0], j1) + (truth[r][0].dot(j1) - truth[r][1].dot(j2)) * j1;
+      const Eigen::Vector3d secondary = reduced.secondary_bias_basis * reduced.secondary_bias.col(r);
+      EXPECT_LT((main - main_truth).norm(), 3.5 * noise * sigmas.main_bias[r]) << what << r;
+      EXPECT_LT((secondary - test::perpendicular(truth[r][1], j2)).norm(), 3.5 * noise * sigmas.secondary_bias[r])
+          << what << r;
+      if (!offsets) continue;
+      EXPECT_NEAR(reduced.offset_fraction[r], whole.theta.offset_fraction[r],
+                  share * noise * sigmas.offset_fraction[r])
+          << what;
+      EXPECT_NEAR(reduced.offset_fraction[r], clock[r], 3.5 * noise * sigmas.offset_fraction[r]) << what << r;
+    }
+    std::printf("two recordings, own %s: reduced %d iterations; cost %.12g vs Ceres %.12g, sigma ratio %.9f\n",
+                what.c_str(), summary.iterations, summary.final_cost, whole.cost, sigmas.axis_main / whole.sigma_main);
   }
-  std::printf("two recordings, own biases: reduced %d iterations; cost %.12g vs Ceres %.12g, sigma ratio %.9f\n",
-              summary.iterations, summary.final_cost, whole.cost, sigmas.axis_main / whole.sigma_main);
 }
 
 /// Rates that determine nothing (both gyroscopes at rest, the joint still):

@@ -205,14 +205,12 @@ def test_calibrate_hinge_from_several_recordings(tmp_path, run_command):
     fit = lieflow.calibrate_hinge(columns)
     assert [r["file"] for r in fit["recordings"]] == ["recording[0] dict", "recording[1] dict"]
     assert fit["axis_main"] == command["axis_main"]
-    # Each recording's biases are its own, in its entry of "recordings"; a
-    # clock offset over several recordings is refused, naming the second.
-    fit = lieflow.calibrate_hinge(columns, fit_gyro_bias=True)
-    assert "gyro_bias_main" not in fit
+    # Each recording's biases and clock offset are its own, in its entry of "recordings".
+    fit = lieflow.calibrate_hinge(columns, fit_gyro_bias=True, fit_time_offset=True)
+    assert "gyro_bias_main" not in fit and "time_offset" not in fit
     for entry in fit["recordings"]:
         assert len(entry["gyro_bias_main"]) == 3 and entry["gyro_bias_secondary_sigma"] > 0, entry
-    with pytest.raises(lieflow.InputError, match=r"recording\[1\] dict: --fit-time-offset with several recordings"):
-        lieflow.calibrate_hinge(columns, fit_time_offset=True)
+        assert entry["time_offset_sigma"] > 0, entry
     with pytest.raises(lieflow.InputError, match="for calibrate_hinge"):
         lieflow.calibrate_universal(columns)
 
