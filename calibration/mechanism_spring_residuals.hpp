@@ -20,6 +20,7 @@
 
 #include "calibration/mechanism_flow.hpp"
 #include "dynamics/joint_space/articulated_model.hpp"
+#include "liegroup/scalar.hpp"
 
 namespace lieflow {
 namespace calibration {
@@ -59,7 +60,7 @@ class MechanismSegmentCost {
   }
 
   template <typename T>
-  bool operator()(T const* const* parameters, T* r) const {
+  LIEFLOW_FLATTEN bool operator()(T const* const* parameters, T* r) const {
     const T* theta = parameters[0];
     const std::size_t axes = p_->axis_bodies.size();
     const int nq = p_->coordinates, ns = p_->rotations, n = p_->dofs;

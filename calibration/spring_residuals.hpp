@@ -124,7 +124,7 @@ class SpringSegmentCost {
 
  private:
   template <typename T>
-  bool evaluate(const T* theta, const T* s, const T* next, T* r) const {
+  LIEFLOW_FLATTEN bool evaluate(const T* theta, const T* s, const T* next, T* r) const {
     const SpringData& data = *p_->data;
     JointSprings<T, N> forces;
     for (int i = 0; i < N; ++i) {
