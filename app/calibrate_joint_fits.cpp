@@ -221,6 +221,8 @@ CommandOutcome runHinge(const std::vector<calibration::JointSamples>& joints, co
   addSummary(j, fit.summary, joint);
   j["sign"] = fit.sign;
   if (fit.recording_nuisance.empty()) addNuisance(j, fit);
+  if (!fit.recording_nuisance.empty() && fit.fitted_time_offset)
+    j["time_offset_note"] = "each recording's own, in its entry of `recordings`";
   if (fit.fitted_gyro_bias) {
     j["gyro_bias_note"] =
         std::string(fit.recording_nuisance.empty() ? "" : "each recording's own, in its entry of `recordings`; ") +

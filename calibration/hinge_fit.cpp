@@ -385,7 +385,6 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
                                        first.secondary.name + "': the recordings of one fit are of one joint "
                                        "(name the bodies with `main` and `secondary`)");
   }
-
   // A recording given twice would count its information twice (σ √2 too small).
   for (std::size_t a = 0; a < recordings.size(); ++a)
     for (std::size_t b = a + 1; b < recordings.size(); ++b)

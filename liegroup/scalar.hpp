@@ -19,17 +19,6 @@
 #define LIEFLOW_ASSERT(condition, message) assert((condition) && (message))
 #endif
 
-/// Inlines every call inside the function it marks (GCC's and Clang's
-/// `flatten`), for the few functions that integrate a flow in ceres::Jet:
-/// in long functions Eigen's small kernels of the Jets' derivative vectors
-/// (copies, sums, scaled sums) were left out of line, and took 60 % of the
-/// universal spring fit (perf); flattened, that fit runs 4.6 times faster.
-#if defined(__GNUC__) || defined(__clang__)
-#define LIEFLOW_FLATTEN __attribute__((flatten))
-#else
-#define LIEFLOW_FLATTEN
-#endif
-
 namespace lieflow {
 
 /// π, the double nearest it: the one constant of the project (no M_PI, which

@@ -191,6 +191,7 @@ TEST(CalibCli, HingeFromSeveralRecordings) {
   ASSERT_EQ(offset.status, 0) << offset.err;
   const nlohmann::json jo = nlohmann::json::parse(offset.out);
   EXPECT_FALSE(jo.contains("time_offset"));
+  EXPECT_NE(jo["time_offset_note"].get<std::string>().find("each recording's own"), std::string::npos);
   for (const auto& entry : jo["recordings"]) EXPECT_GT(entry["time_offset_sigma"].get<double>(), 0.0) << entry;
   const Outcome universal = run("calibrate universal " + a + " " + b);
   EXPECT_EQ(universal.status, 2) << universal.err;
