@@ -192,7 +192,7 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
   // Δχ² ≥ kOffsetAmbiguity
   // (on 3 s recordings with biases the search alone, or the fit from its
   // shift, stayed two samples off with σ a tenth of that).
-  const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+  const double h = meanStep(samples);
   const int reach = clampedInt(std::floor(options.max_time_offset / h), 0, samples.size() / 2);
   std::map<int, HingeFit> fits;
   const auto meanSquare = [](const HingeFit& f) { return std::pow(f.summary.residuals.front().rms, 2); };

@@ -100,8 +100,8 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   if (per_recording && (own.size() != recordings.size() || options_in.recording_shifts.size() != recordings.size()))
     throw std::invalid_argument("fitHingeLikelihood: a start and a shift per recording expected");
   if (offset && recordings.size() > 1 && !per_recording)
-    throw InvalidInput(recordings[1]->source, "the likelihood hinge fit estimates one clock offset shared by "
-                                              "several recordings only per recording (recording_starts)");
+    throw InvalidInput(recordings[1]->source, "the likelihood hinge fit does not estimate one clock offset shared "
+                                              "by several recordings: each recording's own needs recording_starts");
   const auto shiftOf = [&](std::size_t r) {
     return !offset ? 0 : per_recording ? options_in.recording_shifts[r] : options_in.offset_shift;
   };

@@ -100,6 +100,11 @@ Case makeCase(unsigned seed, bool biases, bool offset, int samples) {
   return c;
 }
 
+/// The two recordings' true biases (main, secondary) and clock offsets.
+const Eigen::Vector3d kRecordingBiases[2][2] = {{{0.03, -0.02, 0.05}, {-0.04, 0.01, 0.02}},
+                                                {{-0.05, 0.04, 0.01}, {0.02, 0.03, -0.06}}};
+constexpr double kRecordingClocks[2] = {0.004, -0.003};
+
 /// Two recordings of one hinge (its own motion each, 100 and 50 Hz), each
 /// with its own biases and, with `offsets`, its own clock offset (4 and
 /// −3 ms), one after the other: each recording's biases and ν are their own
@@ -111,17 +116,14 @@ Case makeTwoRecordingCase(unsigned seed, int samples, bool offsets) {
   m2.axis_main = m.axis_main;
   m2.mount = m.mount;
   const double rate[2] = {100.0, 50.0};
-  const Eigen::Vector3d bias[2][2] = {{{0.03, -0.02, 0.05}, {-0.04, 0.01, 0.02}},
-                                      {{-0.05, 0.04, 0.01}, {0.02, 0.03, -0.06}}};
-  const double clock[2] = {0.004, -0.003};
   Case c;
   c.free = HingeFreedoms{true, offsets, 2, 2};
   c.rates.run_begin = {0};
   for (int r = 0; r < 2; ++r) {
     RecordingNoise noise = test::gyroscopeNoise(0.1);
-    noise.gyro_bias_main = bias[r][0];
-    noise.gyro_bias_secondary = bias[r][1];
-    if (offsets) noise.secondary_clock_offset = clock[r];
+    noise.gyro_bias_main = kRecordingBiases[r][0];
+    noise.gyro_bias_secondary = kRecordingBiases[r][1];
+    if (offsets) noise.secondary_clock_offset = kRecordingClocks[r];
     const HingeMotion& motion = r == 0 ? m : m2;
     const int n = r == 0 ? samples : samples / 2;
     const JointSamples s = recordMotion(motion, n, rate[r], noise, gen);
@@ -341,9 +343,7 @@ TEST(CalibHingeLikelihood, ReducedProblemIsTheWholeOne) {
 /// biases and ν lie within 3.5σ of its truth.
 TEST(CalibHingeLikelihood, ReducedProblemWithEachRecordingsNuisanceIsTheWholeOne) {
   const int samples = test::kSanitized ? 200 : 500;
-  const Eigen::Vector3d truth[2][2] = {{{0.03, -0.02, 0.05}, {-0.04, 0.01, 0.02}},
-                                       {{-0.05, 0.04, 0.01}, {0.02, 0.03, -0.06}}};
-  const double clock[2] = {0.004, -0.003};
+  const auto& truth = kRecordingBiases;
   for (const bool offsets : {false, true}) {
     const std::string what = offsets ? "biases and offsets" : "biases";
     Case c = makeTwoRecordingCase(15, samples, offsets);
@@ -382,7 +382,8 @@ TEST(CalibHingeLikelihood, ReducedProblemWithEachRecordingsNuisanceIsTheWholeOne
       EXPECT_NEAR(reduced.offset_fraction[r], whole.theta.offset_fraction[r],
                   share * noise * sigmas.offset_fraction[r])
           << what;
-      EXPECT_NEAR(reduced.offset_fraction[r], clock[r], 3.5 * noise * sigmas.offset_fraction[r]) << what << r;
+      EXPECT_NEAR(reduced.offset_fraction[r], kRecordingClocks[r], 3.5 * noise * sigmas.offset_fraction[r])
+          << what << r;
     }
     std::printf("two recordings, own %s: reduced %d iterations; cost %.12g vs Ceres %.12g, sigma ratio %.9f\n",
                 what.c_str(), summary.iterations, summary.final_cost, whole.cost, sigmas.axis_main / whole.sigma_main);
