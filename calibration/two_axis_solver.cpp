@@ -413,6 +413,52 @@ struct TwoAxisSolver {
     }
   }
 
+  void checkNuisance() {
+    // 7b. A short recording lets the biases turn its few rate directions to
+    // fit the noise: the cost can fall into a narrow valley tenths of rad/s
+    // wide of the truth, whose curvature claims a σ of hundredths. Per block
+    // (a recording's biases and clock fraction), where the estimate ν̂ lies
+    // more than kNuisanceCheckSigmas σ from zero: the rise Δχ² = 2Δcost/s²
+    // from ν̂ to ν = 0 (the axes and the other blocks held) against its
+    // quadratic value ν̂ᵀ H_BB ν̂ / s²; below kFlatSecant of it the cost
+    // between them is far from the quadratic the σ assumes, and the
+    // nuisance is not identified. Not under a robust loss, whose cost
+    // flattens far from any estimate.
+    const int active = p.nuisanceCount();
+    if (active == 0 || robust || !(s2 > 0.0)) return;
+    const Eigen::VectorXd estimate = p.activeNuisance();
+    const double base = p.costAt(p.axes(), Eigen::Vector4d::Zero(), Eigen::VectorXd::Zero(active));
+    for (int block = 0; block < p.nuisanceBlocks(); ++block) {
+      Eigen::VectorXd delta = Eigen::VectorXd::Zero(active);
+      for (int i = 0; i < active; ++i)
+        if (p.activeIndex(i) / kNuisanceSize == block) delta[i] = -estimate[i];
+      const double quadratic = delta.dot(information.bottomRightCorner(active, active) * delta) / s2;
+      if (!(quadratic > kNuisanceCheckSigmas * kNuisanceCheckSigmas)) continue;
+      const double rise = 2.0 * (p.costAt(p.axes(), Eigen::Vector4d::Zero(), delta) - base) / s2;
+      if (rise >= kFlatSecant * quadratic) continue;
+      throw NotIdentifiable(nuisanceName(block) + " are not identified: from the estimate to none the cost rises "
+                            "by Δχ² = " + formatNumber(std::max(0.0, rise), 3) + ", where its curvature at the "
+                            "estimate predicts " + formatNumber(quadratic, 3) + " (the estimate lies in a narrow "
+                            "valley of the cost that fits the noise); a longer or more varied recording is needed, "
+                            "or a fit without them");
+    }
+  }
+
+  /// "the gyroscope biases" (and clock offset) of nuisance block b, with its
+  /// recording's label where the kinds name one.
+  std::string nuisanceName(int block) const {
+    std::string what = nuisance.active[0] ? "the gyroscope biases" : "";
+    if (nuisance.active[4]) what += what.empty() ? "the clock offset" : " and clock offset";
+    for (std::size_t k = 0; k < p.kindCount(); ++k) {
+      const ResidualKind& kind = p.kind(k);
+      if (!kind.usesNuisance() || kind.nuisanceBlock() != block) continue;
+      const std::size_t open = kind.name().rfind(" [");
+      if (open != std::string::npos) what += " of" + kind.name().substr(open);
+      break;
+    }
+    return what;
+  }
+
   void robustCovariance() {
     // 8. Under a robust loss or on low-passed signals: the sandwich.
     Eigen::Matrix4d sandwich;
@@ -468,6 +514,7 @@ TwoAxisSolution solveTwoAxes(const std::vector<const ResidualKind*>& kinds, cons
   solve.covariances();          // 5
   solve.rejectSecondMinimum();  // 6
   solve.checkQuadratic();       // 7
+  solve.checkNuisance();        // 7b
   solve.robustCovariance();     // 8
   return std::move(solve.out);
 }

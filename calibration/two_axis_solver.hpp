@@ -42,6 +42,12 @@
 ///     Gauss–Newton curvature, e.g. at large noise) widens σ in that
 ///     direction to the actual rise (below kFlatSecant · 9: NotIdentifiable).
 ///     The cost is evaluated by the kinds' functors directly (ResidualKind::cost).
+///  7b. The nuisance (biases, clock fraction), per recording: where the
+///     estimate ν̂ lies more than kNuisanceCheckSigmas σ from zero, the
+///     cost's rise from it to zero (the axes held) against its curvature's
+///     prediction ν̂ᵀH_νν ν̂/s²; below kFlatSecant of it (a short recording
+///     whose biases turn its few rate directions to fit the noise: a narrow
+///     valley far from the truth) NotIdentifiable. Not under a robust loss.
 ///  8. Under a robust loss (a joint that is not an ideal hinge: soft tissue,
 ///     a real knee) or on low-passed signals (LowPassNoise), σ is a sandwich, H⁻¹ M H⁻¹ (Huber 1967; White 1980):
 ///     H = J̃ᵀJ̃ of the robustified, whitened residuals (Ceres' corrector) and
@@ -85,6 +91,9 @@ constexpr double kSecantBand = 0.9;
 /// The quadratic check refuses a cost that rises by less than this fraction
 /// of its quadratic value at ±quadratic_check_sigmas σ (σ would grow by > 2).
 constexpr double kFlatSecant = 0.25;
+/// The nuisance check (step 7b) looks at estimates more than this many σ
+/// (its conditional σ, the axes held) from zero.
+constexpr double kNuisanceCheckSigmas = 3.0;
 /// Noise scales are floored here so that exact data give finite weights.
 constexpr double kNoiseScaleFloor = 1e-12;
 
