@@ -18,7 +18,7 @@ namespace {
 int reachOf(const JointSamples& samples, double max_offset) {
   const int n = samples.size();
   if (n < 2) return 0;  // no interval: no shift
-  const double h = (samples.time.back() - samples.time.front()) / (n - 1);
+  const double h = samples.meanStep();
   // In double first: a recording's step can make the quotient exceed an int.
   return static_cast<int>(std::min(std::floor(max_offset / h), static_cast<double>(n / 2)));
 }
@@ -37,7 +37,7 @@ void pairedRates(const JointSamples& samples, int m, std::vector<Eigen::Vector3d
 
 int wholeSampleOffset(const JointSamples& samples, double max_offset) {
   const int n = samples.size();
-  const double h = (samples.time.back() - samples.time.front()) / (n - 1);
+  const double h = samples.meanStep();
   const int reach = reachOf(samples, max_offset);
   std::vector<Eigen::Vector3d> a, b;
   const auto meanCost = [&](const AxisPair& axes) { return hingeRateCost(a, b, axes) / static_cast<double>(a.size()); };

@@ -294,8 +294,7 @@ void setNuisance(const Recordings& runs, const NuisanceSelection& nuisance, cons
     SensorNuisanceEstimate e;
     if (nuisance.active[0]) e = biasesOf(first, solution, static_cast<int>(r));
     if (nuisance.active[4]) {
-      const JointSamples& samples = *runs[r];
-      const double h = (samples.time.back() - samples.time.front()) / (samples.size() - 1);
+      const double h = runs[r]->meanStep();
       const int at = kNuisanceSize * static_cast<int>(r) + 4;
       e.fitted_time_offset = true;
       e.time_offset = shifts[r] * h + solution.nuisance[at];

@@ -40,11 +40,6 @@ constexpr double kBiasChiSquare = 30.0;
 constexpr int kOffsetProfile = 4;
 constexpr int kOffsetRefits = 3;
 
-/// A recording's mean sampling interval.
-double meanStep(const JointSamples& samples) {
-  return (samples.time.back() - samples.time.front()) / (samples.size() - 1);
-}
-
 /// With --estimator likelihood: the constraint fit at `shifts` refined by
 /// maximum likelihood over the joint angle (hinge_likelihood.hpp), with the
 /// biases and the clock offsets where the constraint fit estimated them
@@ -62,7 +57,7 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, c
   ml_options.gyro_bias_secondary_start = fit.gyro_bias_secondary;
   ml_options.fit_time_offset = fit.fitted_time_offset;
   ml_options.offset_shift = shifts.front();
-  if (fit.fitted_time_offset) ml_options.offset_fraction_start = fit.time_offset - shifts.front() * meanStep(samples);
+  if (fit.fitted_time_offset) ml_options.offset_fraction_start = fit.time_offset - shifts.front() * samples.meanStep();
   if (!fit.recording_nuisance.empty()) {  // several recordings: each one's own
     ml_options.recording_starts = fit.recording_nuisance;
     ml_options.recording_shifts = shifts;
@@ -192,7 +187,7 @@ HingeFit fitHingeWithEstimator(const Recordings& runs, const AxisFitOptions& opt
   // Δχ² ≥ kOffsetAmbiguity
   // (on 3 s recordings with biases the search alone, or the fit from its
   // shift, stayed two samples off with σ a tenth of that).
-  const double h = meanStep(samples);
+  const double h = samples.meanStep();
   const int reach = clampedInt(std::floor(options.max_time_offset / h), 0, samples.size() / 2);
   std::map<int, HingeFit> fits;
   const auto meanSquare = [](const HingeFit& f) { return std::pow(f.summary.residuals.front().rms, 2); };
@@ -260,7 +255,7 @@ HingeFit fitHingeOffsetsPerRecording(const Recordings& runs, const AxisFitOption
   Shifts shifts;
   std::vector<int> reach;
   for (const JointSamples* run : runs) {
-    const double h = meanStep(*run);
+    const double h = run->meanStep();
     reach.push_back(clampedInt(std::floor(options.max_time_offset / h), 0, run->size() / 2));
     try {
       const double offset = fitHingeWithEstimator({run}, alone).time_offset;
@@ -273,7 +268,7 @@ HingeFit fitHingeOffsetsPerRecording(const Recordings& runs, const AxisFitOption
   const auto recentre = [&](const HingeFit& f) {
     bool moved = false;
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      const double h = meanStep(*runs[r]);
+      const double h = runs[r]->meanStep();
       const int n = runs[r]->size();
       const int step = clampedInt(std::round((f.recording_nuisance[r].time_offset - shifts[r] * h) / h), -n, n);
       if (step == 0 || std::abs(shifts[r] + step) > reach[r]) continue;

@@ -10,6 +10,7 @@
 
 #include "calibration/fit_types.hpp"
 #include "calibration/hinge_likelihood_problem.hpp"
+#include "calibration/hinge_likelihood_terms.hpp"
 #include "calibration/rate_derivative.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -188,7 +189,8 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   // Each recording's biases and offset (its set's), the first's at the top.
   for (int r = 0; r < (per_recording ? rates.runs() : 1); ++r) {
     SensorNuisanceEstimate e;
-    const int b = std::min(r, sets - 1), o = std::min(r, offset_sets - 1);
+    const hinge_likelihood::RecordingSets set = hinge_likelihood::setsOf(p, r);
+    const int b = set.bias, o = set.offset;
     if (options_in.fit_gyro_bias) {
       e.fitted_gyro_bias = true;
       e.gyro_bias_main = p.main_bias_basis * p.main_bias.col(b);

@@ -39,6 +39,8 @@ struct JointSamples {
   BodySamples secondary;
 
   int size() const { return static_cast<int>(time.size()); }
+  /// The mean sampling interval (t_last − t_first)/(n − 1); needs n ≥ 2.
+  double meanStep() const { return (time.back() - time.front()) / (size() - 1); }
   bool hasOrientations() const { return main.hasOrientation() && secondary.hasOrientation(); }
   bool hasAngularVelocities() const {
     return main.hasAngularVelocity() && secondary.hasAngularVelocity();

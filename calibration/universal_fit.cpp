@@ -203,7 +203,7 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
     fit.gyro_bias_secondary_sigma = std::sqrt(solution.nuisance_covariance.block<2, 2>(2, 2).trace());
   }
   if (offset) {
-    const double h = (recorded.time.back() - recorded.time.front()) / (recorded.size() - 1);
+    const double h = recorded.meanStep();
     fit.fitted_time_offset = true;
     fit.time_offset = shift * h + solution.nuisance[4];
     fit.time_offset_sigma = std::sqrt(solution.nuisance_covariance(4, 4));
