@@ -363,6 +363,19 @@ std::unique_ptr<ResidualKind> recordingGyroKind(const Recordings& runs, std::siz
   return kind;
 }
 
+/// Each recording's own biases and clock need as many samples as one
+/// recording alone (a recording of 11 samples beside a long one answered
+/// biases of 0.8 rad/s, σ 0.03, whose truth was 0): NotIdentifiable naming it.
+void requireOwnNuisanceSamples(const Recordings& runs, const NuisanceSelection& nuisance,
+                               const AxisFitOptions& options) {
+  if (runs.size() < 2 || nuisance.count() == 0) return;
+  for (const JointSamples* run : runs)
+    if (run->size() < options.min_samples)
+      throw NotIdentifiable(run->source + ": " + std::to_string(run->size()) +
+                            " samples, too few to estimate its own gyroscope biases or clock offset (at least " +
+                            std::to_string(options.min_samples) + ", as for one recording alone)");
+}
+
 }  // namespace
 
 /// The fit of `runs` with the clock offset's whole samples given (0 without
@@ -380,15 +393,7 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
   requireEnoughSamples(totalSamples(runs), options);
   NuisanceSelection nuisance;
   for (const JointSamples* run : runs) nuisance = nuisanceOf(*run, data, options);
-  // Each recording's own biases and clock need as many samples as one
-  // recording alone (a recording of 11 samples beside a long one answered
-  // biases of 0.8 rad/s, σ 0.03, whose truth was 0).
-  if (runs.size() > 1 && nuisance.count() > 0)
-    for (const JointSamples* run : runs)
-      if (run->size() < options.min_samples)
-        throw NotIdentifiable(run->source + ": " + std::to_string(run->size()) +
-                              " samples, too few to estimate its own gyroscope biases or clock offset (at least " +
-                              std::to_string(options.min_samples) + ", as for one recording alone)");
+  requireOwnNuisanceSamples(runs, nuisance, options);
   const bool filtered = !unfiltered.samples.empty();
 
   std::vector<std::vector<Eigen::Matrix3d>> R12(runs.size());

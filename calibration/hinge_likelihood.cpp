@@ -190,18 +190,17 @@ HingeLikelihoodFit fitHingeLikelihood(const std::vector<const JointSamples*>& re
   for (int r = 0; r < (per_recording ? rates.runs() : 1); ++r) {
     SensorNuisanceEstimate e;
     const hinge_likelihood::RecordingSets set = hinge_likelihood::setsOf(p, r);
-    const int b = set.bias, o = set.offset;
     if (options_in.fit_gyro_bias) {
       e.fitted_gyro_bias = true;
-      e.gyro_bias_main = p.main_bias_basis * p.main_bias.col(b);
-      e.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias.col(b);
-      e.gyro_bias_main_sigma = s * sigmas.main_bias[b];
-      e.gyro_bias_secondary_sigma = s * sigmas.secondary_bias[b];
+      e.gyro_bias_main = p.main_bias_basis * p.main_bias.col(set.bias);
+      e.gyro_bias_secondary = p.secondary_bias_basis * p.secondary_bias.col(set.bias);
+      e.gyro_bias_main_sigma = s * sigmas.main_bias[set.bias];
+      e.gyro_bias_secondary_sigma = s * sigmas.secondary_bias[set.bias];
     }
     if (offset) {
       e.fitted_time_offset = true;
-      e.time_offset = shiftOf(r) * rates.run_step[r] + p.offset_fraction[o];
-      e.time_offset_sigma = s * sigmas.offset_fraction[o];
+      e.time_offset = shiftOf(r) * rates.run_step[r] + p.offset_fraction[set.offset];
+      e.time_offset_sigma = s * sigmas.offset_fraction[set.offset];
     }
     if (r == 0) static_cast<SensorNuisanceEstimate&>(fit) = e;
     if (per_recording) fit.recording_nuisance.push_back(e);
