@@ -52,7 +52,7 @@ constexpr const char* kSimulateUsage =
     "                     prismatic and spherical joints from the ground; rkmk*, cg3, cf4, genalpha,\n"
     "                     radau5, lgvi (not on slides or spherical joints); a\n"
     "                     joint closing a loop and gear rows on multipliers: rkmk-euler, rkmk-heun,\n"
-    "                     rkmk3, rkmk4, cg3, cf4, radau5) or in maximal coordinates (bodies' poses, the\n"
+    "                     rkmk3, rkmk4, rkmk6, cg3, cf4, radau5) or in maximal coordinates (bodies' poses, the\n"
     "                     joints as constraints). Default: joint wherever it represents the scene\n"
     "                     and runs the integrator (2-3x faster per step), else maximal\n"
     "  --view FILE.html   also write a replay of the run there (lieflow view --help); no CSV on\n"

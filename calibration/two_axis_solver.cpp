@@ -436,7 +436,8 @@ struct TwoAxisSolver {
       if (!(quadratic > kNuisanceCheckSigmas * kNuisanceCheckSigmas)) continue;
       const double rise = 2.0 * (p.costAt(p.axes(), Eigen::Vector4d::Zero(), delta) - base) / s2;
       if (rise >= kFlatSecant * quadratic) continue;
-      throw NotIdentifiable(nuisanceName(block) + " are not identified: from the estimate to none the cost rises "
+      throw NotIdentifiable(nuisanceName(block) + (nuisance.active[0] ? " are" : " is") +
+                            " not identified: from the estimate to none the cost rises "
                             "by Δχ² = " + formatNumber(std::max(0.0, rise), 3) + ", where its curvature at the "
                             "estimate predicts " + formatNumber(quadratic, 3) + " (the estimate lies in a narrow "
                             "valley of the cost that fits the noise); a longer or more varied recording is needed, "

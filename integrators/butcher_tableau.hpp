@@ -50,6 +50,10 @@ struct ButcherTableau {
   static ButcherTableau bogackiShampine32();
   /// Dormand–Prince 5(4), FSAL (the pair of ode45).
   static ButcherTableau dormandPrince54();
+  /// Butcher's seven-stage method of order 6 (Butcher 1964, "On Runge–Kutta
+  /// processes of high order", J. Austral. Math. Soc. 4; Hairer, Nørsett &
+  /// Wanner I, §II.5: six stages cannot reach order 6, so seven is the least).
+  static ButcherTableau butcher6();
 };
 
 inline ButcherTableau ButcherTableau::euler() {
@@ -138,6 +142,25 @@ inline ButcherTableau ButcherTableau::dormandPrince54() {
   t.dense_d = {-12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
                -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
                -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0};
+  return t;
+}
+
+/// c = (0, 1/3, 2/3, 1/3, 1/2, 1/2, 1), b = (11, 0, 81, 81, −32, −32, 11)/120;
+/// its order is measured (tests/integrators/convergence_test.cpp: slope 6 in
+/// the orientation and the rates of a torqued top on SO(3)).
+inline ButcherTableau ButcherTableau::butcher6() {
+  ButcherTableau t;
+  t.name = "butcher6";
+  t.stages = 7;
+  t.order = 6;
+  t.c = {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0 / 3.0, 1.0 / 2.0, 1.0 / 2.0, 1.0};
+  t.a[1] = {1.0 / 3.0};
+  t.a[2] = {0.0, 2.0 / 3.0};
+  t.a[3] = {1.0 / 12.0, 1.0 / 3.0, -1.0 / 12.0};
+  t.a[4] = {-1.0 / 16.0, 9.0 / 8.0, -3.0 / 16.0, -3.0 / 8.0};
+  t.a[5] = {0.0, 9.0 / 8.0, -3.0 / 8.0, -3.0 / 4.0, 1.0 / 2.0};
+  t.a[6] = {9.0 / 44.0, -9.0 / 11.0, 63.0 / 44.0, 18.0 / 11.0, 0.0, -16.0 / 11.0};
+  t.b = {11.0 / 120.0, 0.0, 27.0 / 40.0, 27.0 / 40.0, -4.0 / 15.0, -4.0 / 15.0, 11.0 / 120.0};
   return t;
 }
 

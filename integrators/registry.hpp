@@ -76,6 +76,10 @@ inline const std::vector<IntegratorInfo>& integratorRegistry() {
        "projected onto the constraints after every step"},
       {"rkmk4", 4, false, false, false, false, {}, "Runge-Kutta-Munthe-Kaas, classical RK4 tableau, dexp^-1 to ad^2",
        "projected onto the constraints after every step"},
+      {"rkmk6", 6, false, false, false, false, {},
+       "Runge-Kutta-Munthe-Kaas, Butcher's seven-stage sixth-order tableau, dexp^-1 to ad^4: for errors near "
+       "round-off at the least run time",
+       "projected onto the constraints after every step"},
       {"rkmk45", 5, false, false, false, true,
        {{"rtol", 1e-8, 1e-15, 1.0, false, false, "relative tolerance of the local error"},
         {"atol", 1e-10, 0.0, 1.0, false, false, "absolute tolerance of the local error"}},

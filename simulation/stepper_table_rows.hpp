@@ -355,6 +355,7 @@ inline const auto& rows() {
   static const auto table = std::make_tuple(
       explicitRow("rkmk-euler", rkmk(&ButcherTableau::euler)), explicitRow("rkmk-heun", rkmk(&ButcherTableau::heun)),
       explicitRow("rkmk3", rkmk(&ButcherTableau::kutta3)), explicitRow("rkmk4", rkmk(&ButcherTableau::rk4)),
+      explicitRow("rkmk6", rkmk(&ButcherTableau::butcher6)),
       Rkmk45Row{},
       explicitRow("cg3", [](const auto& tag) { return CrouchGrossman3Stepper<std::decay_t<decltype(tag)>>(); }),
       explicitRow("cf4", [](const auto& tag) { return CommutatorFree4Stepper<std::decay_t<decltype(tag)>>(); }),

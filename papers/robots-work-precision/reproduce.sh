@@ -47,7 +47,7 @@ models=(
   "slider_crank|$samples/slider_crank/slider_crank.xml|--keyframe swing|3,-5,4|6.25e-2,4e-2"
   "arm26|$samples/tendon_arm/arm26.xml|--keyframe swing|3,-5"
 )
-integrators=rkmk4,cf4,lgvi,genalpha,radau5
+integrators=rkmk4,rkmk6,cf4,lgvi,genalpha,radau5
 # From steps where MuJoCo's errors lie near 1e-3 to where they reach 1e-9.
 steps=3.2e-2,1.6e-2,8e-3,4e-3,2e-3,1e-3,5e-4,2.5e-4,1.25e-4,6.25e-5
 for entry in "${models[@]}"; do

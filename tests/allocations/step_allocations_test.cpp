@@ -32,7 +32,8 @@ class StepAllocations : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(StepAllocations, NoneAfterTheFirstStep) {
   const Simulation sim(loadScene(GetParam()));
-  for (const char* integrator : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "lgvi", "radau5"}) {
+  for (const char* integrator :
+       {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk6", "cg3", "cf4", "lgvi", "radau5"}) {
     SCOPED_TRACE(integrator);
     const bench::StepAllocations a = bench::countStepAllocations(sim, integrator);
     ASSERT_TRUE(a.ran) << "no step size down to 1e-6 runs 2000 steps";
@@ -46,7 +47,7 @@ TEST_P(StepAllocations, NoneInJointCoordinates) {
   std::string why;
   if (!needsMultibody(sim.scene()) || !sim.hasJointFormulation(&why)) GTEST_SKIP() << why;
   for (const char* integrator :
-       {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "cg3", "cf4", "genalpha", "lgvi", "radau5"}) {
+       {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk6", "cg3", "cf4", "genalpha", "lgvi", "radau5"}) {
     SCOPED_TRACE(integrator);
     // lgvi needs a tree without gimbals, offset universals, prescribed motion or loops.
     if (!sim.supports(integrator, &why, "joint")) continue;

@@ -37,7 +37,7 @@ TEST(Cli, HelpAndListsSucceed) {
     EXPECT_FALSE(o.out.empty()) << args;
   }
   const Outcome list = run("integrators");
-  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi",
+  for (const char* name : {"rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk6", "rkmk45", "cg3", "cf4", "lgvi",
                            "splitting", "genalpha", "exact"})
     EXPECT_NE(list.out.find(name), std::string::npos) << name;
 }

@@ -146,7 +146,7 @@ TEST(Simulation, TheTableOfSteppersAnswersSupportsAndRunsAlike) {
   const Simulation cardan(loadScene("cardan-shaft"));
   std::string why;
   EXPECT_FALSE(cardan.supports("splitting", &why, "joint"));
-  EXPECT_NE(why.find("available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk45 cg3 cf4 lgvi genalpha radau5)"),
+  EXPECT_NE(why.find("available: rkmk-euler rkmk-heun rkmk3 rkmk4 rkmk6 rkmk45 cg3 cf4 lgvi genalpha radau5)"),
             std::string::npos)
       << why;
   // ... and a refusal by what the scene holds says where it runs.

@@ -73,6 +73,7 @@ std::vector<OrderCase> orderCases() {
       {"rkmk4", 4, rkmk(ButcherTableau::rk4()), {0.04, 0.02, 0.01, 0.005}},
       {"bogacki-shampine", 3, rkmk(ButcherTableau::bogackiShampine32()), {0.04, 0.02, 0.01, 0.005}},
       {"dormand-prince", 5, rkmk(ButcherTableau::dormandPrince54()), {0.08, 0.04, 0.02, 0.01}},
+      {"rkmk6", 6, rkmk(ButcherTableau::butcher6()), {0.16, 0.08, 0.04, 0.02}},
       {"cg3", 3,
        [T](const RotorSystem<double>& sys, double h) {
          return solve(CrouchGrossman3Stepper<RotorState<double>>(), sys, initialRotor(), T, h);
@@ -107,7 +108,7 @@ TEST_P(ConvergenceOrder, MeasuredSlopeMatchesTheory) {
   EXPECT_NEAR(s_orientation, c.order, 0.15) << c.name;
 }
 
-INSTANTIATE_TEST_SUITE_P(AllMethods, ConvergenceOrder, ::testing::Range(0, 8),
+INSTANTIATE_TEST_SUITE_P(AllMethods, ConvergenceOrder, ::testing::Range(0, 9),
                          [](const ::testing::TestParamInfo<int>& info) {
                            std::string n = orderCases()[info.param].name;
                            for (char& ch : n)
