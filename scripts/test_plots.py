@@ -86,8 +86,8 @@ def main():
     # one), inside the figure.
     sys.path.insert(0, HERE)
     import plot_study
-    names = ["rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk45", "cg3", "cf4", "lgvi", "genalpha", "splitting",
-             "exact", "mujoco-euler", "mujoco-rk4", "mujoco-implicit"]
+    names = ["rkmk-euler", "rkmk-heun", "rkmk3", "rkmk4", "rkmk6", "rkmk45", "cg3", "cf4", "lgvi", "splitting",
+             "genalpha", "radau5", "exact", "mujoco-euler", "mujoco-rk4", "mujoco-implicit"]
     styles = plot_study.style_of(names)
     colours = [styles[n]["color"] for n in names]
     check(len(set(colours)) == len(colours), f"colours repeat: {list(zip(names, colours))}")
