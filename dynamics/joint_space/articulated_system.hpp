@@ -275,11 +275,16 @@ class ArticulatedSystem {
 
   /// Whether the variational integrator covers this tree: every joint kind
   /// (the rotations on SO(3), joint_space_variational.hpp), coupling rows,
-  /// and loop-closing joints and gear rows among bodies hung from the ground,
-  /// but no prescribed coordinate (a time-dependent constraint) and no loop
-  /// or gear row on a floating tree (whose step coordinates are its centre of
-  /// mass). If not, `why` names the joint or body and the reason.
+  /// gear rows on angular rates, loop-closing joints and rack-and-pinion rows
+  /// within one tree (the ground's or a floating one), but no prescribed
+  /// coordinate (a time-dependent constraint) and no loop or rack between a
+  /// floating tree and the ground or another tree (whose step coordinates,
+  /// its centre of mass, the row would move). If not, `why` names the joint
+  /// or body and the reason.
   bool variationalCovers(std::string* why) const;
+  /// The floating tree of `body` (its index), or −1 for the ground and the
+  /// trees hung from it.
+  int stepTreeOf(int body) const;
   /// Whether a coordinate's motion is prescribed (`why` names the body and
   /// says that `integrator` does not take it in joint coordinates).
   bool hasPrescribedCoordinate(const std::string& integrator, std::string* why) const;

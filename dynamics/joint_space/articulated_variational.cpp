@@ -24,20 +24,40 @@ bool isCouplingRow(const ArticulatedClosure& c) {
 
 }  // namespace
 
+/// The tree of `body` as the variational step's coordinates see it: its
+/// floating tree's index, or −1 for the ground and the trees hung from it.
+int ArticulatedSystem::stepTreeOf(int body) const { return body == kGround ? -1 : free_tree_[body]; }
+
 bool ArticulatedSystem::variationalCovers(std::string* why) const {
   for (const ArticulatedClosure& c : model_.closures) {
     if (isCouplingRow(c)) continue;
     // Loops and gear rows: RATTLE's multipliers on the rows in the state's
-    // coordinates, which are the step's everywhere but on a floating tree.
-    for (int body : c.bodies) {
-      if (body == kGround || free_tree_[body] < 0) continue;
-      if (why)
-        *why = c.label + (c.gear ? " is a gear row" : " closes a loop") + " on the floating tree of body '" +
-               model_.names[body] +
-               "': lgvi in joint coordinates takes loops and gear rows only among bodies hung from the ground (a "
-               "floating tree's step coordinates are its centre of mass)";
-      return false;
+    // coordinates. On a floating tree the step's coordinates move its root
+    // by the tree's centre of mass (v_root = v_z − Σ m_i (v_i − v_root)/m),
+    // u_state = T u_step, so its rows are G T: G itself wherever G has no
+    // column on the root's translation. That holds for rows on angular rates
+    // (gears, differentials, wherever their bodies are) and for rows among
+    // the bodies of one floating tree (a loop inside a floating robot, a rack
+    // on the tree that carries its pinion): a shift of the whole tree moves
+    // them all alike. A row between a floating tree and the ground or another
+    // tree is refused.
+    const bool angular = c.gear && !std::holds_alternative<constraints::RackPinionJoint<double>>(*c.gear);
+    if (angular) continue;
+    const std::size_t involved =
+        c.gear ? std::visit([](const auto& g) { return std::decay_t<decltype(g)>::kBodies; }, *c.gear) : 2;
+    int floating_body = -1;
+    bool mixed = false;
+    for (std::size_t k = 0; k < involved; ++k) {
+      if (stepTreeOf(c.bodies[k]) >= 0 && floating_body < 0) floating_body = c.bodies[k];
+      mixed = mixed || stepTreeOf(c.bodies[k]) != stepTreeOf(c.bodies[0]);
     }
+    if (!mixed) continue;
+    if (why)
+      *why = c.label + (c.gear ? " is a rack-and-pinion row" : " closes a loop") + " between the floating tree of "
+             "body '" + model_.names[floating_body] + "' and the ground or another tree: lgvi in joint coordinates "
+             "takes such rows only within one tree (a floating tree's step coordinates are its centre of mass, "
+             "which the row would move)";
+    return false;
   }
   return !hasPrescribedCoordinate("lgvi", why);
 }
