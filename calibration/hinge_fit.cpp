@@ -354,9 +354,9 @@ void widenBySpread(HingeFit* fit) {
   fit->sigma_secondary_deg = fit->model_check.widened(fit->sigma_secondary_deg, 1);
 }
 
-}  // namespace
 
-HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+/// The whole fit of one recording (fitHinge times it).
+HingeFit fitHingeWhole(const JointSamples& samples, const AxisFitOptions& options) {
   AxisFitOptions chosen;
   HingeFit fit = fitHingeChosen({&samples}, options, &chosen);
   if (!options.check_segments) return fit;
@@ -369,9 +369,10 @@ HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
   return fit;
 }
 
-HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options) {
+/// The whole fit of several recordings (fitHinge times it).
+HingeFit fitHingeWhole(const std::vector<JointSamples>& recordings, const AxisFitOptions& options) {
   if (recordings.empty()) throw std::invalid_argument("fitHinge: no recording");
-  if (recordings.size() == 1) return fitHinge(recordings.front(), options);
+  if (recordings.size() == 1) return fitHingeWhole(recordings.front(), options);
   const JointSamples& first = recordings.front();
   for (const JointSamples& r : recordings) {
     if (r.main.name != first.main.name || r.secondary.name != first.secondary.name)
@@ -394,6 +395,25 @@ HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOpti
   if (!options.check_segments) return fit;
   fit.model_check = checkHingeAcrossRecordings(recordings, chosen, fit.axis_main, fit.axis_secondary);
   widenBySpread(&fit);
+  return fit;
+}
+
+}  // namespace
+
+/// summary.seconds is the wall time of the whole fit: the estimator's and
+/// the filter's choice, the clock-offset profiles and the model check's
+/// segment fits with it (the solvers' own seconds counted only their solve).
+HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  HingeFit fit = fitHingeWhole(samples, options);
+  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return fit;
+}
+
+HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  HingeFit fit = fitHingeWhole(recordings, options);
+  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fit;
 }
 

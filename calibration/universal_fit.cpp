@@ -271,9 +271,9 @@ UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions
   return fit;
 }
 
-}  // namespace
 
-UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+/// The whole fit (fitUniversal times it).
+UniversalFit fitUniversalWhole(const JointSamples& samples, const AxisFitOptions& options) {
   // A wobble on soft tissue (wobble_check.hpp): with --use auto the fit
   // leaves the gyroscopes out (their residual is weighted by white noise,
   // which a filter would colour) and reads the orientations alone.
@@ -320,6 +320,17 @@ UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& opt
                                       "universal joint", "segments", "the whole recording", false);
   fit.sigma1_deg = fit.model_check.widened(fit.sigma1_deg, 0);
   fit.sigma2_deg = fit.model_check.widened(fit.sigma2_deg, 1);
+  return fit;
+}
+
+}  // namespace
+
+/// summary.seconds is the wall time of the whole fit, the model check's
+/// segment fits with it.
+UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  UniversalFit fit = fitUniversalWhole(samples, options);
+  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fit;
 }
 
