@@ -7,6 +7,7 @@
 
 #include "calibration/fit_progress.hpp"
 
+#include <chrono>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -199,7 +200,7 @@ struct AxisFitSummary {
   /// Under a robust loss, the Gauss–Newton σ the sandwich replaced (the
   /// larger axis', rad); 0 otherwise.
   double gauss_newton_sigma_rad = 0.0;
-  double seconds = 0.0;     ///< wall time of the whole fit
+  double seconds = 0.0;     ///< wall time of the whole fit (timedFit, at the public entry points)
 };
 
 /// What a fit estimated of the sensors besides the joint (AxisFitOptions::
@@ -238,6 +239,19 @@ class NotIdentifiable : public std::runtime_error {
  private:
   std::string reason_;
 };
+
+/// fit() with its summary.seconds set to the wall time of the whole call:
+/// the public entry points of the axis fits time themselves here, so that
+/// the estimator's and the filter's choice, the clock-offset profiles and
+/// the model check's segment fits are counted, and nothing inside them
+/// keeps a clock of its own.
+template <typename Fit>
+auto timedFit(Fit&& fit) {
+  const auto start = std::chrono::steady_clock::now();
+  auto out = fit();
+  out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
 
 }  // namespace calibration
 }  // namespace lieflow

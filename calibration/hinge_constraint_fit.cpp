@@ -1,7 +1,6 @@
 #include "calibration/hinge_constraint_fit.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -386,7 +385,6 @@ Shifts sameShift(const Recordings& runs, int shift) { return Shifts(runs.size(),
 
 HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, const Shifts& shifts,
                          const Unfiltered& unfiltered) {
-  const auto start_time = std::chrono::steady_clock::now();
   const JointSamples& samples = *runs.front();
   if (shifts.size() != runs.size()) throw std::invalid_argument("fitHingeAtShift: a shift per recording expected");
   DataSelection data = hingeData(runs, options);
@@ -409,6 +407,8 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
   IdentifiabilityContext context;
   context.axis1 = "the axis in the main body '" + samples.main.name + "'";
   context.axis2 = "the axis in the secondary body '" + samples.secondary.name + "'";
+  if (runs.size() > 1)
+    for (std::size_t r = 0; r < runs.size(); ++r) context.nuisance_blocks.push_back(recordingLabel(runs, r));
   if (data.orientations) {
     for (std::size_t r = 0; r < runs.size(); ++r) kinds.push_back(orientationKind(R12[r], recordingLabel(runs, r)));
     starts.push_back({hingeAxesFromOrientations(all_R12), "closed form (orientations)"});
@@ -494,7 +494,6 @@ HingeFit fitHingeAtShift(const Recordings& runs, const AxisFitOptions& options, 
   fit.summary.search_starts = search_starts;
   fit.summary.data = data.name();
   fit.summary.samples = totalSamples(runs);
-  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
 }
 

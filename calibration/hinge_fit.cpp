@@ -5,7 +5,6 @@
 #include "calibration/hinge_fit.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <climits>
 #include <cmath>
 #include <limits>
@@ -46,7 +45,6 @@ constexpr int kOffsetRefits = 3;
 /// (started from its values; several recordings: each one's own).
 void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, const Shifts& shifts,
                         HingeFit* fit_out) {
-  const auto start_time = std::chrono::steady_clock::now();
   const JointSamples& samples = *runs.front();
   HingeFit& fit = *fit_out;
   HingeLikelihoodOptions ml_options;
@@ -88,7 +86,6 @@ void refineByLikelihood(const Recordings& runs, const AxisFitOptions& options, c
     fit.summary.converged = false;
     fit.summary.message = "the likelihood refinement did not converge: " + ml.message;
   }
-  fit.summary.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
 }
 
 }  // namespace
@@ -400,21 +397,13 @@ HingeFit fitHingeWhole(const std::vector<JointSamples>& recordings, const AxisFi
 
 }  // namespace
 
-/// summary.seconds is the wall time of the whole fit: the estimator's and
-/// the filter's choice, the clock-offset profiles and the model check's
-/// segment fits with it (the solvers' own seconds counted only their solve).
+/// summary.seconds: the whole fit's (timedFit).
 HingeFit fitHinge(const JointSamples& samples, const AxisFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  HingeFit fit = fitHingeWhole(samples, options);
-  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return fit;
+  return timedFit([&] { return fitHingeWhole(samples, options); });
 }
 
 HingeFit fitHinge(const std::vector<JointSamples>& recordings, const AxisFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  HingeFit fit = fitHingeWhole(recordings, options);
-  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return fit;
+  return timedFit([&] { return fitHingeWhole(recordings, options); });
 }
 
 }  // namespace calibration

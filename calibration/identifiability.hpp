@@ -34,6 +34,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -51,6 +52,9 @@ struct IdentifiabilityContext {
   std::string axis1;  ///< e.g. "the axis in the main body 'A'"
   std::string axis2;
   std::string hint;   ///< what motion the fit needs
+  /// Per nuisance block, the recording it belongs to (" [file]", as the
+  /// residual kinds' names end); empty with one recording.
+  std::vector<std::string> nuisance_blocks;
 };
 
 struct AxisInformation {

@@ -446,17 +446,11 @@ struct TwoAxisSolver {
   }
 
   /// "the gyroscope biases" (and clock offset) of nuisance block b, with its
-  /// recording's label where the kinds name one.
+  /// recording's label where the context names one.
   std::string nuisanceName(int block) const {
     std::string what = nuisance.active[0] ? "the gyroscope biases" : "";
     if (nuisance.active[4]) what += what.empty() ? "the clock offset" : " and clock offset";
-    for (std::size_t k = 0; k < p.kindCount(); ++k) {
-      const ResidualKind& kind = p.kind(k);
-      if (!kind.usesNuisance() || kind.nuisanceBlock() != block) continue;
-      const std::size_t open = kind.name().rfind(" [");
-      if (open != std::string::npos) what += " of" + kind.name().substr(open);
-      break;
-    }
+    if (block < static_cast<int>(context.nuisance_blocks.size())) what += " of" + context.nuisance_blocks[block];
     return what;
   }
 

@@ -1,7 +1,6 @@
 #include "calibration/universal_fit.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <climits>
 #include <cmath>
 #include <memory>
@@ -100,7 +99,6 @@ double orientationCostAtShift(const JointSamples& s, int m) {
 /// The fit with the secondary's samples `shift` whole samples back.
 UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOptions& options, int shift,
                                  const DataSelection& data) {
-  const auto start_time = std::chrono::steady_clock::now();
   const bool offset = options.fit_time_offset;
   // With the offset: the pairs at the shift, and the same less kRateWindow at
   // each end (the secondary's rate slope needs them); without, the recording.
@@ -212,7 +210,6 @@ UniversalFit fitUniversalAtShift(const JointSamples& recorded, const AxisFitOpti
   fit.summary = solution.summary;
   fit.summary.data = data.name();
   fit.summary.samples = samples.size();
-  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
 }
 
@@ -325,13 +322,9 @@ UniversalFit fitUniversalWhole(const JointSamples& samples, const AxisFitOptions
 
 }  // namespace
 
-/// summary.seconds is the wall time of the whole fit, the model check's
-/// segment fits with it.
+/// summary.seconds: the whole fit's (timedFit).
 UniversalFit fitUniversal(const JointSamples& samples, const AxisFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  UniversalFit fit = fitUniversalWhole(samples, options);
-  fit.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return fit;
+  return timedFit([&] { return fitUniversalWhole(samples, options); });
 }
 
 }  // namespace calibration
