@@ -33,7 +33,7 @@ void addModelCheck(Json& j, const calibration::ModelCheck& check, const std::str
   j["model_check"] = check.note;
   Json segments = Json::array();
   for (const calibration::SegmentFit& s : check.segments) {
-    Json seg = {{"t_start", s.t_start}, {"t_end", s.t_end}};
+    Json seg = {{"by", s.by}, {"t_start", s.t_start}, {"t_end", s.t_end}};
     if (!s.source.empty()) seg["recording"] = s.source;
     if (s.answered) {
       seg[main] = {s.main.x(), s.main.y(), s.main.z()};

@@ -30,21 +30,13 @@ PieceFit hingePieceFit(const AxisFitOptions& options) {
 
 ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOptions& options,
                                     const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary) {
-  std::string why;
-  const std::vector<JointSamples> quarters = timeSegments(samples, &why);
-  if (quarters.empty()) {
-    ModelCheck check;
-    check.note = "not checked across segments: " + why;
-    return check;
-  }
-  return checkAcrossPieces(quarters, hingePieceFit(options), lineDistanceDeg, axis_main, axis_secondary, "hinge",
-                           "segments", "the whole recording", false);
+  return checkAcrossRecording(samples, hingePieceFit(options), lineDistanceDeg, axis_main, axis_secondary, "hinge");
 }
 
 ModelCheck checkHingeAcrossRecordings(const std::vector<JointSamples>& recordings, const AxisFitOptions& options,
                                       const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary) {
   return checkAcrossPieces(recordings, hingePieceFit(options), lineDistanceDeg, axis_main, axis_secondary, "hinge",
-                           "recordings", "all the recordings", true);
+                           "recordings", "all the recordings", "recording");
 }
 
 }  // namespace calibration

@@ -1,6 +1,7 @@
 /// \file
 /// The hinge fit's check of its own model (model_check.hpp): by time, the
-/// recording's quarters; over several recordings, each recording alone.
+/// recording's quarters, and by activity, its parts between rests;
+/// over several recordings, each recording alone.
 #pragma once
 
 #include <vector>
@@ -16,7 +17,8 @@ namespace calibration {
 
 /// The check for a fit of `samples` with `options` (the filter and the
 /// estimator already chosen) whose axes are `axis_main`, `axis_secondary`:
-/// each quarter fitted alone (no filter choice or check of its own).
+/// each quarter and each part fitted alone (no filter choice or check of its
+/// own).
 ModelCheck checkHingeAcrossSegments(const JointSamples& samples, const AxisFitOptions& options,
                                     const Eigen::Vector3d& axis_main, const Eigen::Vector3d& axis_secondary);
 

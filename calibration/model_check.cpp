@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "calibration/activity_segments.hpp"
 #include "calibration/identifiability.hpp"
 #include "calibration/unit_axis.hpp"
 #include "liegroup/invalid_input.hpp"
@@ -13,23 +14,18 @@ namespace calibration {
 
 namespace {
 
-template <class T>
-std::vector<T> slice(const std::vector<T>& v, int begin, int end) {
-  return v.empty() ? v : std::vector<T>(v.begin() + begin, v.begin() + end);
-}
-
-JointSamples segmentOf(const JointSamples& s, int begin, int end) {
-  JointSamples out;
-  out.source = s.source;
-  out.time = slice(s.time, begin, end);
-  for (int b = 0; b < 2; ++b) {
-    const BodySamples& from = b == 0 ? s.main : s.secondary;
-    BodySamples& to = b == 0 ? out.main : out.secondary;
-    to.name = from.name;
-    to.orientation = slice(from.orientation, begin, end);
-    to.angular_velocity = slice(from.angular_velocity, begin, end);
-    to.specific_force = slice(from.specific_force, begin, end);
-  }
+/// Both checks of one recording in one: the segments of each, disagreement
+/// where either disagrees, each vector's spread and χ² the larger.
+ModelCheck merged(ModelCheck by_time, const ModelCheck& by_activity) {
+  ModelCheck out = std::move(by_time);
+  out.note = "by time: " + out.note + "; by activity: " + by_activity.note;
+  out.segments.insert(out.segments.end(), by_activity.segments.begin(), by_activity.segments.end());
+  if (!by_activity.ran) return out;
+  out.ran = true;
+  out.chi_square = std::max(out.chi_square, by_activity.chi_square);
+  out.disagree = out.disagree || by_activity.disagree;
+  out.spread_main = std::max(out.spread_main, by_activity.spread_main);
+  out.spread_secondary = std::max(out.spread_secondary, by_activity.spread_secondary);
   return out;
 }
 
@@ -52,14 +48,14 @@ std::vector<JointSamples> timeSegments(const JointSamples& samples, std::string*
   }
   std::vector<JointSamples> pieces;
   for (int k = 0; k < kModelSegments; ++k)
-    pieces.push_back(segmentOf(samples, k * n / kModelSegments, (k + 1) * n / kModelSegments));
+    pieces.push_back(samplesBetween(samples, k * n / kModelSegments, (k + 1) * n / kModelSegments));
   return pieces;
 }
 
 ModelCheck checkAcrossPieces(const std::vector<JointSamples>& pieces, const PieceFit& fit,
                              const PieceDistance& distance, const Eigen::Vector3d& whole_main,
                              const Eigen::Vector3d& whole_secondary, const std::string& model,
-                             const std::string& what, const std::string& whole, bool name_sources) {
+                             const std::string& what, const std::string& whole, const std::string& by) {
   ModelCheck check;
   double sum = 0.0, d2[2] = {0.0, 0.0}, s2[2] = {0.0, 0.0};
   int answered = 0;
@@ -67,7 +63,8 @@ ModelCheck checkAcrossPieces(const std::vector<JointSamples>& pieces, const Piec
     SegmentFit seg;
     seg.t_start = piece.time.empty() ? 0.0 : piece.time.front();
     seg.t_end = piece.time.empty() ? 0.0 : piece.time.back();
-    if (name_sources) seg.source = piece.source;
+    seg.by = by;
+    if (by == "recording") seg.source = piece.source;
     try {
       const PieceAnswer f = fit(piece);
       seg.answered = true;
@@ -86,7 +83,7 @@ ModelCheck checkAcrossPieces(const std::vector<JointSamples>& pieces, const Piec
       }
       ++answered;
     } catch (const NotIdentifiable& e) {
-      seg.why = std::string("not identifiable: ") + e.what();
+      seg.why = e.what();  // "not identifiable: …"
     } catch (const InvalidInput& e) {
       seg.why = e.what();
     } catch (const FitFailed& e) {
@@ -115,5 +112,35 @@ ModelCheck checkAcrossPieces(const std::vector<JointSamples>& pieces, const Piec
   return check;
 }
 
+ModelCheck checkAcrossRecording(const JointSamples& samples, const PieceFit& fit, const PieceDistance& distance,
+                                const Eigen::Vector3d& whole_main, const Eigen::Vector3d& whole_secondary,
+                                const std::string& model, int min_samples) {
+  const std::string whole = "the whole recording";
+  std::string why;
+  const std::vector<JointSamples> quarters = timeSegments(samples, &why, min_samples);
+  ModelCheck by_time;
+  if (quarters.empty())
+    by_time.note = "not checked across segments: " + why;
+  else
+    by_time = checkAcrossPieces(quarters, fit, distance, whole_main, whole_secondary, model, "segments", whole, "time");
+  // By activity: the parts between the middles of rests, each long enough.
+  const std::vector<SampleSpan> parts = activityParts(samples);
+  std::vector<JointSamples> pieces;
+  if (parts.size() >= 2)  // (one part: the whole recording, not copied)
+    for (const SampleSpan& p : parts)
+      if (p.end - p.begin >= min_samples) pieces.push_back(samplesBetween(samples, p.begin, p.end));
+  ModelCheck by_activity;
+  if (parts.size() < 2)
+    by_activity.note = "not checked: no rest of " + formatNumber(kMinRestSeconds) + " s divides the recording";
+  else if (pieces.size() < 2)
+    by_activity.note = "not checked: " + std::to_string(pieces.size()) + " of " + std::to_string(parts.size()) +
+                       " parts between rests have " + std::to_string(min_samples) + " samples";
+  else
+    by_activity = checkAcrossPieces(pieces, fit, distance, whole_main, whole_secondary, model, "parts between rests",
+                                    whole, "activity");
+  return merged(std::move(by_time), by_activity);
+}
+
 }  // namespace calibration
 }  // namespace lieflow
+

@@ -1,6 +1,7 @@
 /// \file
 /// A fit checks its own model across the recording (issue 31): the
-/// recording is split into segments (by time: kModelSegments quarters; or,
+/// recording is split into segments (by time: kModelSegments quarters; by
+/// activity: its parts between the middles of its rests, activity_segments.hpp; or,
 /// for a fit over several recordings, one segment per recording), each is
 /// fitted alone with the same options, and each segment's answer — two
 /// vectors, one per body (a hinge's or a universal joint's axes, a ball
@@ -45,6 +46,9 @@ constexpr double kSegmentChiSquare = 3.0;
 struct SegmentFit {
   double t_start = 0.0, t_end = 0.0;
   std::string source;  ///< the recording (a fit over several recordings: one segment per recording)
+  /// What cut it: "time" (a quarter), "activity" (a part between the middles
+  /// of rests, activity_segments.hpp) or "recording" (one of several).
+  std::string by = "time";
   bool answered = false;
   std::string why;  ///< why not, when it did not answer
   Eigen::Vector3d main = Eigen::Vector3d::Zero(), secondary = Eigen::Vector3d::Zero();
@@ -84,12 +88,23 @@ std::vector<JointSamples> timeSegments(const JointSamples& samples, std::string*
 /// The check of the file comment over `pieces` against the whole fit's
 /// vectors. `model` names the joint in the note ("hinge"), `what` the pieces
 /// ("segments", "recordings"), `whole` what one joint should describe ("the
-/// whole recording"); with `name_sources` each segment keeps its recording's
-/// name.
+/// whole recording"); `by` is each segment's SegmentFit::by (with
+/// "recording" each keeps its recording's name).
 ModelCheck checkAcrossPieces(const std::vector<JointSamples>& pieces, const PieceFit& fit,
                              const PieceDistance& distance, const Eigen::Vector3d& whole_main,
                              const Eigen::Vector3d& whole_secondary, const std::string& model,
-                             const std::string& what, const std::string& whole, bool name_sources);
+                             const std::string& what, const std::string& whole, const std::string& by);
+
+/// The check of one recording's fit, by time and by activity: its quarters
+/// (timeSegments) and its parts by activity (activityParts, those of at
+/// least `min_samples`, when a rest divides the recording), each set
+/// checked as checkAcrossPieces does; the two are merged (both sets in
+/// `segments`, `by` telling them apart; disagreement where either set
+/// disagrees; each vector's spread the larger of the two). Quarters that
+/// each mix two activities can agree while the activities do not.
+ModelCheck checkAcrossRecording(const JointSamples& samples, const PieceFit& fit, const PieceDistance& distance,
+                                const Eigen::Vector3d& whole_main, const Eigen::Vector3d& whole_secondary,
+                                const std::string& model, int min_samples = kMinModelSegmentSamples);
 
 /// The angle between two lines, in degrees (an axis and its opposite are one line).
 double lineDistanceDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b);

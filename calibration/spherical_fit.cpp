@@ -45,20 +45,13 @@ SphericalFit fitSpherical(const JointSamples& samples, const AxisFitOptions& opt
   }
   fit.centre = centreOf(samples, fit.low_pass_hz, &fit.low_pass_noise_gain);
   if (!options.check_segments) return fit;
-  std::string why;
-  const std::vector<JointSamples> quarters = timeSegments(samples, &why, kMinCentreSegmentSamples);
-  if (quarters.empty()) {
-    fit.model_check.note = "not checked across segments: " + why;
-    return fit;
-  }
   const double cutoff = fit.low_pass_hz;
   const PieceFit fitPiece = [cutoff](const JointSamples& piece) {
     const JointCentreFit c = centreOf(piece, cutoff, nullptr);
     return PieceAnswer{c.anchor_main, c.anchor_secondary, c.sigma_main, c.sigma_secondary};
   };
-  fit.model_check = checkAcrossPieces(quarters, fitPiece, pointDistance, fit.centre.anchor_main,
-                                      fit.centre.anchor_secondary, "ball joint", "segments", "the whole recording",
-                                      false);
+  fit.model_check = checkAcrossRecording(samples, fitPiece, pointDistance, fit.centre.anchor_main,
+                                         fit.centre.anchor_secondary, "ball joint", kMinCentreSegmentSamples);
   fit.centre.sigma_main = fit.model_check.widened(fit.centre.sigma_main, 0);
   fit.centre.sigma_secondary = fit.model_check.widened(fit.centre.sigma_secondary, 1);
   return fit;

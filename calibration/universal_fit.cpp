@@ -299,12 +299,6 @@ UniversalFit fitUniversalWhole(const JointSamples& samples, const AxisFitOptions
     fit.model_check.note = "not checked across segments: each segment would search its own clock offset";
     return fit;
   }
-  std::string why;
-  const std::vector<JointSamples> quarters = timeSegments(samples, &why);
-  if (quarters.empty()) {
-    fit.model_check.note = "not checked across segments: " + why;
-    return fit;
-  }
   AxisFitOptions piece = chosen;
   piece.check_segments = false;
   piece.low_pass_auto = false;
@@ -313,8 +307,8 @@ UniversalFit fitUniversalWhole(const JointSamples& samples, const AxisFitOptions
     const UniversalFit f = fitUniversalAsked(s, piece);
     return PieceAnswer{f.axis1_main, f.axis2_secondary, f.sigma1_deg, f.sigma2_deg};
   };
-  fit.model_check = checkAcrossPieces(quarters, fitPiece, lineDistanceDeg, fit.axis1_main, fit.axis2_secondary,
-                                      "universal joint", "segments", "the whole recording", false);
+  fit.model_check = checkAcrossRecording(samples, fitPiece, lineDistanceDeg, fit.axis1_main, fit.axis2_secondary,
+                                         "universal joint");
   fit.sigma1_deg = fit.model_check.widened(fit.sigma1_deg, 0);
   fit.sigma2_deg = fit.model_check.widened(fit.sigma2_deg, 1);
   return fit;

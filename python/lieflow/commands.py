@@ -693,7 +693,8 @@ def calibrate_universal(recording, main=None, secondary=None, use=None, loss=Non
     Never filtered: with low_pass=None (auto) gyroscopes that wobble on soft
     tissue are left out and the orientations answer ("low_pass_reason" says
     so); low_pass="none" keeps them. From 1000 samples the fit checks its
-    quarters ("model_check", "model_spread_deg", "segments")."""
+    quarters, and its parts between rests of 1 s ("model_check",
+    "model_spread_deg", "segments", each with "by": "time" or "activity")."""
     values = dict(main=main, secondary=secondary, use=use, loss=loss, loss_scale=loss_scale, start_main=start_main,
                   start_secondary=start_secondary, max_iterations=max_iterations, max_sigma_deg=max_sigma_deg,
                   min_samples=min_samples, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
@@ -716,7 +717,9 @@ def calibrate_spherical(recording, main=None, secondary=None, max_input_mb=None,
     calibrate_hinge. low_pass=None (auto) low-passes both at 4 Hz when a
     gyroscope wobbles, "none" never, HZ at that cutoff (as calibrate_hinge);
     "low_pass_hz" and "low_pass_reason" say which. From 4000 samples the fit
-    checks its quarters' anchors ("model_check", "model_spread_m", "segments")."""
+    checks its quarters' anchors, and those of its parts between rests of 1 s
+    of at least 1000 samples ("model_check", "model_spread_m", "segments", each
+    with "by": "time" or "activity")."""
     values = dict(main=main, secondary=secondary, max_input_mb=max_input_mb, max_rows=max_rows, verbose=verbose,
                   low_pass=low_pass)
     return _calibrate("spherical", recording, _CENTRE_FIT, values, partial)

@@ -170,6 +170,7 @@ TEST(CalibCli, HingeFromSeveralRecordings) {
   EXPECT_EQ(j["recordings"][1]["samples"], 600);
   ASSERT_EQ(j["segments"].size(), 2u);
   EXPECT_EQ(j["segments"][1]["recording"], b);
+  EXPECT_EQ(j["segments"][1]["by"], "recording");
   EXPECT_FALSE(j["model_spread_deg"].is_null()) << j["model_check"];
   const double e1 = test::lineErrorDeg(vector3(j["axis_main"]), m.axis_main);
   const double e2 = test::lineErrorDeg(vector3(j["axis_secondary"]), m.axisSecondary());

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 
 #include <Eigen/Core>
@@ -70,6 +71,15 @@ inline RecordingNoise gyroscopeNoise(double sigma) {
 inline Eigen::Vector3d perpendicular(const Eigen::Vector3d& b, const Eigen::Vector3d& axis) {
   const Eigen::Vector3d a = axis.normalized();
   return b - b.dot(a) * a;
+}
+
+/// Another motion of the same hinge: its own main-body rotation and joint
+/// angle, the same axis j₁ and mount C (so the same j₂).
+inline HingeMotion sameHingeOtherMotion(const HingeMotion& m, std::mt19937& gen) {
+  HingeMotion other = randomHingeMotion(gen);
+  other.axis_main = m.axis_main;
+  other.mount = m.mount;
+  return other;
 }
 
 }  // namespace test

@@ -25,15 +25,6 @@ using test::lineErrorDeg;
 
 constexpr int kSamples = test::kSanitized ? 300 : 1000;
 
-/// Another motion of the same hinge: its own main-body rotation and joint
-/// angle, the same axis j₁ and mount C (so the same j₂).
-HingeMotion sameHingeOtherMotion(const HingeMotion& m, std::mt19937& gen) {
-  HingeMotion other = randomHingeMotion(gen);
-  other.axis_main = m.axis_main;
-  other.mount = m.mount;
-  return other;
-}
-
 JointSamples named(JointSamples s, const std::string& source) {
   s.source = source;
   return s;
@@ -50,7 +41,7 @@ TEST(CalibHingeRecordings, TwoRecordingsOfOneHingeShareItsAxes) {
   int answered = 0;
   for (int trial = 0; trial < pairs; ++trial) {
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeMotion m2 = sameHingeOtherMotion(m, gen);
+    const HingeMotion m2 = test::sameHingeOtherMotion(m, gen);
     const std::vector<JointSamples> recordings = {
         named(recordMotion(m, kSamples, 100.0, test::gyroscopeNoise(0.1), gen), "a.csv"),
         named(recordMotion(m2, kSamples / 2, 50.0, test::gyroscopeNoise(0.1), gen), "b.csv")};
@@ -134,7 +125,7 @@ TEST(CalibHingeRecordings, ARecordingCutInTwoFitsAsTheWhole) {
 TEST(CalibHingeRecordings, RecordingsOfTwoHingesDisagreeAndSigmaSaysSo) {
   std::mt19937 gen(9);
   const HingeMotion m = randomHingeMotion(gen);
-  HingeMotion m2 = sameHingeOtherMotion(m, gen);
+  HingeMotion m2 = test::sameHingeOtherMotion(m, gen);
   m2.mount = m.mount * SO3d::exp(8.0 * M_PI / 180.0 * orthogonalUnit(m.axisSecondary()));
   const std::vector<JointSamples> recordings = {
       named(recordMotion(m, kSamples, 100.0, test::gyroscopeNoise(0.01), gen), "a.csv"),
@@ -225,7 +216,7 @@ TEST(CalibHingeRecordings, EachRecordingsBiasesAreItsOwn) {
   int answered[2] = {0, 0};
   for (int trial = 0; trial < pairs; ++trial) {
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeMotion m2 = sameHingeOtherMotion(m, gen);
+    const HingeMotion m2 = test::sameHingeOtherMotion(m, gen);
     RecordingNoise noise[2] = {test::gyroscopeNoise(0.1), test::gyroscopeNoise(0.1)};
     for (RecordingNoise& n : noise) {
       n.gyro_bias_main = 0.05 * Eigen::Vector3d(normal(gen), normal(gen), normal(gen));
@@ -276,7 +267,7 @@ TEST(CalibHingeRecordings, EachRecordingsBiasesAreItsOwn) {
   biased.gyro_bias_secondary = Eigen::Vector3d(0.1, -0.05, 0.07);
   const std::vector<JointSamples> one_biased = {
       named(recordMotion(m, kSamples, 100.0, test::gyroscopeNoise(0.01), gen), "a.csv"),
-      named(recordMotion(sameHingeOtherMotion(m, gen), kSamples, 100.0, biased, gen), "b.csv")};
+      named(recordMotion(test::sameHingeOtherMotion(m, gen), kSamples, 100.0, biased, gen), "b.csv")};
   const HingeFit plain = fitHinge(one_biased, AxisFitOptions());
   EXPECT_FALSE(plain.summary.converged);
   EXPECT_NE(plain.summary.message.find("gyroscopes of b.csv carry a constant bias"), std::string::npos)
@@ -314,7 +305,7 @@ TEST(CalibHingeRecordings, EachRecordingsClockOffsetIsItsOwn) {
   int answered = 0;
   for (int trial = 0; trial < pairs; ++trial) {
     const HingeMotion m = randomHingeMotion(gen);
-    const HingeMotion m2 = sameHingeOtherMotion(m, gen);
+    const HingeMotion m2 = test::sameHingeOtherMotion(m, gen);
     const bool biases = trial % 2 == 1;
     RecordingNoise noise[2] = {test::gyroscopeNoise(0.1), test::gyroscopeNoise(0.1)};
     for (RecordingNoise& n : noise) {
