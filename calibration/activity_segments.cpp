@@ -25,6 +25,7 @@ std::vector<double> squaredRates(const JointSamples& s) {
   }
   for (int k = 0; k + 1 < n; ++k) {
     const double dt = s.time[k + 1] - s.time[k];
+    if (!(dt > 0.0)) continue;  // (a repeated time: no rate there)
     for (const BodySamples* b : {&s.main, &s.secondary})
       r[k] += (b->orientation[k].inverse() * b->orientation[k + 1]).log().squaredNorm() / (dt * dt);
   }
@@ -52,9 +53,11 @@ JointSamples samplesBetween(const JointSamples& s, int begin, int end) {
 std::vector<SampleSpan> activityParts(const JointSamples& s) {
   const int n = s.size();
   if (n < 2 || !(s.hasAngularVelocities() || s.hasOrientations())) return {};
+  const double step = s.meanStep();
+  if (!(step > 0.0)) return {};  // (times that do not advance: nothing to cut by)
   const std::vector<double> r = squaredRates(s);
   // The level: the RMS over a centred window (prefix sums).
-  const int half = std::max(0, static_cast<int>(std::lround(0.5 * kActivityWindowSeconds / s.meanStep())));
+  const int half = static_cast<int>(std::min<double>(n, std::round(0.5 * kActivityWindowSeconds / step)));
   std::vector<double> prefix(static_cast<std::size_t>(n) + 1, 0.0);
   for (int k = 0; k < n; ++k) prefix[k + 1] = prefix[k] + r[k];
   std::vector<double> level(static_cast<std::size_t>(n));

@@ -42,7 +42,7 @@ struct SampleSpan {
 
 /// The recording's parts by activity (file comment), in time order, together
 /// all its samples; empty when it has neither gyroscopes nor orientations
-/// for both bodies or fewer than two samples.
+/// for both bodies, fewer than two samples or times that do not advance.
 std::vector<SampleSpan> activityParts(const JointSamples& samples);
 
 /// Samples [begin, end) of `samples`, every recorded column sliced alike.
