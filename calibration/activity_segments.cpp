@@ -8,11 +8,6 @@ namespace calibration {
 
 namespace {
 
-template <class T>
-std::vector<T> slice(const std::vector<T>& v, int begin, int end) {
-  return v.empty() ? v : std::vector<T>(v.begin() + begin, v.begin() + end);
-}
-
 /// ‖ω₁‖² + ‖ω₂‖² per sample, from the gyroscopes or, without them, from
 /// successive orientations (the last sample repeats the one before it).
 std::vector<double> squaredRates(const JointSamples& s) {
@@ -34,21 +29,6 @@ std::vector<double> squaredRates(const JointSamples& s) {
 }
 
 }  // namespace
-
-JointSamples samplesBetween(const JointSamples& s, int begin, int end) {
-  JointSamples out;
-  out.source = s.source;
-  out.time = slice(s.time, begin, end);
-  for (int b = 0; b < 2; ++b) {
-    const BodySamples& from = b == 0 ? s.main : s.secondary;
-    BodySamples& to = b == 0 ? out.main : out.secondary;
-    to.name = from.name;
-    to.orientation = slice(from.orientation, begin, end);
-    to.angular_velocity = slice(from.angular_velocity, begin, end);
-    to.specific_force = slice(from.specific_force, begin, end);
-  }
-  return out;
-}
 
 std::vector<SampleSpan> activityParts(const JointSamples& s) {
   const int n = s.size();

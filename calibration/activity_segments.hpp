@@ -45,8 +45,5 @@ struct SampleSpan {
 /// for both bodies, fewer than two samples or times that do not advance.
 std::vector<SampleSpan> activityParts(const JointSamples& samples);
 
-/// Samples [begin, end) of `samples`, every recorded column sliced alike.
-JointSamples samplesBetween(const JointSamples& samples, int begin, int end);
-
 }  // namespace calibration
 }  // namespace lieflow

@@ -351,7 +351,6 @@ void widenBySpread(HingeFit* fit) {
   fit->sigma_secondary_deg = fit->model_check.widened(fit->sigma_secondary_deg, 1);
 }
 
-
 /// The whole fit of one recording (fitHinge times it).
 HingeFit fitHingeWhole(const JointSamples& samples, const AxisFitOptions& options) {
   AxisFitOptions chosen;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,6 +47,27 @@ struct JointSamples {
     return main.hasAngularVelocity() && secondary.hasAngularVelocity();
   }
 };
+
+/// Samples [begin, end) of `samples`, every recorded column sliced alike
+/// (a column not recorded stays empty).
+inline JointSamples samplesBetween(const JointSamples& samples, int begin, int end) {
+  const auto cut = [begin, end](const auto& v) {
+    using V = std::decay_t<decltype(v)>;
+    return v.empty() ? V() : V(v.begin() + begin, v.begin() + end);
+  };
+  JointSamples out;
+  out.source = samples.source;
+  out.time = cut(samples.time);
+  for (int b = 0; b < 2; ++b) {
+    const BodySamples& from = b == 0 ? samples.main : samples.secondary;
+    BodySamples& to = b == 0 ? out.main : out.secondary;
+    to.name = from.name;
+    to.orientation = cut(from.orientation);
+    to.angular_velocity = cut(from.angular_velocity);
+    to.specific_force = cut(from.specific_force);
+  }
+  return out;
+}
 
 }  // namespace calibration
 }  // namespace lieflow

@@ -100,28 +100,6 @@ double LowPassFilter::noisePowerGain() const {
   return sum;
 }
 
-namespace {
-
-/// Samples [from, to) of every column.
-JointSamples slice(const JointSamples& s, int from, int to) {
-  JointSamples out;
-  out.source = s.source;
-  out.time.assign(s.time.begin() + from, s.time.begin() + to);
-  const auto cut = [&](const auto& v) {
-    using V = std::decay_t<decltype(v)>;
-    return v.empty() ? V() : V(v.begin() + from, v.begin() + to);
-  };
-  for (const auto& pair : {std::make_pair(&s.main, &out.main), std::make_pair(&s.secondary, &out.secondary)}) {
-    pair.second->name = pair.first->name;
-    pair.second->orientation = cut(pair.first->orientation);
-    pair.second->angular_velocity = cut(pair.first->angular_velocity);
-    pair.second->specific_force = cut(pair.first->specific_force);
-  }
-  return out;
-}
-
-}  // namespace
-
 int firstUnevenInterval(const std::vector<double>& t) {
   if (t.size() < 2) return -1;
   const double h = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
@@ -170,8 +148,8 @@ JointSamples lowPassed(const JointSamples& samples, double cutoff_hz, const char
   }
   if (filter_out) *filter_out = filter;
   const int end = static_cast<int>(n) - trim;
-  if (unfiltered) *unfiltered = slice(samples, trim, end);
-  return slice(out, trim, end);
+  if (unfiltered) *unfiltered = samplesBetween(samples, trim, end);
+  return samplesBetween(out, trim, end);
 }
 
 }  // namespace calibration

@@ -268,7 +268,6 @@ UniversalFit fitUniversalAsked(const JointSamples& samples, const AxisFitOptions
   return fit;
 }
 
-
 /// The whole fit (fitUniversal times it).
 UniversalFit fitUniversalWhole(const JointSamples& samples, const AxisFitOptions& options) {
   // A wobble on soft tissue (wobble_check.hpp): with --use auto the fit
