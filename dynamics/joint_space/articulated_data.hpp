@@ -18,27 +18,14 @@
 #include <Eigen/StdVector>
 
 #include "dynamics/joint_space/spatial_algebra.hpp"
+#include "dynamics/joint_space/tree_passes.hpp"
 
 namespace lieflow {
 namespace articulated {
 
 struct ArticulatedData {
   /// One body's kinematics and articulated-body quantities (the ABA's passes).
-  struct Body {
-    Eigen::Matrix3d R;            ///< world orientation
-    Eigen::Vector3d c, x;         ///< centre of mass, joint anchor (world)
-    Eigen::Vector3d x2;           ///< an offset universal joint's second anchor (world)
-    std::array<double, 3> phi{{0.0, 0.0, 0.0}}, phidot{{0.0, 0.0, 0.0}}, phiddot{{0.0, 0.0, 0.0}};
-    std::array<Eigen::Vector3d, 3> axis;  ///< world joint axes (revolute, universal, gimbal)
-    Vector6 V, bias, a, pA;
-    Matrix6 IA;
-    Eigen::Matrix<double, 6, 3> S;  ///< free columns (first `free` of them)
-    int free = 0;
-    std::array<int, 3> free_u{{0, 0, 0}};  ///< the free columns' u indices
-    Eigen::Matrix<double, 6, 3> U;  ///< I_A S
-    Eigen::Matrix3d Dinv;           ///< (Sᵀ I_A S)⁻¹
-    Eigen::Vector3d tau;            ///< free generalized forces, then u − Uᵀ(...)
-  };
+  using Body = TreeBody<double>;
 
   std::vector<Body> bodies;
   /// A floating root's spatial momentum h in I_A a + p_A = h: zero for the

@@ -57,6 +57,7 @@
 #include "dynamics/joint_space/articulated_model.hpp"
 #include "dynamics/joint_space/articulated_state.hpp"
 #include "dynamics/joint_space/spatial_algebra.hpp"
+#include "dynamics/joint_space/tree_passes.hpp"
 
 namespace lieflow {
 namespace articulated {
@@ -395,25 +396,16 @@ class ArticulatedSystem {
   using BodyData = ArticulatedData::Body;
 
   /// Pass 1 of the ABA: kinematics, velocities, bias accelerations and
-  /// forces (`dynamics`: the rigid-body inertias and bias forces too).
+  /// forces (`dynamics`: the rigid-body inertias and bias forces too), by
+  /// the tree passes on any scalar (tree_passes.hpp) with the scene's loads.
   void forwardPass(double t, const State& y, bool dynamics, bool velocity_terms) const;
-  /// forwardPass's parts (articulated_dynamics.cpp): a joint's rotation R,
-  /// columns S, generalized forces τ and bias Ṡ u (per joint type: a free
-  /// root, a spherical joint, a joint of coordinates), its relative twist in
-  /// *Su; then the body's inertia I_A and bias force p_A.
-  void freeJointPass(const ArticulatedBody& b, BodyData& d, const State& y, bool velocity_terms, Vector6* Su) const;
-  void sphericalJointPass(const ArticulatedBody& b, BodyData& d, const Eigen::Matrix3d& Rp, const Vector6& Vp,
-                          const Eigen::Vector3d& line, const State& y, bool velocity_terms, Vector6* Su) const;
-  void coordinateJointPass(int i, double t, const State& y, bool dynamics, bool velocity_terms,
-                           const Eigen::Matrix3d& Rp, const Vector6& Vp, const Eigen::Vector3d& line, Vector6* Su,
-                           Eigen::Vector3d* child_anchor) const;
-  void inertiaAndBiasForce(int i, double t, bool velocity_terms) const;
   /// Passes 2 and 3 with the generalized forces in data_.bodies[i].tau; ground
   /// acceleration a0; writes u̇ of the free columns.
   void solve(const Vector6& a0, Eigen::VectorXd* udot) const;
-  /// Adds a child's I_a, p_a to its parent's I_A, p_A (Pᵀ · P for a
-  /// rotation-only child).
-  void passToParent(int i, const Matrix6& Ia, const Vector6& pa) const;
+  /// The tree passes on this system's model, frames and workspace.
+  TreePasses<double> passes() const {
+    return TreePasses<double>(model_, frames_, data_.bodies, data_.root_momentum, data_.projecting);
+  }
 
   /// The loops' terms at the kinematics in data_ (articulated_closures.cpp):
   /// G into data_.closure_G and, by `level`, Φ, Φ̇ or Φ̈ (at the accelerations in
@@ -460,42 +452,13 @@ class ArticulatedSystem {
   bool conserves_momentum_ = false;
   /// The workspace every evaluation writes (articulated_data.hpp).
   mutable ArticulatedData data_;
-  /// exp(φ a) R_ref = cos φ A + sin φ B + C with A = (I − a aᵀ) R_ref,
-  /// B = [a]× R_ref, C = a aᵀ R_ref (Rodrigues' formula times R_ref), per
-  /// body with a revolute or universal joint: its relative rotation costs a
-  /// sine, a cosine and 27 multiply-adds.
-  struct RotationBasis {
-    Eigen::Matrix3d A, B, C;
-  };
-  std::vector<RotationBasis> rotation_basis_;
+  /// Each joint's first axis and Rodrigues basis (tree_passes.hpp).
+  std::vector<JointFrame<double>> frames_;
   /// The relative rotation M (main → secondary) of body i's revolute or
-  /// universal joint from the cosines and sines of its angles φ
-  /// (articulated_model.hpp): exp(φ₁ a₁) R_ref [exp(φ₂ a₂)].
-  Eigen::Matrix3d jointRotation(int i, const std::array<double, 3>& c, const std::array<double, 3>& s) const {
-    const ArticulatedBody& b = model_.bodies[i];
-    const RotationBasis& r = rotation_basis_[i];
-    Eigen::Matrix3d M = c[0] * r.A + s[0] * r.B + r.C;
-    if (b.kind == JointKind::kUniversal) M = M * rotationAbout(b.axis2, c[1], s[1]);
-    return M;
-  }
-  /// A gimbal's relative rotation M = E₁E₂E₃ R_ref (E_k = exp(φ_k e_k)) and
-  /// its second and third axes turned by the hinges before them, E₁e₂ and
-  /// E₁E₂e₃ (main frame), from the cosines and sines of its angles.
-  struct GimbalAxes {
-    Eigen::Matrix3d M;
-    Eigen::Vector3d a2, a3;
-  };
-  static GimbalAxes gimbalAxes(const ArticulatedBody& b, const std::array<double, 3>& c,
-                               const std::array<double, 3>& s) {
-    const Eigen::Matrix3d E1 = rotationAbout(b.axis1, c[0], s[0]);
-    const Eigen::Matrix3d E12 = E1 * rotationAbout(b.axis2, c[1], s[1]);
-    return {E12 * rotationAbout(b.axis3, c[2], s[2]) * b.R_ref, E1 * b.axis2, E12 * b.axis3};
-  }
-  /// An offset universal joint's secondary anchor x₂ = x + R_main exp(φ₁a₁) δ
-  /// (δ = offset_ref), which the first hinge carries.
-  static Eigen::Vector3d offsetAnchor(const ArticulatedBody& b, const Eigen::Vector3d& x,
-                                      const Eigen::Matrix3d& R_main, double c0, double s0) {
-    return x + R_main * (rotationAbout(b.axis1, c0, s0) * b.offset_ref);
+  /// universal joint from the cosines and sines of its angles.
+  EIGEN_ALWAYS_INLINE Eigen::Matrix3d jointRotation(int i, const std::array<double, 3>& c,
+                                                     const std::array<double, 3>& s) const {
+    return articulated::jointRotation(model_.bodies[i], frames_[i], c, s);
   }
   /// The variational passes' steps: body i's pose at q from its parent's in
   /// *f; its twist, momentum and the twist before its columns at rates v

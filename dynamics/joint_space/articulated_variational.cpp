@@ -163,7 +163,7 @@ void ArticulatedSystem::poseInto(int i, const State& y, const Frames* near, Fram
   if (b.kind == JointKind::kGimbal) {
     // M = E₁E₂E₃ R_ref, E_k = exp(φ_k e_k); the columns the lines through the
     // anchor along R_main e₁, R_main E₁ e₂, R_main E₁E₂ e₃ (the parent is main).
-    const GimbalAxes g = gimbalAxes(b, fr.cos_phi, fr.sin_phi);
+    const GimbalAxes<double> g = gimbalAxes(b, fr.cos_phi, fr.sin_phi);
     fr.R = Rp * g.M;
     const Eigen::Vector3d A[3] = {Rp * b.axis1, Rp * g.a2, Rp * g.a3};
     for (int k = 0; k < 3; ++k) {

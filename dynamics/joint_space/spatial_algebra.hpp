@@ -17,40 +17,66 @@ using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 /// a × b written out: Eigen's cross on 3-blocks of 6-vectors is left out of
 /// line by GCC inside the large passes (12 % of the ABA's time in calls).
-EIGEN_ALWAYS_INLINE Eigen::Vector3d cross3(const Eigen::Ref<const Eigen::Vector3d>& a,
-                                           const Eigen::Ref<const Eigen::Vector3d>& b) {
-  return Eigen::Vector3d(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x());
+/// (These operations are templates on the scalar, for the passes of
+/// tree_passes.hpp on ceres::Jet; on double they are the same arithmetic.)
+/// (A double vector with a Jet one gives Jets: a constant stays in double.)
+template <class A, class B>
+using CrossScalar =
+    typename Eigen::ScalarBinaryOpTraits<typename A::Scalar, typename B::Scalar>::ReturnType;
+template <class A, class B>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<CrossScalar<A, B>, 3, 1> cross3(const Eigen::MatrixBase<A>& a_in,
+                                                                  const Eigen::MatrixBase<B>& b_in) {
+  // Each coefficient is read twice: an expression is evaluated once first
+  // (as Eigen's own cross does), a vector or block is read in place.
+  const typename Eigen::internal::nested_eval<A, 2>::type a(a_in.derived());
+  const typename Eigen::internal::nested_eval<B, 2>::type b(b_in.derived());
+  return Eigen::Matrix<CrossScalar<A, B>, 3, 1>(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(),
+                                                a.x() * b.y() - a.y() * b.x());
 }
 
 /// cos φ and sin φ from one call (adjacent, so that GCC makes them one sincos).
-EIGEN_ALWAYS_INLINE void sinCos(double phi, double* c, double* s) {
-  const double cc = std::cos(phi), ss = std::sin(phi);
+template <typename T>
+EIGEN_ALWAYS_INLINE void sinCos(T phi, T* c, T* s) {
+  using std::cos;
+  using std::sin;
+  const T cc = cos(phi), ss = sin(phi);
   *c = cc;
   *s = ss;
 }
 
 /// [v]×, the cross-product matrix.
-EIGEN_ALWAYS_INLINE Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+template <class D>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename D::Scalar, 3, 3> hat(const Eigen::MatrixBase<D>& v) {
+  using T = typename D::Scalar;
+  Eigen::Matrix<T, 3, 3> m;
+  m << T(0.0), -v.z(), v.y(), v.z(), T(0.0), -v.x(), -v.y(), v.x(), T(0.0);
   return m;
 }
 
 /// exp(φ a) for a unit axis a (Rodrigues): cos φ I + sin φ [a]× + (1 − cos φ) a aᵀ,
 /// from c = cos φ and s = sin φ.
-EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double c, double s) {
-  Eigen::Matrix3d m = (1.0 - c) * (a * a.transpose());
-  m.diagonal().array() += c;
-  m(0, 1) -= s * a.z();
-  m(1, 0) += s * a.z();
-  m(0, 2) += s * a.y();
-  m(2, 0) -= s * a.y();
-  m(1, 2) -= s * a.x();
-  m(2, 1) += s * a.x();
+template <typename T, typename A = T>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<T, 3, 3> rotationAbout(const Eigen::Matrix<A, 3, 1>& a, const T& c, const T& s) {
+  // Written out (no Eigen product of a aᵀ: inside the passes GCC left that
+  // out of line, 2.7 times the cost of the gimbal's rotations); the axis may
+  // be a double constant where c and s are Jets.
+  const T v = T(1.0) - c;
+  const A xx = a.x() * a.x(), yy = a.y() * a.y(), zz = a.z() * a.z();
+  const A xy = a.x() * a.y(), xz = a.x() * a.z(), yz = a.y() * a.z();
+  Eigen::Matrix<T, 3, 3> m;
+  m(0, 0) = v * xx + c;
+  m(1, 1) = v * yy + c;
+  m(2, 2) = v * zz + c;
+  m(0, 1) = v * xy - s * a.z();
+  m(1, 0) = v * xy + s * a.z();
+  m(0, 2) = v * xz + s * a.y();
+  m(2, 0) = v * xz - s * a.y();
+  m(1, 2) = v * yz - s * a.x();
+  m(2, 1) = v * yz + s * a.x();
   return m;
 }
 EIGEN_ALWAYS_INLINE Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& a, double phi) {
-  return rotationAbout(a, std::cos(phi), std::sin(phi));
+  return rotationAbout<double>(a, std::cos(phi), std::sin(phi));
 }
 
 /// Below this |φ − φ₀| sinCosNear uses the addition formulas.
@@ -74,35 +100,45 @@ EIGEN_ALWAYS_INLINE void sinCosNear(double phi, double phi0, double c0, double s
 }
 
 /// The unit rotation twist about the line through x with direction A: (A, x × A).
-EIGEN_ALWAYS_INLINE Vector6 lineTwist(const Eigen::Vector3d& A, const Eigen::Vector3d& x) {
-  Vector6 s;
-  s.head<3>() = A;
-  s.tail<3>() = cross3(x, A);
+template <class A, class X>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename A::Scalar, 6, 1> lineTwist(const Eigen::MatrixBase<A>& axis,
+                                                                      const Eigen::MatrixBase<X>& x) {
+  Eigen::Matrix<typename A::Scalar, 6, 1> s;
+  s.template head<3>() = axis;
+  s.template tail<3>() = cross3(x, axis);
   return s;
 }
 
 /// V ×ₘ m (motion cross product).
-EIGEN_ALWAYS_INLINE Vector6 crossMotion(const Vector6& V, const Vector6& m) {
-  Vector6 r;
-  r.head<3>() = cross3(V.head<3>(), m.head<3>());
-  r.tail<3>() = cross3(V.head<3>(), m.tail<3>()) + cross3(V.tail<3>(), m.head<3>());
+template <class A, class B>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename A::Scalar, 6, 1> crossMotion(const Eigen::MatrixBase<A>& V,
+                                                                        const Eigen::MatrixBase<B>& m) {
+  Eigen::Matrix<typename A::Scalar, 6, 1> r;
+  r.template head<3>() = cross3(V.template head<3>(), m.template head<3>());
+  r.template tail<3>() =
+      cross3(V.template head<3>(), m.template tail<3>()) + cross3(V.template tail<3>(), m.template head<3>());
   return r;
 }
 
 /// V ×_f h (force cross product).
-EIGEN_ALWAYS_INLINE Vector6 crossForce(const Vector6& V, const Vector6& h) {
-  Vector6 r;
-  r.head<3>() = cross3(V.head<3>(), h.head<3>()) + cross3(V.tail<3>(), h.tail<3>());
-  r.tail<3>() = cross3(V.head<3>(), h.tail<3>());
+template <class A, class B>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename A::Scalar, 6, 1> crossForce(const Eigen::MatrixBase<A>& V,
+                                                                       const Eigen::MatrixBase<B>& h) {
+  Eigen::Matrix<typename A::Scalar, 6, 1> r;
+  r.template head<3>() =
+      cross3(V.template head<3>(), h.template head<3>()) + cross3(V.template tail<3>(), h.template tail<3>());
+  r.template tail<3>() = cross3(V.template head<3>(), h.template tail<3>());
   return r;
 }
 
 /// A rotation-only body held at c moves as P (ω, v) = (ω, c × ω): P as a
 /// 6 × 6 matrix [I 0; [c]× 0].
-inline Matrix6 rotationOnlyMap(const Eigen::Vector3d& c) {
-  Matrix6 P = Matrix6::Zero();
-  P.topLeftCorner<3, 3>().setIdentity();
-  P.bottomLeftCorner<3, 3>() = hat(c);
+template <class D>
+inline Eigen::Matrix<typename D::Scalar, 6, 6> rotationOnlyMap(const Eigen::MatrixBase<D>& c) {
+  using T = typename D::Scalar;
+  Eigen::Matrix<T, 6, 6> P = Eigen::Matrix<T, 6, 6>::Zero();
+  P.template topLeftCorner<3, 3>().setIdentity();
+  P.template bottomLeftCorner<3, 3>() = hat(c);
   return P;
 }
 
@@ -115,18 +151,22 @@ inline Matrix6 freeColumns(const Eigen::Matrix3d& R, const Eigen::Vector3d& c) {
   return S;
 }
 
-EIGEN_ALWAYS_INLINE Vector6 heldMotion(const Eigen::Vector3d& c, const Vector6& V) {
-  Vector6 r;
-  r.head<3>() = V.head<3>();
-  r.tail<3>() = cross3(c, V.head<3>());
+template <class C, class D>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename D::Scalar, 6, 1> heldMotion(const Eigen::MatrixBase<C>& c,
+                                                                       const Eigen::MatrixBase<D>& V) {
+  Eigen::Matrix<typename D::Scalar, 6, 1> r;
+  r.template head<3>() = V.template head<3>();
+  r.template tail<3>() = cross3(c, V.template head<3>());
   return r;
 }
 
 /// Pᵀ F: the force (n, f) on a body held at c as its moment about c, (n − c × f, 0).
-EIGEN_ALWAYS_INLINE Vector6 heldForce(const Eigen::Vector3d& c, const Vector6& F) {
-  Vector6 r;
-  r.head<3>() = F.head<3>() - cross3(c, F.tail<3>());
-  r.tail<3>().setZero();
+template <class C, class D>
+EIGEN_ALWAYS_INLINE Eigen::Matrix<typename D::Scalar, 6, 1> heldForce(const Eigen::MatrixBase<C>& c,
+                                                                      const Eigen::MatrixBase<D>& F) {
+  Eigen::Matrix<typename D::Scalar, 6, 1> r;
+  r.template head<3>() = F.template head<3>() - cross3(c, F.template tail<3>());
+  r.template tail<3>().setZero();
   return r;
 }
 
