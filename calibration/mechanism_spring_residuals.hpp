@@ -18,7 +18,7 @@
 
 #include <Eigen/Core>
 
-#include "calibration/flatten.hpp"
+#include "liegroup/flatten.hpp"
 #include "calibration/mechanism_flow.hpp"
 #include "dynamics/joint_space/articulated_model.hpp"
 #include "liegroup/scalar.hpp"

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <optional>
 
-#include "calibration/flatten.hpp"
+#include "liegroup/flatten.hpp"
 #include "calibration/spring_data.hpp"
 #include "dynamics/joint_space/articulated_model.hpp"
 #include "dynamics/joint_space/scalar_dynamics.hpp"

@@ -38,19 +38,15 @@
 #include "dynamics/joint_space/articulated_model.hpp"
 #include "dynamics/joint_space/grounded_hinge.hpp"
 #include "dynamics/joint_space/tree_passes.hpp"
+#include "liegroup/flatten.hpp"
 #include "liegroup/invalid_input.hpp"
 
-/// Keeps a function out of its callers, its own calls flattened: the fits
-/// flatten their residuals (calibration/flatten.hpp), and GCC 12 failed (an
-/// internal compiler error in loop unrolling, cunrolli) when the tree passes
-/// on Jets were flattened into them. The boundary costs nothing measurable
-/// (on the hand-written passes before: bench_spring_fit's universal fit
-/// 244–250 ms without it, 237–255 ms with it).
-#if defined(__GNUC__) || defined(__clang__)
-#define LIEFLOW_NOT_FLATTENED __attribute__((noinline, flatten))
-#else
-#define LIEFLOW_NOT_FLATTENED
-#endif
+// The methods that run the tree passes are LIEFLOW_NOT_FLATTENED
+// (liegroup/flatten.hpp): the fits flatten their residuals, and GCC 12 failed
+// (an internal compiler error in loop unrolling, cunrolli) when the tree
+// passes on Jets were flattened into them. The boundary costs nothing
+// measurable (on the hand-written passes before: bench_spring_fit's
+// universal fit 244–250 ms without it, 237–255 ms with it).
 
 namespace lieflow {
 namespace articulated {

@@ -15,9 +15,16 @@
 #endif
 #endif
 
+/// LIEFLOW_NOT_FLATTENED: a function kept out of its callers (noinline),
+/// its own calls flattened — for code that a flattened function calls but
+/// must not take in (dynamics/joint_space/scalar_dynamics.hpp: GCC 12 failed
+/// flattening the tree passes on Jets into the fits' residuals). The same
+/// builds only; elsewhere nothing.
 #if (defined(__GNUC__) || defined(__clang__)) && defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__) && \
     !defined(LIEFLOW_FLATTEN_UNDER_ASAN)
 #define LIEFLOW_FLATTEN __attribute__((flatten))
+#define LIEFLOW_NOT_FLATTENED __attribute__((noinline, flatten))
 #else
 #define LIEFLOW_FLATTEN
+#define LIEFLOW_NOT_FLATTENED
 #endif
