@@ -132,21 +132,18 @@ struct GimbalAxes {
   Eigen::Matrix<T, 3, 1> a2, a3;
 };
 template <typename T>
-GimbalAxes<T> gimbalAxes(const ArticulatedBody& b, const std::array<T, 3>& c,
-                                             const std::array<T, 3>& s) {
+GimbalAxes<T> gimbalAxes(const ArticulatedBody& b, const std::array<T, 3>& c, const std::array<T, 3>& s) {
   using Mat3 = Eigen::Matrix<T, 3, 3>;
   const Mat3 E1 = rotationAbout(b.axis1, c[0], s[0]);
   const Mat3 E12 = E1 * rotationAbout(b.axis2, c[1], s[1]);
-  return {Mat3(E12 * rotationAbout(b.axis3, c[2], s[2]) * b.R_ref),
-          E1 * b.axis2, E12 * b.axis3};
+  return {Mat3(E12 * rotationAbout(b.axis3, c[2], s[2]) * b.R_ref), E1 * b.axis2, E12 * b.axis3};
 }
 
 /// An offset universal joint's secondary anchor x₂ = x + R_main exp(φ₁a₁) δ
 /// (δ = offset_ref), which the first hinge carries.
 template <typename T>
 Eigen::Matrix<T, 3, 1> offsetAnchor(const ArticulatedBody& b, const Eigen::Matrix<T, 3, 1>& x,
-                                                        const Eigen::Matrix<T, 3, 3>& R_main, const T& c0,
-                                                        const T& s0) {
+                                    const Eigen::Matrix<T, 3, 3>& R_main, const T& c0, const T& s0) {
   return x + R_main * (rotationAbout(b.axis1, c0, s0) * b.offset_ref);
 }
 
@@ -222,9 +219,10 @@ class TreePasses {
   template <class State, class Loads>
   void coordinateJointPass(int i, double t, const State& y, bool dynamics, bool velocity_terms, const Mat3& Rp,
                            const Vec6& Vp, const Vec3& line, const Loads& loads, Vec6* Su, Vec3* child_anchor) const;
-  /// The Newton–Euler passes, u̇ read through `udot_of(u index)`.
-  template <class Udot>
-  void newtonEuler(const Udot& udot_of, bool velocity_terms, int n, VecX* tau) const;
+  /// The Newton–Euler passes (n: the coordinates' count); u̇ enters as
+  /// `add_column(v, s, &a)`, which adds column s times u̇_v to a body's a.
+  template <class AddColumn>
+  void newtonEuler(const AddColumn& add_column, bool velocity_terms, int n, VecX* tau) const;
   template <class Loads>
   void inertiaAndBiasForce(int i, double t, bool velocity_terms, const Loads& loads) const;
   /// A child's articulated inertia and force, to its parent (through Pᵀ · P

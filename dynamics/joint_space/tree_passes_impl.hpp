@@ -364,8 +364,8 @@ EIGEN_ALWAYS_INLINE void TreePasses<T>::solve(const Vec6& a0, VecX* udot) const 
 }
 
 template <typename T>
-template <class Udot>
-EIGEN_ALWAYS_INLINE void TreePasses<T>::newtonEuler(const Udot& udot_of, bool velocity_terms, int n_u,
+template <class AddColumn>
+EIGEN_ALWAYS_INLINE void TreePasses<T>::newtonEuler(const AddColumn& add_column, bool velocity_terms, int n_u,
                                                     VecX* tau) const {
   const int n = static_cast<int>(model_.bodies.size());
   // Root to leaves: accelerations and each body's own force I a (+ p).
@@ -379,7 +379,7 @@ EIGEN_ALWAYS_INLINE void TreePasses<T>::newtonEuler(const Udot& udot_of, bool ve
     else
       d.a = bodies_[b.parent].a;
     if (velocity_terms) d.a += d.bias;
-    for (int k = 0; k < d.free; ++k) udot_of(d.free_u[k], d.S.col(k), &d.a);
+    for (int k = 0; k < d.free; ++k) add_column(d.free_u[k], d.S.col(k), &d.a);
     const Vec3 alpha = d.a.template head<3>();
     const Vec3 f_lin = b.mass * (d.a.template tail<3>() + cross3(alpha, d.c));
     d.f.template head<3>() = d.Jw * alpha + cross3(d.c, f_lin);
