@@ -100,6 +100,17 @@ const char* kFlywheel = R"({"name": "flywheel", "gravity": [0, 0, -9.81],
     {"name": "hanger", "type": "revolute", "main": "wheel", "secondary": "bob", "anchor_main": [0, 0.3, 0],
      "anchor_secondary": [0, 0, 0.5], "axis_main": [0.6, 0.8, 0]}]})";
 
+/// The four trees above and what each holds: every check below runs on each.
+struct TestTree {
+  const char* json;
+  const char* what;
+};
+const TestTree kTestTrees[] = {
+    {kBalls, "spherical joints both ways, universal and revolute with the child main"},
+    {kSlides, "slides both ways"},
+    {kGimbal, "a gimbal and a weld"},
+    {kFlywheel, "a rotation-only wheel carrying a bob"}};
+
 struct Tree {
   SceneDescription scene;
   Tree() = default;
@@ -156,10 +167,7 @@ void expectSameAccelerations(const char* json, const std::string& what) {
 }
 
 TEST(ScalarDynamics, AgreesWithTheArticulatedBodyAlgorithm) {
-  expectSameAccelerations(kBalls, "spherical joints both ways, universal and revolute with the child main");
-  expectSameAccelerations(kSlides, "slides both ways");
-  expectSameAccelerations(kGimbal, "a gimbal and a weld");
-  expectSameAccelerations(kFlywheel, "a rotation-only wheel carrying a bob");
+  for (const TestTree& t : kTestTrees) expectSameAccelerations(t.json, t.what);
 }
 
 /// The mass matrix from its columns (the recursive Newton–Euler passes for
@@ -183,10 +191,7 @@ void expectSameMassMatrix(const char* json, const std::string& what) {
 }
 
 TEST(ScalarDynamics, MassMatrixIsTheCompositeRigidBodyAlgorithms) {
-  expectSameMassMatrix(kBalls, "spherical joints both ways, universal and revolute with the child main");
-  expectSameMassMatrix(kSlides, "slides both ways");
-  expectSameMassMatrix(kGimbal, "a gimbal and a weld");
-  expectSameMassMatrix(kFlywheel, "a rotation-only wheel carrying a bob");
+  for (const TestTree& t : kTestTrees) expectSameMassMatrix(t.json, t.what);
 }
 
 /// The recursive Newton–Euler algorithm at the articulated-body algorithm's
@@ -213,10 +218,7 @@ void expectInverseDynamicsUndoesForward(const char* json, const std::string& wha
 }
 
 TEST(ScalarDynamics, NewtonEulerUndoesTheArticulatedBodyAlgorithm) {
-  expectInverseDynamicsUndoesForward(kBalls, "spherical joints both ways, universal and revolute with the child main");
-  expectInverseDynamicsUndoesForward(kSlides, "slides both ways");
-  expectInverseDynamicsUndoesForward(kGimbal, "a gimbal and a weld");
-  expectInverseDynamicsUndoesForward(kFlywheel, "a rotation-only wheel carrying a bob");
+  for (const TestTree& t : kTestTrees) expectInverseDynamicsUndoesForward(t.json, t.what);
 }
 
 /// The two forward algorithms on the tree passes, the Newton–Euler columns
@@ -254,10 +256,7 @@ void expectBothForwardAlgorithmsAgree(const char* json, const std::string& what)
 }
 
 TEST(ScalarDynamics, BothForwardAlgorithmsAgreeInJets) {
-  expectBothForwardAlgorithmsAgree(kBalls, "spherical joints both ways, universal and revolute with the child main");
-  expectBothForwardAlgorithmsAgree(kSlides, "slides both ways");
-  expectBothForwardAlgorithmsAgree(kGimbal, "a gimbal and a weld");
-  expectBothForwardAlgorithmsAgree(kFlywheel, "a rotation-only wheel carrying a bob");
+  for (const TestTree& t : kTestTrees) expectBothForwardAlgorithmsAgree(t.json, t.what);
 }
 
 /// In ceres::Jet the value part is the double evaluation, and the derivative
